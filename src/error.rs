@@ -1,0 +1,400 @@
+//! The one error type of the crate and its [`Result`] alias.
+//!
+//! Every failure that a user's data can cause is a variant here, with named fields that carry the
+//! numbers needed to find the problem: the record's label, the channel, the sample index, the
+//! frequency line. Panics are reserved for broken API contracts and are documented under
+//! `# Panics` where they can happen.
+
+use std::fmt;
+
+/// A measured channel of a [`Record`](crate::records::Record).
+///
+/// Force channels and displacement channels are numbered from zero, in the order of the
+/// degrees of freedom.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Channel {
+    /// Force channel `i` (N).
+    Force(usize),
+    /// Displacement channel `i` (m).
+    Displacement(usize),
+}
+
+impl fmt::Display for Channel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Channel::Force(i) => write!(f, "force channel {i}"),
+            Channel::Displacement(i) => write!(f, "displacement channel {i}"),
+        }
+    }
+}
+
+/// Everything that can go wrong in `bearing-ident`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A record's sampling rate is not a finite positive number.
+    #[error("record `{record}`: sampling rate {sample_rate} Hz is not a finite positive number")]
+    InvalidSampleRate {
+        /// Label of the record.
+        record: String,
+        /// The rejected sampling rate in Hz.
+        sample_rate: f64,
+    },
+    /// A record has no force channels or no displacement channels, or a different number of each.
+    #[error(
+        "record `{record}`: {forces} force and {displacements} displacement channels; \
+         a record needs n ≥ 1 of each, one per degree of freedom"
+    )]
+    ChannelCount {
+        /// Label of the record.
+        record: String,
+        /// Number of force channels given.
+        forces: usize,
+        /// Number of displacement channels given.
+        displacements: usize,
+    },
+    /// A channel of a record is longer or shorter than the record's first force channel.
+    #[error("record `{record}`: {channel} has {actual} samples, expected {expected}")]
+    ChannelLength {
+        /// Label of the record.
+        record: String,
+        /// The channel whose length differs.
+        channel: Channel,
+        /// Length of the record's first force channel.
+        expected: usize,
+        /// Length of this channel.
+        actual: usize,
+    },
+    /// A record is too short to carry a spectrum.
+    #[error("record `{record}`: {samples} samples, at least {minimum} are needed")]
+    RecordTooShort {
+        /// Label of the record.
+        record: String,
+        /// Number of samples in the record.
+        samples: usize,
+        /// Smallest accepted number of samples.
+        minimum: usize,
+    },
+    /// A sample is NaN or infinite.
+    #[error("record `{record}`: {channel}, sample {sample}: value {value} is not finite")]
+    NonFinite {
+        /// Label of the record.
+        record: String,
+        /// The channel holding the value.
+        channel: Channel,
+        /// Zero-based sample index.
+        sample: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// No records were given.
+    #[error("no records were given")]
+    NoRecords,
+    /// A record has a different number of degrees of freedom than asked for or than the others.
+    #[error("record `{record}`: {actual} degrees of freedom, expected {expected}")]
+    DofMismatch {
+        /// Label of the record.
+        record: String,
+        /// Expected number of degrees of freedom.
+        expected: usize,
+        /// The record's number of degrees of freedom.
+        actual: usize,
+    },
+    /// Records in one identification have different sampling rates.
+    #[error(
+        "record `{record}`: sampling rate {actual} Hz differs from {expected} Hz of the first record"
+    )]
+    SampleRateMismatch {
+        /// Label of the record.
+        record: String,
+        /// Sampling rate of the first record (Hz).
+        expected: f64,
+        /// Sampling rate of this record (Hz).
+        actual: f64,
+    },
+    /// Records in one identification have different lengths.
+    #[error("record `{record}`: {actual} samples, but the first record has {expected}")]
+    RecordLengthMismatch {
+        /// Label of the record.
+        record: String,
+        /// Length of the first record.
+        expected: usize,
+        /// Length of this record.
+        actual: usize,
+    },
+    /// The frequency band is empty, inverted, negative or not finite.
+    #[error("band {low_hz}–{high_hz} Hz is not a valid band (need finite 0 ≤ low < high)")]
+    InvalidBand {
+        /// Lower edge (Hz).
+        low_hz: f64,
+        /// Upper edge (Hz).
+        high_hz: f64,
+    },
+    /// The band reaches above the Nyquist frequency of the records.
+    #[error("band upper edge {high_hz} Hz is above the Nyquist frequency {nyquist_hz} Hz")]
+    BandAboveNyquist {
+        /// Upper edge of the band (Hz).
+        high_hz: f64,
+        /// Half the sampling rate (Hz).
+        nyquist_hz: f64,
+    },
+    /// The band holds too few frequency lines for the number of unknowns.
+    #[error(
+        "the band holds {lines} usable frequency lines, at least {required} are needed \
+         (line spacing {resolution_hz} Hz)"
+    )]
+    TooFewLines {
+        /// Usable lines in the band.
+        lines: usize,
+        /// Lines needed.
+        required: usize,
+        /// Spacing of the lines (Hz).
+        resolution_hz: f64,
+    },
+    /// An explicit excitation assignment does not fit the records.
+    #[error(
+        "record `{record}`: assigned to excitation {excitation}, but there are only {dofs} degrees of freedom"
+    )]
+    InvalidAssignment {
+        /// Label of the record.
+        record: String,
+        /// The excitation index given.
+        excitation: usize,
+        /// Number of degrees of freedom.
+        dofs: usize,
+    },
+    /// An explicit excitation assignment has a different length than the record list.
+    #[error("the excitation assignment names {actual} records, but {expected} were given")]
+    AssignmentLength {
+        /// Number of records.
+        expected: usize,
+        /// Length of the assignment.
+        actual: usize,
+    },
+    /// The excitations do not span all degrees of freedom.
+    #[error(
+        "the excitations are rank-deficient: they span {rank} of {dofs} directions over the band; \
+         {dofs} linearly independent excitations are needed (for example impacts in x and in y)"
+    )]
+    RankDeficient {
+        /// Estimated rank of the excitation.
+        rank: usize,
+        /// Number of degrees of freedom.
+        dofs: usize,
+    },
+    /// The stacked least-squares or instrumental-variable system is singular.
+    #[error(
+        "the {method} fit is singular: the band does not determine M, C and K (try a wider band)"
+    )]
+    SingularFit {
+        /// The method that failed.
+        method: &'static str,
+    },
+    /// A matrix that must be inverted is singular.
+    #[error("{what} is singular")]
+    Singular {
+        /// What was being inverted.
+        what: &'static str,
+    },
+    /// An iterative fit did not converge and the caller asked for convergence.
+    #[error(
+        "{method} did not converge in {iterations} iterations (last relative change {change:.3e})"
+    )]
+    NotConverged {
+        /// The method.
+        method: &'static str,
+        /// Iterations run.
+        iterations: usize,
+        /// Block-wise relative change at the last iteration.
+        change: f64,
+    },
+    /// Mass, damping and stiffness matrices do not have one common square shape.
+    #[error(
+        "coefficient matrices must be square and of one size: M is {mass:?}, C is {damping:?}, K is {stiffness:?}"
+    )]
+    CoefficientShape {
+        /// Shape of M.
+        mass: (usize, usize),
+        /// Shape of C.
+        damping: (usize, usize),
+        /// Shape of K.
+        stiffness: (usize, usize),
+    },
+    /// A coefficient matrix holds NaN or infinity.
+    #[error("coefficient {matrix}[{row}][{col}] is not finite")]
+    NonFiniteCoefficient {
+        /// "M", "C" or "K".
+        matrix: &'static str,
+        /// Row index.
+        row: usize,
+        /// Column index.
+        col: usize,
+    },
+    /// Two sets of coefficients that must be combined have different sizes.
+    #[error("cannot combine coefficients of {left} and {right} degrees of freedom")]
+    DofCountMismatch {
+        /// Degrees of freedom of the left operand.
+        left: usize,
+        /// Degrees of freedom of the right operand.
+        right: usize,
+    },
+    /// A numeric parameter is outside its valid range.
+    #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
+    InvalidParameter {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// A matrix decomposition from faer did not converge.
+    #[error("the {what} decomposition did not converge")]
+    Decomposition {
+        /// Which decomposition.
+        what: &'static str,
+    },
+}
+
+/// Something a user should know about an identification that did not stop it.
+///
+/// Warnings travel with the result (see
+/// [`Identification::warnings`](crate::identify::Identification::warnings)); each says what was
+/// seen, with the numbers.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// Some lines have a condition number above the warning threshold.
+    IllConditioned {
+        /// Lines above the threshold.
+        lines: usize,
+        /// Lines in the band.
+        of: usize,
+        /// Frequency of the worst line (Hz).
+        worst_hz: f64,
+        /// Condition number of the worst line.
+        worst: f64,
+        /// The warning threshold.
+        threshold: f64,
+    },
+    /// Lines of the band were dropped because a matrix could not be inverted.
+    DroppedLines {
+        /// Frequencies of the dropped lines (Hz).
+        freqs_hz: Vec<f64>,
+    },
+    /// Records left out of the paired sets (unequal counts per direction).
+    UnpairedRecords {
+        /// Labels of the records left out.
+        records: Vec<String>,
+    },
+    /// An iterative fit stopped at its iteration limit before meeting its tolerance.
+    NotConverged {
+        /// Iterations run.
+        iterations: usize,
+        /// Block-wise relative change at the last iteration.
+        change: f64,
+    },
+    /// An iterative fit diverged; the result is its best iterate.
+    Diverged {
+        /// Iterations run before divergence was detected.
+        iterations: usize,
+        /// The iterate returned (0 = the least-squares start).
+        fallback_iteration: usize,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::IllConditioned {
+                lines,
+                of,
+                worst_hz,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "{lines} of {of} lines have a condition number above {threshold:.3e} \
+                 (worst {worst:.3e} at {worst_hz:.3} Hz): excitations close to dependent"
+            ),
+            Warning::DroppedLines { freqs_hz } => write!(
+                f,
+                "{} lines dropped (singular matrices) at {:?} Hz",
+                freqs_hz.len(),
+                freqs_hz
+            ),
+            Warning::UnpairedRecords { records } => write!(
+                f,
+                "{} records left out of the paired sets: {}",
+                records.len(),
+                records.join(", ")
+            ),
+            Warning::NotConverged { iterations, change } => write!(
+                f,
+                "not converged after {iterations} iterations (relative change {change:.3e})"
+            ),
+            Warning::Diverged {
+                iterations,
+                fallback_iteration,
+            } => write!(
+                f,
+                "diverged after {iterations} iterations; returning iterate {fallback_iteration}"
+            ),
+        }
+    }
+}
+
+/// `Result` with the crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+// faer 0.24's decomposition errors do not implement `std::error::Error`, so they are mapped here
+// by hand.
+impl From<faer::linalg::solvers::SvdError> for Error {
+    fn from(_: faer::linalg::solvers::SvdError) -> Self {
+        Error::Decomposition {
+            what: "singular value",
+        }
+    }
+}
+
+impl From<faer::linalg::solvers::EvdError> for Error {
+    fn from(_: faer::linalg::solvers::EvdError) -> Self {
+        Error::Decomposition { what: "eigenvalue" }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channel_display_names_kind_and_index() {
+        assert_eq!(Channel::Force(1).to_string(), "force channel 1");
+        assert_eq!(
+            Channel::Displacement(0).to_string(),
+            "displacement channel 0"
+        );
+    }
+
+    #[test]
+    fn messages_carry_the_numbers() {
+        let e = Error::NonFinite {
+            record: "x1.csv".into(),
+            channel: Channel::Displacement(1),
+            sample: 42,
+            value: f64::NAN,
+        };
+        let s = e.to_string();
+        assert!(s.contains("x1.csv") && s.contains("displacement channel 1") && s.contains("42"));
+        let e = Error::RankDeficient { rank: 1, dofs: 2 };
+        assert!(e.to_string().contains("1 of 2"));
+    }
+
+    #[test]
+    fn faer_errors_convert() {
+        let e: Error = faer::linalg::solvers::SvdError::NoConvergence.into();
+        assert!(matches!(e, Error::Decomposition { .. }));
+        let e: Error = faer::linalg::solvers::EvdError::NoConvergence.into();
+        assert!(matches!(e, Error::Decomposition { .. }));
+    }
+}

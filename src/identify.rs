@@ -1,0 +1,381 @@
+//! The façade: from records to an identification, through every stage in order.
+//!
+//! [`Identifier`] holds the settings (chained, infallible setters); [`Identifier::identify`]
+//! validates them and the records once, runs records → spectra → frf → conditioning → solve,
+//! and returns an [`Identification`] that owns the coefficients and the diagnostics.
+
+use faer::{Mat, c64};
+
+use crate::conditioning::{ConditionLimits, Conditioning};
+use crate::error::{Error, Result, Warning};
+use crate::frf::{self, Assignment, Band, Estimator, Frf};
+use crate::model::{Coefficients, Mode};
+use crate::records::Record;
+use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
+use crate::spectra::{Segmentation, Window};
+
+/// What to do when an iterative fit does not converge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum NonConvergence {
+    /// Return the last (or, after divergence, the best) iterate with a [`Warning`].
+    #[default]
+    Warn,
+    /// Return [`Error::NotConverged`].
+    Fail,
+}
+
+/// Settings of an identification. Build with [`Identifier::new`] and chained setters, then call
+/// [`Identifier::identify`].
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Identifier;
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// let truth = seed_rig();
+/// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&truth)?;
+/// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+/// let k = id.coefficients().stiffness()[(0, 0)];
+/// assert!((k / 146.3e3 - 1.0).abs() < 1e-6);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identifier {
+    low_hz: f64,
+    high_hz: f64,
+    dofs: Option<usize>,
+    estimator: Estimator,
+    method: Method,
+    assignment: Assignment,
+    segmentation: Segmentation,
+    window: Window,
+    ivf: IvfOptions,
+    limits: ConditionLimits,
+    non_convergence: NonConvergence,
+}
+
+impl Identifier {
+    /// An identifier over the band `low_hz ..= high_hz` (Hz, edges inclusive, DC excluded), with
+    /// every other setting at its default: paired sets, IVF, dominant-force assignment, whole
+    /// records, rectangular window.
+    pub fn new(low_hz: f64, high_hz: f64) -> Self {
+        Self {
+            low_hz,
+            high_hz,
+            dofs: None,
+            estimator: Estimator::default(),
+            method: Method::default(),
+            assignment: Assignment::default(),
+            segmentation: Segmentation::default(),
+            window: Window::default(),
+            ivf: IvfOptions::default(),
+            limits: ConditionLimits::default(),
+            non_convergence: NonConvergence::default(),
+        }
+    }
+
+    /// The band (Hz). Valid: finite `0 ≤ low < high ≤ f_s/2`.
+    pub fn band(mut self, low_hz: f64, high_hz: f64) -> Self {
+        self.low_hz = low_hz;
+        self.high_hz = high_hz;
+        self
+    }
+
+    /// The number of degrees of freedom the records must have. Default: that of the first
+    /// record.
+    pub fn dofs(mut self, n: usize) -> Self {
+        self.dofs = Some(n);
+        self
+    }
+
+    /// The impedance estimator. Default [`Estimator::PairedSets`].
+    pub fn estimator(mut self, estimator: Estimator) -> Self {
+        self.estimator = estimator;
+        self
+    }
+
+    /// The fitting method. Default [`Method::Ivf`].
+    pub fn method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+
+    /// How records are assigned to excitations for paired sets. Default
+    /// [`Assignment::DominantForce`].
+    pub fn assignment(mut self, assignment: Assignment) -> Self {
+        self.assignment = assignment;
+        self
+    }
+
+    /// Segmentation for H1 (paired sets always use whole records). Default
+    /// [`Segmentation::WholeRecord`].
+    pub fn segmentation(mut self, segmentation: Segmentation) -> Self {
+        self.segmentation = segmentation;
+        self
+    }
+
+    /// The window. Default [`Window::Rectangular`].
+    pub fn window(mut self, window: Window) -> Self {
+        self.window = window;
+        self
+    }
+
+    /// IVF tolerance on the block-wise relative change. Valid `(0, 1)`; default `1e-8`.
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.ivf.tolerance = tolerance;
+        self
+    }
+
+    /// IVF iteration limit. Valid `≥ 1`; default `50`.
+    pub fn max_iterations(mut self, max_iterations: usize) -> Self {
+        self.ivf.max_iterations = max_iterations;
+        self
+    }
+
+    /// Condition-number thresholds. Valid `1 ≤ warn ≤ refuse`; default `1e3` and `1e8`.
+    pub fn condition_limits(mut self, limits: ConditionLimits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// What a non-converged IVF does. Default [`NonConvergence::Warn`].
+    pub fn on_non_convergence(mut self, policy: NonConvergence) -> Self {
+        self.non_convergence = policy;
+        self
+    }
+
+    /// Runs the identification.
+    ///
+    /// # Errors
+    /// Every error of the stages: record shapes ([`Error::DofMismatch`],
+    /// [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`], [`Error::NoRecords`]),
+    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]),
+    /// the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
+    /// [`Error::InvalidParameter`] for out-of-range settings, and [`Error::NotConverged`] under
+    /// [`NonConvergence::Fail`].
+    pub fn identify(&self, records: &[Record]) -> Result<Identification> {
+        let band = Band::new(self.low_hz, self.high_hz)?;
+        self.ivf.validate()?;
+        if !(self.limits.warn >= 1.0 && self.limits.refuse >= self.limits.warn) {
+            return Err(Error::InvalidParameter {
+                name: "condition limits",
+                value: self.limits.warn,
+                expected: "1 ≤ warn ≤ refuse",
+            });
+        }
+        let (n, _, _) = frf::common_shape(records, self.dofs)?;
+        let (frf, excitations) = match self.estimator {
+            Estimator::PairedSets => {
+                let excitations = self.assignment.resolve(records, n)?;
+                (
+                    frf::paired_sets(records, &excitations, band, self.window)?,
+                    excitations,
+                )
+            }
+            Estimator::H1 => (
+                frf::h1(records, band, self.segmentation, self.window)?,
+                records.iter().map(Record::dominant_force).collect(),
+            ),
+        };
+        let conditioning = Conditioning::assess(&frf, self.limits)?;
+        let fit = solve::fit(&frf, self.method, &self.ivf)?;
+
+        let mut warnings = Vec::new();
+        warnings.extend(conditioning.warning());
+        if !frf.dropped_hz().is_empty() {
+            warnings.push(Warning::DroppedLines {
+                freqs_hz: frf.dropped_hz().to_vec(),
+            });
+        }
+        if !frf.unpaired().is_empty() {
+            warnings.push(Warning::UnpairedRecords {
+                records: frf.unpaired().to_vec(),
+            });
+        }
+        match fit.convergence() {
+            Convergence::IterationLimit { iterations, change } => {
+                if self.non_convergence == NonConvergence::Fail {
+                    return Err(Error::NotConverged {
+                        method: self.method.name(),
+                        iterations,
+                        change,
+                    });
+                }
+                warnings.push(Warning::NotConverged { iterations, change });
+            }
+            Convergence::Diverged {
+                iterations,
+                fallback_iteration,
+            } => {
+                if self.non_convergence == NonConvergence::Fail {
+                    let change = fit.history().last().map_or(f64::NAN, Iteration::change);
+                    return Err(Error::NotConverged {
+                        method: self.method.name(),
+                        iterations,
+                        change,
+                    });
+                }
+                warnings.push(Warning::Diverged {
+                    iterations,
+                    fallback_iteration,
+                });
+            }
+            _ => {}
+        }
+        let fit_r2 = flexibility_r2(&frf, fit.coefficients());
+        Ok(Identification {
+            band,
+            estimator: self.estimator,
+            frf,
+            conditioning,
+            fit,
+            fit_r2,
+            excitations,
+            warnings,
+        })
+    }
+}
+
+/// Per-element coefficient of determination between measured and fitted flexibility,
+/// $r^2_{ij} = 1 - \sum_k |G_{ij,k} - \hat G_{ij,k}|^2 / \sum_k |G_{ij,k} - \bar G_{ij}|^2$.
+fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
+    let n = frf.dofs();
+    let mut res = Mat::<f64>::zeros(n, n);
+    let mut tot = Mat::<f64>::zeros(n, n);
+    let mut mean = Mat::<c64>::zeros(n, n);
+    for k in 0..frf.lines() {
+        mean += frf.flexibility(k);
+    }
+    let lines = frf.lines() as f64;
+    for (k, &f) in frf.freqs_hz().iter().enumerate() {
+        let measured = frf.flexibility(k);
+        let fitted = model.flexibility_at(f);
+        for j in 0..n {
+            for i in 0..n {
+                let g = measured[(i, j)];
+                tot[(i, j)] += (g - mean[(i, j)] / lines).norm_sqr();
+                res[(i, j)] += match &fitted {
+                    Ok(m) => (g - m[(i, j)]).norm_sqr(),
+                    Err(_) => f64::INFINITY,
+                };
+            }
+        }
+    }
+    Mat::from_fn(n, n, |i, j| 1.0 - res[(i, j)] / tot[(i, j)])
+}
+
+/// The result of an identification: coefficients and the evidence to defend them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identification {
+    band: Band,
+    estimator: Estimator,
+    frf: Frf,
+    conditioning: Conditioning,
+    fit: Fit,
+    fit_r2: Mat<f64>,
+    excitations: Vec<usize>,
+    warnings: Vec<Warning>,
+}
+
+impl Identification {
+    /// The identified `M`, `C`, `K` of the whole test system.
+    pub fn coefficients(&self) -> &Coefficients {
+        self.fit.coefficients()
+    }
+
+    /// First-order (sandwich) standard deviations of the coefficients, for least squares and
+    /// IVF; see [`Fit::std_dev`].
+    pub fn std_dev(&self) -> Option<&Coefficients> {
+        self.fit.std_dev()
+    }
+
+    /// Natural frequencies and damping ratios of the identified system.
+    ///
+    /// # Errors
+    /// As [`Coefficients::modes`].
+    pub fn modes(&self) -> Result<Vec<Mode>> {
+        self.coefficients().modes()
+    }
+
+    /// The fitting method used.
+    pub fn method(&self) -> Method {
+        self.fit.method()
+    }
+
+    /// The impedance estimator used.
+    pub fn estimator(&self) -> Estimator {
+        self.estimator
+    }
+
+    /// The band asked for.
+    pub fn band(&self) -> Band {
+        self.band
+    }
+
+    /// Frequencies of the lines used (Hz).
+    pub fn freqs_hz(&self) -> &[f64] {
+        self.frf.freqs_hz()
+    }
+
+    /// Condition number per line used (see [`Frf::condition_numbers`]).
+    pub fn condition_numbers(&self) -> &[f64] {
+        self.frf.condition_numbers()
+    }
+
+    /// The conditioning verdict (worst, median, best).
+    pub fn conditioning(&self) -> &Conditioning {
+        &self.conditioning
+    }
+
+    /// Per-element goodness of fit between measured and fitted flexibility:
+    /// $r^2_{ij} = 1 - \sum_k |G_{ij} - \hat G_{ij}|^2 / \sum_k |G_{ij} - \bar G_{ij}|^2$
+    /// (1 is a perfect fit; small cross-coupled elements may score low or negative).
+    pub fn fit_r2(&self) -> &Mat<f64> {
+        &self.fit_r2
+    }
+
+    /// `‖A Θ − Ī‖_F`, the residual of the stacked flexibility identity.
+    pub fn residual_norm(&self) -> f64 {
+        self.fit.residual_norm()
+    }
+
+    /// How the fit ended.
+    pub fn convergence(&self) -> Convergence {
+        self.fit.convergence()
+    }
+
+    /// IVF iterations run (0 for direct and least squares).
+    pub fn iterations(&self) -> usize {
+        self.fit.convergence().iterations()
+    }
+
+    /// `true` unless an iterative fit stopped at its limit or diverged.
+    pub fn converged(&self) -> bool {
+        self.fit.convergence().is_converged()
+    }
+
+    /// The IVF iteration history.
+    pub fn history(&self) -> &[Iteration] {
+        self.fit.history()
+    }
+
+    /// The fit with all it carries (direct-fit `r²` among it).
+    pub fn fit(&self) -> &Fit {
+        &self.fit
+    }
+
+    /// The measured impedances and flexibilities.
+    pub fn frf(&self) -> &Frf {
+        &self.frf
+    }
+
+    /// The excitation (degree of freedom) each record was assigned to.
+    pub fn excitations(&self) -> &[usize] {
+        &self.excitations
+    }
+
+    /// What the user should know.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+}

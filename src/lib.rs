@@ -1,0 +1,100 @@
+//! # bearing-ident
+//!
+//! Identification of the dynamic force coefficients of fluid-film bearings, seals and squeeze
+//! film dampers — the `n × n` stiffness `K`, damping `C` and added-mass `M` matrices — from
+//! measured forces and displacements.
+//!
+//! The test element is modelled as a linear system about an equilibrium,
+//!
+//! $$ M\ddot x + C\dot x + K x = f(t), \qquad
+//!    H(\omega) = K - \omega^2 M + i\omega C, \qquad G(\omega) = H(\omega)^{-1}, $$
+//!
+//! with `M`, `C`, `K` real and not necessarily symmetric. Independent excitations (impacts in x
+//! and y, shakers) give the impedance `H` per frequency line; fits over a band give `M`, `C`,
+//! `K`, by a direct per-element fit, least squares on the flexibilities, or the
+//! instrumental-variable filter (IVF) of Fritzen, which removes the noise bias of least squares.
+//!
+//! ## Quick start
+//! ```
+//! use bearing_ident::{Identifier, Method};
+//! use bearing_ident::simulate::{ImpactTest, seed_rig};
+//!
+//! // The seed's rig: 8 impacts per direction, 6700 samples/s for 1.2 s, 2 % noise.
+//! let truth = seed_rig();
+//! let records = ImpactTest { noise: 0.02, ..ImpactTest::seed_rig() }.run(&truth)?;
+//! let id = Identifier::new(8.0, 49.0).method(Method::Ivf).identify(&records)?;
+//!
+//! let k = id.coefficients().stiffness();
+//! assert!((k[(0, 0)] / 146.3e3 - 1.0).abs() < 0.01);
+//! assert!(id.converged());
+//! let modes = id.modes()?;
+//! assert!((modes[0].natural_frequency_hz - 27.5).abs() < 0.5);
+//! # Ok::<(), bearing_ident::Error>(())
+//! ```
+//!
+//! ## The pipeline
+//! Modules follow the data, each importing only those before it:
+//!
+//! 1. [`records`] — validated time records ([`Record`]);
+//! 2. [`spectra`] — windows and planned FFTs ([`spectra::SpectralEstimator`]);
+//! 3. [`frf`] — impedance and flexibility per line, by paired sets or MIMO H1;
+//! 4. [`conditioning`] — condition numbers, warnings, refusal of rank-deficient excitation;
+//! 5. [`model`] — [`Coefficients`]: `H(ω)`, `G(ω)`, modes, baseline subtraction;
+//! 6. [`solve`] — the direct, least-squares and IVF fits;
+//! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result.
+//!
+//! [`simulate`] produces exact time records of a known system, for learning and testing.
+//!
+//! ## Conventions
+//! - **Units:** SI throughout — N, m, s, kg; `K` in N/m, `C` in N·s/m, `M` in kg.
+//! - **Frequency:** Hz at the API surface, `ω = 2πf` in rad/s inside the maths.
+//! - **DFT:** $X_k = \Delta t \sum_m x_m e^{-2\pi i k m/N}$, one-sided (`k = 0…N/2`), mean
+//!   removed; so `ẋ → iωX` and `ẍ → −ω²X`.
+//! - **Direction of transfer functions:** `G` maps force to displacement (`X = G F`), `H` maps
+//!   displacement to force (`F = H X`); element `(i, j)` is output `i` per input `j`.
+//! - **System vs element:** identified coefficients are those of the whole test system; the
+//!   bearing's own are system minus dry structure ([`Coefficients::subtract`]).
+//!
+//! ## Feature flags
+//! None yet: the core depends only on faer, num-complex, realfft, thiserror and rand.
+//!
+//! ## References
+//! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
+//!   mechanical systems*, ASME paper 85-DET-91.
+//! - S. Diaz and L. San Andrés (1999), *A method for identification of bearing force
+//!   coefficients and its application to a squeeze film damper with a bubbly lubricant*, STLE
+//!   Tribology Transactions 42(4), 739–746.
+//! - H. Massmann and R. Nordmann (1985), *Some new results concerning the dynamic behavior of
+//!   annular turbulent seals*, NASA CP 2409, 179–194.
+//! - J. S. Bendat and A. G. Piersol, *Random Data: Analysis and Measurement Procedures*, Wiley.
+
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+#![deny(clippy::float_cmp)]
+
+pub mod conditioning;
+pub mod error;
+pub mod frf;
+pub mod identify;
+mod linalg;
+pub mod model;
+pub mod records;
+pub mod simulate;
+pub mod solve;
+pub mod spectra;
+
+pub use conditioning::ConditionLimits;
+pub use error::{Channel, Error, Result, Warning};
+pub use frf::{Assignment, Band, Estimator, Frf};
+pub use identify::{Identification, Identifier, NonConvergence};
+pub use model::{Coefficients, Mode};
+pub use records::Record;
+pub use solve::{Convergence, Method};
+pub use spectra::{Segmentation, Window};
+
+pub use faer;
+pub use num_complex;
+
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

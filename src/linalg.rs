@@ -1,0 +1,142 @@
+//! Small dense kernels shared by the stages: allocation-free inversion and products of the
+//! n×n complex matrices that appear once per frequency line, and condition numbers.
+//!
+//! The per-line matrices are tiny (n is the number of degrees of freedom, 1–32 in practice) and
+//! there are thousands of them, so they live in flat column-major slices owned by the caller and
+//! are inverted in place by Gauss–Jordan elimination with partial pivoting, without touching the
+//! heap. Anything larger goes through faer.
+
+use faer::{MatRef, c64};
+
+use crate::error::Result;
+
+/// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan elimination with
+/// partial pivoting. `pivots` is caller-owned scratch of length `n`.
+///
+/// Returns `false` (leaving `a` in an unspecified state) if a pivot is zero or the result is
+/// not finite.
+pub(crate) fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
+    debug_assert_eq!(a.len(), n * n);
+    debug_assert!(pivots.len() >= n);
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k + k * n].norm();
+        for i in k + 1..n {
+            let v = a[i + k * n].norm();
+            if v > best {
+                best = v;
+                p = i;
+            }
+        }
+        if best == 0.0 || !best.is_finite() {
+            return false;
+        }
+        pivots[k] = p;
+        if p != k {
+            for j in 0..n {
+                a.swap(k + j * n, p + j * n);
+            }
+        }
+        let inv = a[k + k * n].inv();
+        a[k + k * n] = c64::new(1.0, 0.0);
+        for j in 0..n {
+            a[k + j * n] *= inv;
+        }
+        for i in 0..n {
+            if i == k {
+                continue;
+            }
+            let f = a[i + k * n];
+            if f == c64::new(0.0, 0.0) {
+                continue;
+            }
+            a[i + k * n] = c64::new(0.0, 0.0);
+            for j in 0..n {
+                let akj = a[k + j * n];
+                a[i + j * n] -= f * akj;
+            }
+        }
+    }
+    for k in (0..n).rev() {
+        let p = pivots[k];
+        if p != k {
+            let (lo, hi) = (k.min(p), k.max(p));
+            let (left, right) = a.split_at_mut(hi * n);
+            left[lo * n..lo * n + n].swap_with_slice(&mut right[..n]);
+        }
+    }
+    a.iter().all(|v| v.re.is_finite() && v.im.is_finite())
+}
+
+/// `out = a · b` for column-major `n × n` complex matrices.
+pub(crate) fn mul_into(a: &[c64], b: &[c64], out: &mut [c64], n: usize) {
+    for j in 0..n {
+        for i in 0..n {
+            let mut s = c64::new(0.0, 0.0);
+            for k in 0..n {
+                s += a[i + k * n] * b[k + j * n];
+            }
+            out[i + j * n] = s;
+        }
+    }
+}
+
+/// Condition number `σ_max / σ_min` of a complex matrix by its singular values
+/// (`∞` when `σ_min = 0`).
+pub(crate) fn condition_number(m: MatRef<'_, c64>) -> Result<f64> {
+    let s = m.singular_values()?;
+    let (max, min) = (s[0], s[s.len() - 1]);
+    Ok(if min > 0.0 { max / min } else { f64::INFINITY })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::Mat;
+
+    #[test]
+    fn inverse_times_matrix_is_identity() {
+        let n = 4;
+        let m = Mat::<c64>::from_fn(n, n, |i, j| {
+            c64::new(
+                ((i * 7 + j * 3) % 5) as f64 - 1.5,
+                (i as f64 - j as f64) * 0.3,
+            )
+        });
+        let mut a: Vec<c64> = (0..n * n).map(|k| m[(k % n, k / n)]).collect();
+        let mut piv = vec![0; n];
+        assert!(invert_in_place(&mut a, n, &mut piv));
+        let orig: Vec<c64> = (0..n * n).map(|k| m[(k % n, k / n)]).collect();
+        let mut prod = vec![c64::new(0.0, 0.0); n * n];
+        mul_into(&orig, &a, &mut prod, n);
+        for i in 0..n {
+            for j in 0..n {
+                let expect = if i == j { 1.0 } else { 0.0 };
+                assert!((prod[i + j * n] - c64::new(expect, 0.0)).norm() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn singular_matrix_is_refused() {
+        let mut a = vec![
+            c64::new(1.0, 0.0),
+            c64::new(2.0, 0.0),
+            c64::new(2.0, 0.0),
+            c64::new(4.0, 0.0),
+        ];
+        assert!(!invert_in_place(&mut a, 2, &mut [0, 0]));
+    }
+
+    #[test]
+    fn condition_number_of_diagonal() {
+        let m = Mat::<c64>::from_fn(2, 2, |i, j| {
+            if i == j {
+                c64::new(if i == 0 { 10.0 } else { 0.5 }, 0.0)
+            } else {
+                c64::new(0.0, 0.0)
+            }
+        });
+        assert!((condition_number(m.as_ref()).unwrap() - 20.0).abs() < 1e-12);
+    }
+}

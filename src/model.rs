@@ -1,0 +1,368 @@
+//! The parametric model: mass, damping and stiffness matrices, and what follows from them.
+//!
+//! $$ M\ddot x + C\dot x + K x = f(t), \qquad H(\omega) = K - \omega^2 M + i\omega C,
+//!    \qquad G(\omega) = H(\omega)^{-1}. $$
+//!
+//! [`Coefficients`] is the vocabulary shared by the fits (which produce it), the simulator
+//! (which consumes it) and the identification result. Matrices are not assumed symmetric:
+//! bearings have cross-coupled terms with `K_xy ≠ K_yx`.
+
+use std::f64::consts::PI;
+
+use faer::{Mat, MatRef, c64};
+
+use crate::error::{Error, Result};
+use crate::linalg;
+
+/// Mass `M` (kg), damping `C` (N·s/m) and stiffness `K` (N/m) matrices, `n × n` each.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::model::Coefficients;
+/// use faer::mat;
+/// // SDOF: 4.7 kg on 146.3 kN/m with 132 N·s/m.
+/// let sdof = Coefficients::new(mat![[4.7]], mat![[132.0]], mat![[146.3e3]])?;
+/// let mode = &sdof.modes()?[0];
+/// assert!((mode.natural_frequency_hz - 28.08).abs() < 0.01);
+/// assert!((mode.damping_ratio - 132.0 / (2.0 * (146.3e3_f64 * 4.7).sqrt())).abs() < 1e-12);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coefficients {
+    mass: Mat<f64>,
+    damping: Mat<f64>,
+    stiffness: Mat<f64>,
+}
+
+/// One vibration mode from the eigenvalues `λ = −ζω_n ± iω_n√(1−ζ²)` of the state matrix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mode {
+    /// Undamped natural frequency `|λ| / 2π` (Hz).
+    pub natural_frequency_hz: f64,
+    /// Damped natural frequency `Im λ / 2π` (Hz).
+    pub damped_frequency_hz: f64,
+    /// Damping ratio `ζ = −Re λ / |λ|`.
+    pub damping_ratio: f64,
+}
+
+impl Coefficients {
+    /// Bundles `M`, `C`, `K`.
+    ///
+    /// # Errors
+    /// [`Error::CoefficientShape`] unless all three are square of one size `n ≥ 1`;
+    /// [`Error::NonFiniteCoefficient`] for a NaN or infinite entry.
+    pub fn new(mass: Mat<f64>, damping: Mat<f64>, stiffness: Mat<f64>) -> Result<Self> {
+        let n = mass.nrows();
+        let shape = |m: &Mat<f64>| (m.nrows(), m.ncols());
+        if n == 0
+            || [&mass, &damping, &stiffness]
+                .iter()
+                .any(|m| shape(m) != (n, n))
+        {
+            return Err(Error::CoefficientShape {
+                mass: shape(&mass),
+                damping: shape(&damping),
+                stiffness: shape(&stiffness),
+            });
+        }
+        for (name, m) in [("M", &mass), ("C", &damping), ("K", &stiffness)] {
+            for j in 0..n {
+                for i in 0..n {
+                    if !m[(i, j)].is_finite() {
+                        return Err(Error::NonFiniteCoefficient {
+                            matrix: name,
+                            row: i,
+                            col: j,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            mass,
+            damping,
+            stiffness,
+        })
+    }
+
+    /// Splits a stacked parameter matrix `Θ = [M; C; K]` (`3n × n`).
+    ///
+    /// # Errors
+    /// As [`Coefficients::new`]; [`Error::CoefficientShape`] if `Θ` is not `3n × n`.
+    pub fn from_stacked(theta: MatRef<'_, f64>) -> Result<Self> {
+        let n = theta.ncols();
+        if theta.nrows() != 3 * n {
+            let s = (theta.nrows(), n);
+            return Err(Error::CoefficientShape {
+                mass: s,
+                damping: s,
+                stiffness: s,
+            });
+        }
+        Self::new(
+            theta.subrows(0, n).to_owned(),
+            theta.subrows(n, n).to_owned(),
+            theta.subrows(2 * n, n).to_owned(),
+        )
+    }
+
+    /// The stacked parameter matrix `Θ = [M; C; K]` (`3n × n`).
+    pub fn stacked(&self) -> Mat<f64> {
+        let n = self.dofs();
+        Mat::from_fn(3 * n, n, |i, j| match i / n {
+            0 => self.mass[(i, j)],
+            1 => self.damping[(i - n, j)],
+            _ => self.stiffness[(i - 2 * n, j)],
+        })
+    }
+
+    /// Number of degrees of freedom `n`.
+    pub fn dofs(&self) -> usize {
+        self.mass.nrows()
+    }
+
+    /// Mass (added-mass, inertia) matrix `M` (kg).
+    pub fn mass(&self) -> MatRef<'_, f64> {
+        self.mass.as_ref()
+    }
+
+    /// Damping matrix `C` (N·s/m).
+    pub fn damping(&self) -> MatRef<'_, f64> {
+        self.damping.as_ref()
+    }
+
+    /// Stiffness matrix `K` (N/m).
+    pub fn stiffness(&self) -> MatRef<'_, f64> {
+        self.stiffness.as_ref()
+    }
+
+    /// Impedance (complex dynamic stiffness) `H = K − ω²M + iωC` at `freq_hz`, `ω = 2π f`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::model::Coefficients;
+    /// use faer::mat;
+    /// let c = Coefficients::new(mat![[2.0]], mat![[10.0]], mat![[8000.0]])?;
+    /// let h = c.impedance_at(10.0);
+    /// let w = 20.0 * std::f64::consts::PI;
+    /// assert!((h[(0, 0)].re - (8000.0 - 2.0 * w * w)).abs() < 1e-9);
+    /// assert!((h[(0, 0)].im - 10.0 * w).abs() < 1e-12);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn impedance_at(&self, freq_hz: f64) -> Mat<c64> {
+        let w = 2.0 * PI * freq_hz;
+        Mat::from_fn(self.dofs(), self.dofs(), |i, j| {
+            c64::new(
+                self.stiffness[(i, j)] - w * w * self.mass[(i, j)],
+                w * self.damping[(i, j)],
+            )
+        })
+    }
+
+    /// Flexibility (receptance) `G = H⁻¹` at `freq_hz`.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] if `H` is singular at that frequency (undamped resonance).
+    pub fn flexibility_at(&self, freq_hz: f64) -> Result<Mat<c64>> {
+        let n = self.dofs();
+        let h = self.impedance_at(freq_hz);
+        let mut g: Vec<c64> = (0..n * n).map(|k| h[(k % n, k / n)]).collect();
+        if !linalg::invert_in_place(&mut g, n, &mut vec![0; n]) {
+            return Err(Error::Singular { what: "impedance" });
+        }
+        Ok(Mat::from_fn(n, n, |i, j| g[i + j * n]))
+    }
+
+    /// Eigenvalues of the state matrix `[[0, I], [−M⁻¹K, −M⁻¹C]]` (rad/s), `2n` of them.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] if `M` is singular; [`Error::Decomposition`] if the eigenvalue
+    /// iteration fails.
+    pub fn eigenvalues(&self) -> Result<Vec<c64>> {
+        use faer::prelude::Solve;
+        let n = self.dofs();
+        if linalg::condition_number(self.mass.as_ref().map(|v| c64::new(*v, 0.0)).as_ref())? > 1e14
+        {
+            return Err(Error::Singular {
+                what: "mass matrix",
+            });
+        }
+        let lu = self.mass.partial_piv_lu();
+        let mk = lu.solve(&self.stiffness);
+        let mc = lu.solve(&self.damping);
+        let a = Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
+            (true, true) => 0.0,
+            (true, false) => f64::from(u8::from(i == j - n)),
+            (false, true) => -mk[(i - n, j)],
+            (false, false) => -mc[(i - n, j - n)],
+        });
+        Ok(a.eigenvalues()?)
+    }
+
+    /// Oscillatory modes, one per complex-conjugate eigenvalue pair, by increasing natural
+    /// frequency. Overdamped (real) eigenvalues have no mode and are left out.
+    ///
+    /// # Errors
+    /// As [`Coefficients::eigenvalues`].
+    pub fn modes(&self) -> Result<Vec<Mode>> {
+        let mut modes: Vec<Mode> = self
+            .eigenvalues()?
+            .into_iter()
+            .filter(|l| l.im > 1e-9 * l.norm())
+            .map(|l| Mode {
+                natural_frequency_hz: l.norm() / (2.0 * PI),
+                damped_frequency_hz: l.im / (2.0 * PI),
+                damping_ratio: -l.re / l.norm(),
+            })
+            .collect();
+        modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
+        Ok(modes)
+    }
+
+    /// `self − baseline`, element by element: the bearing's coefficients from the lubricated
+    /// system's and the dry structure's (`K_b = K_s − K_h`, `C_b = C_s − C_h`, `M_b = M_s − M_h`).
+    ///
+    /// # Errors
+    /// [`Error::DofCountMismatch`] if the sizes differ.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::model::Coefficients;
+    /// use faer::mat;
+    /// let system = Coefficients::new(mat![[4.7]], mat![[132.0]], mat![[150.0e3]])?;
+    /// let dry = Coefficients::new(mat![[4.7]], mat![[22.3]], mat![[146.3e3]])?;
+    /// let bearing = system.subtract(&dry)?;
+    /// assert!((bearing.damping()[(0, 0)] - 109.7).abs() < 1e-9);
+    /// assert_eq!(bearing.mass()[(0, 0)], 0.0);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn subtract(&self, baseline: &Coefficients) -> Result<Coefficients> {
+        if self.dofs() != baseline.dofs() {
+            return Err(Error::DofCountMismatch {
+                left: self.dofs(),
+                right: baseline.dofs(),
+            });
+        }
+        Ok(Coefficients {
+            mass: &self.mass - &baseline.mass,
+            damping: &self.damping - &baseline.damping,
+            stiffness: &self.stiffness - &baseline.stiffness,
+        })
+    }
+}
+
+impl std::ops::Sub for &Coefficients {
+    type Output = Coefficients;
+
+    /// `system − structure`; see [`Coefficients::subtract`].
+    ///
+    /// # Panics
+    /// If the sizes differ.
+    fn sub(self, rhs: &Coefficients) -> Coefficients {
+        match self.subtract(rhs) {
+            Ok(c) => c,
+            Err(e) => panic!("{e}"),
+        }
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are copied through, not computed
+mod tests {
+    use super::*;
+    use faer::mat;
+
+    fn two_dof() -> Coefficients {
+        Coefficients::new(
+            mat![[4.7, 0.0], [0.0, 4.8]],
+            mat![[132.0, 5.0], [-3.0, 128.0]],
+            mat![[146.3e3, 22.3e3], [11.5e3, 169.1e3]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn flexibility_inverts_impedance() {
+        let c = two_dof();
+        let h = c.impedance_at(27.0);
+        let g = c.flexibility_at(27.0).unwrap();
+        let p = &h * &g;
+        for i in 0..2 {
+            for j in 0..2 {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!((p[(i, j)] - c64::new(e, 0.0)).norm() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn stacked_round_trip() {
+        let c = two_dof();
+        let back = Coefficients::from_stacked(c.stacked().as_ref()).unwrap();
+        assert_eq!(back, c);
+        assert!(matches!(
+            Coefficients::from_stacked(Mat::<f64>::zeros(5, 2).as_ref()),
+            Err(Error::CoefficientShape { .. })
+        ));
+    }
+
+    #[test]
+    fn shape_and_finiteness_are_checked() {
+        let e =
+            Coefficients::new(Mat::zeros(2, 2), Mat::zeros(2, 2), Mat::zeros(2, 3)).unwrap_err();
+        assert!(matches!(e, Error::CoefficientShape { .. }));
+        let e = Coefficients::new(mat![[1.0]], mat![[f64::NAN]], mat![[1.0]]).unwrap_err();
+        assert_eq!(
+            e,
+            Error::NonFiniteCoefficient {
+                matrix: "C",
+                row: 0,
+                col: 0
+            }
+        );
+    }
+
+    #[test]
+    fn singular_mass_and_impedance_are_reported() {
+        let c = Coefficients::new(mat![[0.0]], mat![[1.0]], mat![[1.0]]).unwrap();
+        assert_eq!(
+            c.modes().unwrap_err(),
+            Error::Singular {
+                what: "mass matrix"
+            }
+        );
+        let undamped = Coefficients::new(mat![[1.0]], mat![[0.0]], mat![[4.0 * PI * PI]]).unwrap();
+        assert_eq!(
+            undamped.flexibility_at(1.0).unwrap_err(),
+            Error::Singular { what: "impedance" }
+        );
+    }
+
+    #[test]
+    fn modes_of_uncoupled_two_dof_match_closed_form() {
+        let c = Coefficients::new(
+            mat![[4.7, 0.0], [0.0, 4.7]],
+            mat![[50.0, 0.0], [0.0, 60.0]],
+            mat![[146.3e3, 0.0], [0.0, 169.1e3]],
+        )
+        .unwrap();
+        let modes = c.modes().unwrap();
+        assert_eq!(modes.len(), 2);
+        assert!((modes[0].natural_frequency_hz - 28.08).abs() < 5e-3);
+        assert!((modes[1].natural_frequency_hz - 30.19).abs() < 5e-3);
+        let zeta = 60.0 / (2.0 * (169.1e3_f64 * 4.7).sqrt());
+        assert!((modes[1].damping_ratio - zeta).abs() < 1e-12);
+    }
+
+    #[test]
+    fn subtraction_checks_sizes() {
+        let a = two_dof();
+        let b = Coefficients::new(mat![[1.0]], mat![[1.0]], mat![[1.0]]).unwrap();
+        assert_eq!(
+            a.subtract(&b).unwrap_err(),
+            Error::DofCountMismatch { left: 2, right: 1 }
+        );
+        let zero = &a - &a;
+        assert_eq!(zero.stiffness()[(1, 0)], 0.0);
+    }
+}

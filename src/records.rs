@@ -1,0 +1,279 @@
+//! Stage 1: validated time records of forces and displacements.
+//!
+//! A [`Record`] is one test: `n` force channels (N) and `n` displacement channels (m), sampled
+//! together at one rate, one channel per degree of freedom. Validation happens once, when the
+//! record is built: every later stage may assume equal lengths and finite samples.
+
+use crate::error::{Channel, Error, Result};
+
+/// Smallest number of samples a record may have.
+pub const MIN_SAMPLES: usize = 8;
+
+/// One validated test record: forces and displacements for every degree of freedom.
+///
+/// Channels are stored one `Vec<f64>` per channel. The label names the record in every error
+/// and warning (the CLI uses the file path).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::records::Record;
+/// let fx = vec![0.0, 1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0];
+/// let x = vec![0.0, 0.0, 1e-6, 2e-6, 1e-6, 0.0, 0.0, 0.0];
+/// let r = Record::new("hit-x-1", 1000.0, vec![fx], vec![x])?;
+/// assert_eq!(r.dofs(), 1);
+/// assert_eq!(r.len(), 8);
+/// assert!((r.duration() - 0.008).abs() < 1e-15);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    label: String,
+    sample_rate: f64,
+    forces: Vec<Vec<f64>>,
+    displacements: Vec<Vec<f64>>,
+}
+
+impl Record {
+    /// Builds a record from force and displacement channels sampled at `sample_rate` Hz.
+    ///
+    /// # Errors
+    /// - [`Error::InvalidSampleRate`] unless `sample_rate` is finite and positive;
+    /// - [`Error::ChannelCount`] unless there are `n ≥ 1` force and `n` displacement channels;
+    /// - [`Error::ChannelLength`] if a channel's length differs from the first force channel's;
+    /// - [`Error::RecordTooShort`] below [`MIN_SAMPLES`] samples;
+    /// - [`Error::NonFinite`] for the first NaN or infinite sample, naming channel and index.
+    pub fn new(
+        label: impl Into<String>,
+        sample_rate: f64,
+        forces: Vec<Vec<f64>>,
+        displacements: Vec<Vec<f64>>,
+    ) -> Result<Self> {
+        let label = label.into();
+        if !(sample_rate.is_finite() && sample_rate > 0.0) {
+            return Err(Error::InvalidSampleRate {
+                record: label,
+                sample_rate,
+            });
+        }
+        if forces.is_empty() || forces.len() != displacements.len() {
+            return Err(Error::ChannelCount {
+                record: label,
+                forces: forces.len(),
+                displacements: displacements.len(),
+            });
+        }
+        let expected = forces[0].len();
+        let channels = forces
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (Channel::Force(i), c))
+            .chain(
+                displacements
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| (Channel::Displacement(i), c)),
+            );
+        for (channel, samples) in channels {
+            if samples.len() != expected {
+                return Err(Error::ChannelLength {
+                    record: label,
+                    channel,
+                    expected,
+                    actual: samples.len(),
+                });
+            }
+            if let Some((sample, &value)) = samples.iter().enumerate().find(|(_, v)| !v.is_finite())
+            {
+                return Err(Error::NonFinite {
+                    record: label,
+                    channel,
+                    sample,
+                    value,
+                });
+            }
+        }
+        if expected < MIN_SAMPLES {
+            return Err(Error::RecordTooShort {
+                record: label,
+                samples: expected,
+                minimum: MIN_SAMPLES,
+            });
+        }
+        Ok(Self {
+            label,
+            sample_rate,
+            forces,
+            displacements,
+        })
+    }
+
+    /// The record's label, as used in errors and warnings.
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// Sampling rate (Hz).
+    pub fn sample_rate(&self) -> f64 {
+        self.sample_rate
+    }
+
+    /// Number of samples per channel.
+    pub fn len(&self) -> usize {
+        self.forces[0].len()
+    }
+
+    /// Always `false`: a record holds at least [`MIN_SAMPLES`] samples.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Number of degrees of freedom `n` (force channels = displacement channels = `n`).
+    pub fn dofs(&self) -> usize {
+        self.forces.len()
+    }
+
+    /// Record length in seconds, `len / sample_rate`.
+    pub fn duration(&self) -> f64 {
+        self.len() as f64 / self.sample_rate
+    }
+
+    /// Force channel `i` (N).
+    ///
+    /// # Panics
+    /// If `i >= self.dofs()`.
+    pub fn force(&self, i: usize) -> &[f64] {
+        &self.forces[i]
+    }
+
+    /// Displacement channel `i` (m).
+    ///
+    /// # Panics
+    /// If `i >= self.dofs()`.
+    pub fn displacement(&self, i: usize) -> &[f64] {
+        &self.displacements[i]
+    }
+
+    /// The force channel with the largest energy about its mean: the direction this record
+    /// excites, for pairing impacts into sets.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::records::Record;
+    /// let quiet = vec![0.0; 8];
+    /// let mut hit = vec![0.0; 8];
+    /// hit[2] = 50.0;
+    /// let r = Record::new("hit-y", 1000.0, vec![quiet, hit], vec![vec![0.0; 8], vec![0.0; 8]])?;
+    /// assert_eq!(r.dominant_force(), 1);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn dominant_force(&self) -> usize {
+        let energy = |c: &[f64]| {
+            let mean = c.iter().sum::<f64>() / c.len() as f64;
+            c.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>()
+        };
+        let mut best = (0, f64::NEG_INFINITY);
+        for (i, c) in self.forces.iter().enumerate() {
+            let e = energy(c);
+            if e > best.1 {
+                best = (i, e);
+            }
+        }
+        best.0
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are copied through, not computed
+mod tests {
+    use super::*;
+
+    fn ok_channel() -> Vec<f64> {
+        vec![0.0; 16]
+    }
+
+    #[test]
+    fn valid_record_reports_its_shape() {
+        let r = Record::new("a", 100.0, vec![ok_channel(); 2], vec![ok_channel(); 2]).unwrap();
+        assert_eq!((r.dofs(), r.len(), r.label()), (2, 16, "a"));
+        assert_eq!(r.sample_rate(), 100.0);
+        assert!(!r.is_empty());
+    }
+
+    #[test]
+    fn rejects_bad_sample_rate() {
+        for fs in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = Record::new("a", fs, vec![ok_channel()], vec![ok_channel()]).unwrap_err();
+            assert!(matches!(e, Error::InvalidSampleRate { .. }), "{fs}");
+        }
+    }
+
+    #[test]
+    fn rejects_channel_count_mismatch() {
+        let e = Record::new("a", 1.0, vec![ok_channel(); 2], vec![ok_channel()]).unwrap_err();
+        assert_eq!(
+            e,
+            Error::ChannelCount {
+                record: "a".into(),
+                forces: 2,
+                displacements: 1
+            }
+        );
+        let e = Record::new("a", 1.0, vec![], vec![]).unwrap_err();
+        assert!(matches!(e, Error::ChannelCount { forces: 0, .. }));
+    }
+
+    #[test]
+    fn rejects_ragged_channels_naming_the_channel() {
+        let e = Record::new("a", 1.0, vec![ok_channel()], vec![vec![0.0; 15]]).unwrap_err();
+        assert_eq!(
+            e,
+            Error::ChannelLength {
+                record: "a".into(),
+                channel: Channel::Displacement(0),
+                expected: 16,
+                actual: 15
+            }
+        );
+    }
+
+    #[test]
+    fn rejects_short_records() {
+        let e = Record::new("a", 1.0, vec![vec![0.0; 4]], vec![vec![0.0; 4]]).unwrap_err();
+        assert!(matches!(e, Error::RecordTooShort { samples: 4, .. }));
+    }
+
+    #[test]
+    fn rejects_non_finite_naming_channel_and_sample() {
+        let mut x = ok_channel();
+        x[7] = f64::NAN;
+        let e = Record::new(
+            "r3",
+            1.0,
+            vec![ok_channel(), ok_channel()],
+            vec![ok_channel(), x],
+        )
+        .unwrap_err();
+        match e {
+            Error::NonFinite {
+                record,
+                channel,
+                sample,
+                ..
+            } => {
+                assert_eq!(record, "r3");
+                assert_eq!(channel, Channel::Displacement(1));
+                assert_eq!(sample, 7);
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+
+    #[test]
+    fn dominant_force_ignores_offsets() {
+        let offset = vec![100.0; 16];
+        let mut hit = ok_channel();
+        hit[3] = 1.0;
+        let r = Record::new("a", 1.0, vec![offset, hit], vec![ok_channel(); 2]).unwrap();
+        assert_eq!(r.dominant_force(), 1);
+    }
+}

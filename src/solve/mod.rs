@@ -1,0 +1,375 @@
+//! Stage 5: fitting `M`, `C`, `K` to the measured impedances and flexibilities.
+//!
+//! Three methods, from simplest to best:
+//!
+//! - [`Method::Direct`] (seed eq. 10): per element, `Re H_ij = K_ij − ω² M_ij` and
+//!   `Im H_ij = ω C_ij` by least squares, with `r²`. Simple; biased under noise.
+//! - [`Method::LeastSquares`] (seed eq. 19): the flexibility identity `G H = I + E`, split into
+//!   real and imaginary rows and stacked over the lines into `A Θ = Ī + Ē` with
+//!   `Θ = [M; C; K]`. Per line, with `G = Gᴿ + iGᴵ`,
+//!   $$ \begin{bmatrix} -\omega^2 G^R & -\omega G^I & G^R \\ -\omega^2 G^I & \omega G^R & G^I \end{bmatrix} \Theta = \begin{bmatrix} I \\ 0 \end{bmatrix}. $$
+//!   The columns of `A` are scaled to unit norm (the M, C, K blocks differ by `ω²` and `ω`) and
+//!   the scaled problem is solved by QR, all `n` right-hand sides with one factorisation. Biased
+//!   toward zero under noise (errors in variables): `M` and `K` shrink together.
+//! - [`Method::Ivf`] (seed eqs. 20–21, Fritzen 1985): the instrumental-variable filter. The
+//!   instruments `W` have `A`'s form but are built from the model flexibility
+//!   `G(ω; Θ_m) = H(ω; Θ_m)⁻¹`, which carries no measurement noise; then
+//!   `Θ_{m+1} = (Wᵀ A)⁻¹ Wᵀ Ī`, with the same column scaling, iterated from the
+//!   least-squares start. Unbiased.
+
+mod direct;
+mod ivf;
+mod ls;
+mod system;
+
+use faer::Mat;
+
+use crate::error::Result;
+use crate::frf::Frf;
+use crate::model::Coefficients;
+
+pub use direct::DirectFit;
+pub use ivf::{Iteration, IvfOptions};
+
+/// The fitting method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+#[non_exhaustive]
+pub enum Method {
+    /// Per-element fit of the impedance (seed eq. 10).
+    Direct,
+    /// Least squares on the stacked flexibility identity (seed eq. 19).
+    LeastSquares,
+    /// Instrumental-variable filter (seed eqs. 20–21), started from least squares.
+    #[default]
+    Ivf,
+}
+
+impl Method {
+    /// Short name: `"direct"`, `"ls"` or `"ivf"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Direct => "direct",
+            Method::LeastSquares => "ls",
+            Method::Ivf => "ivf",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How an iterative fit ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Convergence {
+    /// The method is not iterative (direct, least squares).
+    NotIterative,
+    /// The block-wise relative change fell below the tolerance.
+    Converged {
+        /// Iterations run.
+        iterations: usize,
+    },
+    /// The iteration limit was reached first; the last iterate is returned.
+    IterationLimit {
+        /// Iterations run.
+        iterations: usize,
+        /// Block-wise relative change of the last iteration.
+        change: f64,
+    },
+    /// The change rose three times in a row (or the model became singular); the iterate with
+    /// the smallest change is returned.
+    Diverged {
+        /// Iterations run.
+        iterations: usize,
+        /// The iterate returned (0 = the least-squares start).
+        fallback_iteration: usize,
+    },
+}
+
+impl Convergence {
+    /// `true` for [`Convergence::NotIterative`] and [`Convergence::Converged`].
+    pub fn is_converged(self) -> bool {
+        matches!(
+            self,
+            Convergence::NotIterative | Convergence::Converged { .. }
+        )
+    }
+
+    /// Number of iterations run (0 when not iterative).
+    pub fn iterations(self) -> usize {
+        match self {
+            Convergence::NotIterative => 0,
+            Convergence::Converged { iterations }
+            | Convergence::IterationLimit { iterations, .. }
+            | Convergence::Diverged { iterations, .. } => iterations,
+        }
+    }
+}
+
+/// The outcome of a fit: coefficients plus what the fit knows about their quality.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    method: Method,
+    coefficients: Coefficients,
+    residual_norm: f64,
+    convergence: Convergence,
+    history: Vec<Iteration>,
+    std_dev: Option<Coefficients>,
+    direct: Option<DirectFit>,
+}
+
+impl Fit {
+    /// The method used.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// The fitted `M`, `C`, `K`.
+    pub fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
+    }
+
+    /// Frobenius norm of the residual of the stacked flexibility identity, `‖A Θ − Ī‖_F`
+    /// (dimensionless), for every method alike.
+    pub fn residual_norm(&self) -> f64 {
+        self.residual_norm
+    }
+
+    /// How the iteration ended.
+    pub fn convergence(&self) -> Convergence {
+        self.convergence
+    }
+
+    /// IVF iteration history (empty for direct and least squares).
+    pub fn history(&self) -> &[Iteration] {
+        &self.history
+    }
+
+    /// First-order (sandwich) standard deviations of every coefficient, laid out as
+    /// [`Coefficients`] (for least squares and IVF):
+    /// $\mathrm{Cov}(\Theta_j) = (W^\top A)^{-1} W^\top \mathrm{diag}(r_j^2) W (A^\top W)^{-1}
+    /// \cdot \frac{m}{m-p}$ with the residuals `r_j = A Θ_j − Ī_j`, `W = A` for least squares.
+    pub fn std_dev(&self) -> Option<&Coefficients> {
+        self.std_dev.as_ref()
+    }
+
+    /// The per-element `r²` of a direct fit.
+    pub fn direct(&self) -> Option<&DirectFit> {
+        self.direct.as_ref()
+    }
+}
+
+/// Fits `frf` by `method`.
+///
+/// # Errors
+/// [`Error::TooFewLines`](crate::Error::TooFewLines) when the band holds fewer than
+/// [`required_lines`] lines; [`Error::SingularFit`](crate::Error::SingularFit) when the stacked
+/// system is singular; [`Error::CoefficientShape`](crate::Error::CoefficientShape) never.
+pub fn fit(frf: &Frf, method: Method, options: &IvfOptions) -> Result<Fit> {
+    match method {
+        Method::Direct => direct::fit(frf),
+        Method::LeastSquares => ls::fit(frf),
+        Method::Ivf => ivf::fit(frf, options),
+    }
+}
+
+/// Lines a band must hold to fit `n` degrees of freedom: `⌈3n/2⌉ + 3`, a few more than the
+/// `3n` unknowns per column need (`2N` equations per column).
+pub fn required_lines(n: usize) -> usize {
+    (3 * n).div_ceil(2) + 3
+}
+
+fn finish(
+    method: Method,
+    theta: Mat<f64>,
+    sys: &system::Stacked,
+    convergence: Convergence,
+    history: Vec<Iteration>,
+    std_dev: Option<Mat<f64>>,
+) -> Result<Fit> {
+    let residual_norm = sys.residual_norm(theta.as_ref());
+    Ok(Fit {
+        method,
+        coefficients: Coefficients::from_stacked(theta.as_ref())?,
+        residual_norm,
+        convergence,
+        history,
+        std_dev: std_dev
+            .map(|s| Coefficients::from_stacked(s.as_ref()))
+            .transpose()?,
+        direct: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Error;
+    use faer::{c64, mat};
+
+    fn exact_frf(c: &Coefficients, freqs: &[f64]) -> Frf {
+        let g: Vec<Mat<c64>> = freqs
+            .iter()
+            .map(|&f| c.flexibility_at(f).unwrap())
+            .collect();
+        Frf::from_flexibility(freqs.to_vec(), &g).unwrap()
+    }
+
+    fn truth() -> Coefficients {
+        Coefficients::new(
+            mat![[4.7, 0.2], [0.1, 4.8]],
+            mat![[132.0, 6.0], [-4.0, 120.0]],
+            mat![[146.3e3, 22.3e3], [11.5e3, 169.1e3]],
+        )
+        .unwrap()
+    }
+
+    fn rel_err(a: &Coefficients, b: &Coefficients) -> f64 {
+        (a.stacked() - b.stacked()).norm_l2() / b.stacked().norm_l2()
+    }
+
+    #[test]
+    fn every_method_is_exact_on_exact_flexibilities() {
+        let freqs: Vec<f64> = (10..=50).map(f64::from).collect();
+        let frf = exact_frf(&truth(), &freqs);
+        for method in [Method::Direct, Method::LeastSquares, Method::Ivf] {
+            let fit = fit(&frf, method, &IvfOptions::default()).unwrap();
+            assert!(rel_err(fit.coefficients(), &truth()) < 1e-10, "{method}");
+            assert!(fit.residual_norm() < 1e-8, "{method}");
+            assert!(fit.convergence().is_converged());
+        }
+    }
+
+    #[test]
+    fn direct_fit_reports_r2() {
+        let freqs: Vec<f64> = (10..=50).map(f64::from).collect();
+        let fit = fit(
+            &exact_frf(&truth(), &freqs),
+            Method::Direct,
+            &IvfOptions::default(),
+        )
+        .unwrap();
+        let d = fit.direct().unwrap();
+        assert!((d.r2_real[(0, 0)] - 1.0).abs() < 1e-12);
+        assert!((d.r2_imag[(1, 1)] - 1.0).abs() < 1e-12);
+        assert!(fit.std_dev().is_none());
+    }
+
+    #[test]
+    fn ivf_keeps_its_history() {
+        let freqs: Vec<f64> = (10..=50).map(f64::from).collect();
+        let fit = fit(
+            &exact_frf(&truth(), &freqs),
+            Method::Ivf,
+            &IvfOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(fit.history().len(), fit.convergence().iterations());
+        assert!(fit.history()[0].change() < 1e-8);
+        assert!(fit.std_dev().is_some());
+    }
+
+    #[test]
+    fn too_few_lines() {
+        let frf = exact_frf(&truth(), &[10.0, 20.0, 30.0]);
+        assert_eq!(required_lines(2), 6);
+        let e = fit(&frf, Method::Ivf, &IvfOptions::default()).unwrap_err();
+        assert!(matches!(
+            e,
+            Error::TooFewLines {
+                lines: 3,
+                required: 6,
+                ..
+            }
+        ));
+        let e = fit(&frf, Method::Direct, &IvfOptions::default()).unwrap_err();
+        assert!(matches!(e, Error::TooFewLines { .. }));
+    }
+
+    #[test]
+    fn singular_stacked_system() {
+        // Ten copies of one line: the M and K columns differ only by the factor −ω².
+        let g: Vec<Mat<c64>> = (0..10).map(|_| mat![[c64::new(1e-5, 2e-6)]]).collect();
+        let frf = Frf::from_flexibility(vec![5.0; 10], &g).unwrap();
+        let e = fit(&frf, Method::LeastSquares, &IvfOptions::default()).unwrap_err();
+        assert_eq!(e, Error::SingularFit { method: "ls" });
+    }
+
+    #[test]
+    fn ivf_options_are_validated() {
+        let bad = IvfOptions {
+            tolerance: 0.0,
+            ..IvfOptions::default()
+        };
+        assert!(matches!(
+            bad.validate(),
+            Err(Error::InvalidParameter { .. })
+        ));
+        let bad = IvfOptions {
+            max_iterations: 0,
+            ..IvfOptions::default()
+        };
+        assert!(matches!(
+            bad.validate(),
+            Err(Error::InvalidParameter { .. })
+        ));
+    }
+
+    #[test]
+    fn divergence_falls_back_to_the_best_iterate() {
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        // A lightly damped SDOF (ζ ≈ 0.04 %) whose flexibility carries 200 % complex noise:
+        // for this seed the IVF change rises three times in a row.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(34);
+        let normal = Normal::new(0.0, 2.0).unwrap();
+        let freqs: Vec<f64> = (5..=40).map(|k| f64::from(k) * 0.5).collect();
+        let g: Vec<Mat<c64>> = freqs
+            .iter()
+            .map(|&f| {
+                let w = 2.0 * std::f64::consts::PI * f;
+                let e = c64::new(normal.sample(&mut rng), normal.sample(&mut rng));
+                mat![[c64::new(1.0e4 - w * w, 0.05 * w).inv() * (1.0 + e)]]
+            })
+            .collect();
+        let frf = Frf::from_flexibility(freqs, &g).unwrap();
+        let fit = fit(&frf, Method::Ivf, &IvfOptions::default()).unwrap();
+        let Convergence::Diverged {
+            iterations,
+            fallback_iteration,
+        } = fit.convergence()
+        else {
+            panic!("expected divergence, got {:?}", fit.convergence());
+        };
+        let h = fit.history();
+        assert_eq!(h.len(), iterations);
+        assert!(
+            h[h.len() - 3..]
+                .windows(2)
+                .all(|w| w[1].change() > w[0].change())
+        );
+        // The fallback is the iterate with the smallest change, and it is finite.
+        let best = (0..h.len())
+            .min_by(|&a, &b| h[a].change().total_cmp(&h[b].change()))
+            .unwrap();
+        assert_eq!(fallback_iteration, best + 1);
+        assert!(fit.coefficients().stacked().norm_l2().is_finite());
+        assert!(!fit.convergence().is_converged());
+    }
+
+    #[test]
+    fn convergence_helpers() {
+        assert!(Convergence::NotIterative.is_converged());
+        assert_eq!(Convergence::NotIterative.iterations(), 0);
+        let d = Convergence::Diverged {
+            iterations: 5,
+            fallback_iteration: 2,
+        };
+        assert!(!d.is_converged());
+        assert_eq!(d.iterations(), 5);
+        assert_eq!(Method::LeastSquares.to_string(), "ls");
+    }
+}

@@ -1,0 +1,283 @@
+//! Stage 2: spectra of the time records.
+//!
+//! A [`SpectralEstimator`] is planned once for a segment length and then transforms any number
+//! of channels and segments of that length. It owns its FFT plan, its window and its buffers, so
+//! [`SpectralEstimator::transform`] never allocates.
+//!
+//! # Scaling
+//! With `N` samples at spacing `Δt`, window `w` and the segment mean removed, line `k` is
+//!
+//! $$ X_k = \Delta t \sum_{m=0}^{N-1} w_m (x_m - \bar x)\, e^{-2\pi i k m / N},
+//!    \qquad f_k = k\,\frac{f_s}{N},\quad k = 0,\dots,N/2 , $$
+//!
+//! the one-sided, `Δt`-scaled DFT: for a transient that starts and ends inside the record it
+//! approximates the continuous Fourier transform $X(\omega) = \int x(t) e^{-i\omega t}\,dt$ (units
+//! N·s and m·s). Transfer functions are ratios, so the scale cancels in them.
+
+use std::sync::Arc;
+
+use faer::c64;
+use realfft::{RealFftPlanner, RealToComplex};
+
+use crate::error::{Error, Result};
+
+/// Window applied to each segment before the DFT.
+///
+/// More windows (force gate, exponential with exact coefficient correction) come with the
+/// estimation-quality work; the enum is `#[non_exhaustive]` for them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Window {
+    /// No window (`w = 1`). Right for transients that decay inside the record.
+    #[default]
+    Rectangular,
+    /// Periodic Hann window `w_m = sin²(π m / N)`, for random excitation with Welch averaging.
+    Hann,
+}
+
+impl Window {
+    /// The window's weight at sample `m` of `len`.
+    fn weight(self, m: usize, len: usize) -> f64 {
+        match self {
+            Window::Rectangular => 1.0,
+            Window::Hann => {
+                let s = (std::f64::consts::PI * m as f64 / len as f64).sin();
+                s * s
+            }
+        }
+    }
+}
+
+/// How records are cut into segments before their spectra are taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Segmentation {
+    /// One DFT over the whole record (impacts, transients).
+    #[default]
+    WholeRecord,
+    /// Welch segments of `len` samples with 50 % overlap (random excitation). The number of
+    /// segments per record is `⌊(N − len) / (len/2)⌋ + 1`.
+    Welch {
+        /// Samples per segment.
+        len: usize,
+    },
+}
+
+impl Segmentation {
+    /// Segment length for a record of `record_len` samples.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if a Welch segment is shorter than 8 samples or longer than
+    /// the record.
+    pub fn segment_len(self, record_len: usize) -> Result<usize> {
+        match self {
+            Segmentation::WholeRecord => Ok(record_len),
+            Segmentation::Welch { len } if (8..=record_len).contains(&len) => Ok(len),
+            Segmentation::Welch { len } => Err(Error::InvalidParameter {
+                name: "segment length",
+                value: len as f64,
+                expected: "8 ≤ segment length ≤ record length",
+            }),
+        }
+    }
+
+    /// Start indices of the segments of a record of `record_len` samples.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::spectra::Segmentation;
+    /// let starts: Vec<usize> = Segmentation::Welch { len: 8 }.starts(20).collect();
+    /// assert_eq!(starts, vec![0, 4, 8, 12]);
+    /// assert_eq!(Segmentation::WholeRecord.starts(20).count(), 1);
+    /// ```
+    pub fn starts(self, record_len: usize) -> impl Iterator<Item = usize> {
+        let (len, hop) = match self {
+            Segmentation::WholeRecord => (record_len, record_len.max(1)),
+            Segmentation::Welch { len } => (len, (len / 2).max(1)),
+        };
+        let count = if len == 0 || len > record_len {
+            0
+        } else {
+            (record_len - len) / hop + 1
+        };
+        (0..count).map(move |s| s * hop)
+    }
+}
+
+/// A spectral estimator planned for one segment length: mean removal, window, real FFT.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::spectra::{SpectralEstimator, Window};
+/// // A 5 Hz cosine of amplitude 2 sampled at 64 Hz for 1 s.
+/// let x: Vec<f64> = (0..64)
+///     .map(|m| 2.0 * (2.0 * std::f64::consts::PI * 5.0 * m as f64 / 64.0).cos())
+///     .collect();
+/// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular);
+/// let spectrum = est.transform(&x);
+/// // Line 5 holds amplitude · duration / 2 = 1.0 (Δt-scaled DFT).
+/// assert!((spectrum[5].re - 1.0).abs() < 1e-12);
+/// assert_eq!(est.frequency_hz(5), 5.0);
+/// ```
+pub struct SpectralEstimator {
+    len: usize,
+    sample_rate: f64,
+    window: Window,
+    weights: Vec<f64>,
+    fft: Arc<dyn RealToComplex<f64>>,
+    input: Vec<f64>,
+    output: Vec<c64>,
+    scratch: Vec<c64>,
+}
+
+impl std::fmt::Debug for SpectralEstimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SpectralEstimator")
+            .field("len", &self.len)
+            .field("sample_rate", &self.sample_rate)
+            .field("window", &self.window)
+            .finish_non_exhaustive()
+    }
+}
+
+impl SpectralEstimator {
+    /// Plans the FFT and allocates every buffer for segments of `len` samples at
+    /// `sample_rate` Hz.
+    ///
+    /// # Panics
+    /// If `len < 2` or `sample_rate` is not finite and positive (records are validated before
+    /// they reach here).
+    pub fn new(len: usize, sample_rate: f64, window: Window) -> Self {
+        assert!(len >= 2, "a spectral estimator needs at least 2 samples");
+        assert!(
+            sample_rate.is_finite() && sample_rate > 0.0,
+            "sample rate must be finite and positive"
+        );
+        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
+        let weights = (0..len).map(|m| window.weight(m, len)).collect();
+        let input = fft.make_input_vec();
+        let output = fft.make_output_vec();
+        let scratch = fft.make_scratch_vec();
+        Self {
+            len,
+            sample_rate,
+            window,
+            weights,
+            fft,
+            input,
+            output,
+            scratch,
+        }
+    }
+
+    /// Segment length in samples.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Always `false`: an estimator has at least 2 samples.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Number of one-sided lines, `len/2 + 1`.
+    pub fn lines(&self) -> usize {
+        self.len / 2 + 1
+    }
+
+    /// Line spacing `f_s / N` (Hz).
+    pub fn resolution_hz(&self) -> f64 {
+        self.sample_rate / self.len as f64
+    }
+
+    /// Frequency of line `k` (Hz).
+    pub fn frequency_hz(&self, k: usize) -> f64 {
+        k as f64 * self.resolution_hz()
+    }
+
+    /// The window in use.
+    pub fn window(&self) -> Window {
+        self.window
+    }
+
+    /// Sum of the squared window weights, `Σ w_m²` (for density scaling).
+    pub fn window_power(&self) -> f64 {
+        self.weights.iter().map(|w| w * w).sum()
+    }
+
+    /// One-sided spectrum of `signal` (mean removed, windowed, `Δt`-scaled), `len/2 + 1` lines,
+    /// held in the estimator's own buffer until the next call. Does not allocate.
+    ///
+    /// # Panics
+    /// If `signal.len() != self.len()`.
+    pub fn transform(&mut self, signal: &[f64]) -> &[c64] {
+        assert_eq!(
+            signal.len(),
+            self.len,
+            "segment length differs from the plan"
+        );
+        let mean = signal.iter().sum::<f64>() / self.len as f64;
+        for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(&self.weights) {
+            *dst = w * (x - mean);
+        }
+        // The buffers come from the plan itself, so their lengths always match.
+        self.fft
+            .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
+            .expect("buffer lengths come from the plan");
+        let dt = 1.0 / self.sample_rate;
+        for v in &mut self.output {
+            *v *= dt;
+        }
+        &self.output
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matches_direct_dft_sum() {
+        let n = 30;
+        let fs = 10.0;
+        let x: Vec<f64> = (0..n)
+            .map(|m| ((m * m) % 7) as f64 - 0.3 * m as f64)
+            .collect();
+        let mean = x.iter().sum::<f64>() / n as f64;
+        let mut est = SpectralEstimator::new(n, fs, Window::Rectangular);
+        let got = est.transform(&x).to_vec();
+        for (k, g) in got.iter().enumerate() {
+            let mut s = c64::new(0.0, 0.0);
+            for (m, v) in x.iter().enumerate() {
+                let ph = -2.0 * std::f64::consts::PI * (k * m) as f64 / n as f64;
+                s += c64::new(ph.cos(), ph.sin()) * (v - mean);
+            }
+            assert!((g - s / fs).norm() < 1e-12, "line {k}");
+        }
+    }
+
+    #[test]
+    fn mean_is_removed() {
+        let mut est = SpectralEstimator::new(16, 1.0, Window::Hann);
+        let x = vec![3.0; 16];
+        assert!(est.transform(&x).iter().all(|v| v.norm() < 1e-12));
+    }
+
+    #[test]
+    fn hann_weights_and_power() {
+        let est = SpectralEstimator::new(8, 1.0, Window::Hann);
+        assert!((est.window_power() - 3.0).abs() < 1e-12); // Σ sin⁴(πm/8) = 3N/8
+        assert_eq!(est.lines(), 5);
+        assert_eq!(est.window(), Window::Hann);
+    }
+
+    #[test]
+    fn welch_segment_length_is_checked() {
+        assert_eq!(Segmentation::Welch { len: 16 }.segment_len(100), Ok(16));
+        assert!(matches!(
+            Segmentation::Welch { len: 200 }.segment_len(100),
+            Err(Error::InvalidParameter { .. })
+        ));
+        assert_eq!(Segmentation::WholeRecord.segment_len(100), Ok(100));
+    }
+}
