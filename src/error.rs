@@ -248,6 +248,61 @@ pub enum Error {
         /// The valid range, in words.
         expected: &'static str,
     },
+    /// A file could not be opened, read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What the operating system said.
+        message: String,
+    },
+    /// A CSV line is ragged or holds text that is not a number.
+    #[error("{path}, line {line}: {message}")]
+    Csv {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// What is wrong with the line.
+        message: String,
+    },
+    /// A named column is not in a CSV file's header.
+    #[error("{path}, line 1: no column named `{column}` (header has: {header})")]
+    MissingColumn {
+        /// The file.
+        path: String,
+        /// The column asked for.
+        column: String,
+        /// The header's column names, comma-separated.
+        header: String,
+    },
+    /// A CSV value is NaN or infinite.
+    #[error("{path}, line {line}, column `{column}`: value is not finite")]
+    CsvNonFinite {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// The column.
+        column: String,
+    },
+    /// The time column of a CSV file is not uniformly sampled.
+    #[error(
+        "{path}, line {line}: time {actual_s} s is off the uniform grid (expected {expected_s} s, \
+         step {step_s} s)"
+    )]
+    NonUniformTime {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// Time on the uniform grid (s).
+        expected_s: f64,
+        /// Time in the file (s).
+        actual_s: f64,
+        /// Grid step (s).
+        step_s: f64,
+    },
     /// A matrix decomposition from faer did not converge.
     #[error("the {what} decomposition did not converge")]
     Decomposition {
@@ -340,6 +395,50 @@ impl fmt::Display for Warning {
                 f,
                 "diverged after {iterations} iterations; returning iterate {fallback_iteration}"
             ),
+        }
+    }
+}
+
+impl Error {
+    /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
+    /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
+    /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
+    /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Error;
+    /// assert_eq!(Error::RankDeficient { rank: 1, dofs: 2 }.kind(), "rank_deficient");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Error::Csv { .. } => "malformed_csv",
+            Error::MissingColumn { .. } => "missing_column",
+            Error::NonFinite { .. } | Error::CsvNonFinite { .. } => "non_finite",
+            Error::NonUniformTime { .. } => "nonuniform_time",
+            Error::InvalidSampleRate { .. }
+            | Error::ChannelCount { .. }
+            | Error::ChannelLength { .. }
+            | Error::NoRecords
+            | Error::DofMismatch { .. }
+            | Error::SampleRateMismatch { .. }
+            | Error::RecordLengthMismatch { .. }
+            | Error::InvalidAssignment { .. }
+            | Error::AssignmentLength { .. } => "inconsistent_records",
+            Error::InvalidBand { .. }
+            | Error::BandAboveNyquist { .. }
+            | Error::TooFewLines { .. } => "bad_band",
+            Error::RankDeficient { .. } => "rank_deficient",
+            Error::NotConverged { .. } => "not_converged",
+            Error::Io { .. } => "io_error",
+            Error::RecordTooShort { .. } => "record_too_short",
+            Error::InvalidParameter { .. } => "invalid_argument",
+            Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
+                "singular"
+            }
+            Error::CoefficientShape { .. }
+            | Error::NonFiniteCoefficient { .. }
+            | Error::DofCountMismatch { .. } => "bad_coefficients",
         }
     }
 }

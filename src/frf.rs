@@ -96,6 +96,16 @@ pub enum Estimator {
     H1,
 }
 
+impl Estimator {
+    /// Short name: `"paired"` or `"h1"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Estimator::PairedSets => "paired",
+            Estimator::H1 => "h1",
+        }
+    }
+}
+
 /// Which excitation (degree of freedom) each record belongs to, for [`Estimator::PairedSets`].
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 #[non_exhaustive]
@@ -137,10 +147,15 @@ impl Assignment {
     }
 }
 
+/// Relative difference below which two sampling rates are the same (rates read from CSV time
+/// columns carry rounding).
+pub const SAMPLE_RATE_TOLERANCE: f64 = 1e-6;
+
 /// The common shape of a list of records: `(dofs, sample_rate, len)`.
 ///
 /// # Errors
-/// [`Error::NoRecords`], or [`Error::DofMismatch`], [`Error::SampleRateMismatch`],
+/// [`Error::NoRecords`], or [`Error::DofMismatch`], [`Error::SampleRateMismatch`] (beyond
+/// [`SAMPLE_RATE_TOLERANCE`]),
 /// [`Error::RecordLengthMismatch`] naming the first record that differs from the first one
 /// (or from `dofs`, when given).
 pub fn common_shape(records: &[Record], dofs: Option<usize>) -> Result<(usize, f64, usize)> {
@@ -154,8 +169,7 @@ pub fn common_shape(records: &[Record], dofs: Option<usize>) -> Result<(usize, f
                 actual: r.dofs(),
             });
         }
-        #[allow(clippy::float_cmp)] // sampling rates must agree exactly
-        if r.sample_rate() != first.sample_rate() {
+        if (r.sample_rate() / first.sample_rate() - 1.0).abs() > SAMPLE_RATE_TOLERANCE {
             return Err(Error::SampleRateMismatch {
                 record: r.label().to_owned(),
                 expected: first.sample_rate(),

@@ -56,7 +56,10 @@
 //!   bearing's own are system minus dry structure ([`Coefficients::subtract`]).
 //!
 //! ## Feature flags
-//! None yet: the core depends only on faer, num-complex, realfft, thiserror and rand.
+//! The core depends only on faer, num-complex, realfft, thiserror and rand. Edges are opt-in:
+//! - `csv` — [`io`]: read and write records as CSV files;
+//! - `serde` — `Serialize` for [`Identification`], [`Coefficients`] and [`Mode`];
+//! - `cli` — the `bearing-ident` command-line tool (implies `csv` and `serde`).
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
@@ -76,6 +79,8 @@ pub mod conditioning;
 pub mod error;
 pub mod frf;
 pub mod identify;
+#[cfg(feature = "csv")]
+pub mod io;
 mod linalg;
 pub mod model;
 pub mod records;

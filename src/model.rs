@@ -34,8 +34,30 @@ pub struct Coefficients {
     stiffness: Mat<f64>,
 }
 
+/// The rows of a matrix, for serialization as a list of lists.
+#[cfg(feature = "serde")]
+pub(crate) fn rows(m: MatRef<'_, f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+/// Serializes as `{"M": rows, "C": rows, "K": rows}` in SI units.
+#[cfg(feature = "serde")]
+impl serde::Serialize for Coefficients {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("Coefficients", 3)?;
+        st.serialize_field("M", &rows(self.mass()))?;
+        st.serialize_field("C", &rows(self.damping()))?;
+        st.serialize_field("K", &rows(self.stiffness()))?;
+        st.end()
+    }
+}
+
 /// One vibration mode from the eigenvalues `λ = −ζω_n ± iω_n√(1−ζ²)` of the state matrix.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Mode {
     /// Undamped natural frequency `|λ| / 2π` (Hz).
     pub natural_frequency_hz: f64,

@@ -4,8 +4,9 @@
 //! structure, a half-sine pulse generator per degree of freedom and an optional analogue
 //! anti-alias filter per channel form one linear autonomous system `ṡ = A s`, advanced from
 //! sample to sample by the matrix exponential `Φ = e^{AΔt}` (and by `e^{Aδ}` over the partial
-//! steps where a pulse starts or ends). No Euler steps, no zero-order hold: the records are the
-//! samples of the continuous signals.
+//! steps where a pulse starts or ends). No Euler steps: the records are the samples of the
+//! continuous signals. Random forcing ([`Simulator::random_record`]) is a zero-order-hold
+//! (staircase) force — a continuous signal in its own right, integrated just as exactly.
 //!
 //! # Aliasing and leakage
 //! A half-sine pulse is not band-limited: its spectrum falls off only as `1/ω²`, so its raw
@@ -194,8 +195,9 @@ impl Simulator {
         let lu = system.mass().partial_piv_lu();
         let (mk, mc) = (lu.solve(system.stiffness()), lu.solve(system.damping()));
         let minv = lu.solve(Mat::<f64>::identity(n, n));
-        // State: x (n), v (n), pulse generators (2 per dof), filters (order per channel).
-        let dim = 4 * n + 2 * n * order;
+        // State: x (n), v (n), pulse generators (2 per dof), held forces (1 per dof, constant
+        // between samples), filters (order per channel).
+        let dim = 5 * n + 2 * n * order;
         let mut a = Mat::<f64>::zeros(dim, dim);
         for i in 0..n {
             a[(i, n + i)] = 1.0;
@@ -203,19 +205,29 @@ impl Simulator {
                 a[(n + i, j)] = -mk[(i, j)];
                 a[(n + i, n + j)] = -mc[(i, j)];
                 a[(n + i, 2 * n + 2 * j)] = minv[(i, j)];
+                a[(n + i, 4 * n + j)] = minv[(i, j)];
             }
         }
         if let AntiAlias::Butterworth { cutoff_ratio, .. } = anti_alias {
             let wc = 2.0 * PI * cutoff_ratio * sample_rate;
             for c in 0..2 * n {
-                // Channel input: force c (pulse generator output) or displacement c − n.
-                let input = if c < n { 2 * n + 2 * c } else { c - n };
+                // Channel input: force c (pulse generator plus held force) or displacement c − n.
+                let inputs: &[usize] = if c < n {
+                    &[2 * n + 2 * c, 4 * n + c]
+                } else {
+                    &[c - n]
+                };
                 for s in 0..order / 2 {
                     let q = 1.0 / (2.0 * (PI * (2 * s + 1) as f64 / (2 * order) as f64).cos());
-                    let y = 4 * n + c * order + 2 * s;
-                    let u = if s == 0 { input } else { y - 2 };
+                    let y = 5 * n + c * order + 2 * s;
+                    if s == 0 {
+                        for &u in inputs {
+                            a[(y + 1, u)] += wc * wc;
+                        }
+                    } else {
+                        a[(y + 1, y - 2)] += wc * wc;
+                    }
                     a[(y, y + 1)] = 1.0;
-                    a[(y + 1, u)] += wc * wc;
                     a[(y + 1, y)] -= wc * wc;
                     a[(y + 1, y + 1)] = -wc / q;
                 }
@@ -243,12 +255,13 @@ impl Simulator {
         a
     }
 
-    fn output_index(&self, channel: usize) -> usize {
-        let order = self.dim / (2 * self.n) - 2;
+    /// The state entries whose sum is the sampled value of `channel` (forces first).
+    fn output_indices(&self, channel: usize) -> Vec<usize> {
+        let n = self.n;
         match self.anti_alias {
-            AntiAlias::Butterworth { .. } => 4 * self.n + channel * order + order - 2,
-            AntiAlias::None if channel < self.n => 2 * self.n + 2 * channel,
-            AntiAlias::None => channel - self.n,
+            AntiAlias::Butterworth { order, .. } => vec![5 * n + channel * order + order - 2],
+            AntiAlias::None if channel < n => vec![2 * n + 2 * channel, 4 * n + channel],
+            AntiAlias::None => vec![channel - n],
         }
     }
 
@@ -259,7 +272,51 @@ impl Simulator {
     /// direction of the wrong length, a pulse outside the record, or pulses of different
     /// durations that overlap in time.
     pub fn record(&mut self, label: impl Into<String>, impacts: &[Impact]) -> Result<Record> {
+        self.run(label.into(), impacts, &[])
+    }
+
+    /// A noise-free record of the response to independent white Gaussian forces on every
+    /// degree of freedom (standard deviation `force_rms` N per sample, held constant between
+    /// samples), starting from rest. The seed makes it reproducible.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `force_rms` is finite and positive.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, seed_rig};
+    /// let mut sim = Simulator::new(&seed_rig(), 1000.0, 2000, AntiAlias::None)?;
+    /// let rec = sim.random_record("shaker", 10.0, 3)?;
+    /// let rms = (rec.force(1).iter().map(|f| f * f).sum::<f64>() / 2000.0).sqrt();
+    /// assert!((rms / 10.0 - 1.0).abs() < 0.1);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn random_record(
+        &mut self,
+        label: impl Into<String>,
+        force_rms: f64,
+        seed: u64,
+    ) -> Result<Record> {
+        let dist = Normal::new(0.0, force_rms)
+            .ok()
+            .filter(|_| force_rms > 0.0 && force_rms.is_finite())
+            .ok_or(Error::InvalidParameter {
+                name: "force rms",
+                value: force_rms,
+                expected: "finite and positive (N)",
+            })?;
+        let mut rng = StdRng::seed_from_u64(seed);
+        let hold: Vec<Vec<f64>> = (0..self.n)
+            .map(|_| (0..self.samples).map(|_| dist.sample(&mut rng)).collect())
+            .collect();
+        self.run(label.into(), &[], &hold)
+    }
+
+    /// The simulation loop: `impacts` as pulse events and `hold[c][m]`, when given, as the
+    /// force held on DOF `c` from sample `m` to `m + 1`.
+    fn run(&mut self, label: String, impacts: &[Impact], hold: &[Vec<f64>]) -> Result<Record> {
         let duration_total = self.samples as f64 / self.sample_rate;
+        debug_assert!(hold.is_empty() || hold.len() == self.n);
         for hit in impacts {
             let bad = |name, value, expected| {
                 Err(Error::InvalidParameter {
@@ -312,16 +369,22 @@ impl Simulator {
         let mut next = vec![0.0; dim];
         let mut forces = vec![vec![0.0; self.samples]; self.n];
         let mut displacements = vec![vec![0.0; self.samples]; self.n];
-        let out_f: Vec<usize> = (0..self.n).map(|c| self.output_index(c)).collect();
-        let out_x: Vec<usize> = (0..self.n).map(|c| self.output_index(self.n + c)).collect();
+        let out_f: Vec<Vec<usize>> = (0..self.n).map(|c| self.output_indices(c)).collect();
+        let out_x: Vec<Vec<usize>> = (0..self.n)
+            .map(|c| self.output_indices(self.n + c))
+            .collect();
+        let sample = |state: &[f64], idx: &[usize]| idx.iter().map(|&i| state[i]).sum::<f64>();
         let mut ev = 0;
         let mut current: Option<usize> = None;
         // Φ for "no pulse running" is any of them: generators are idle at zero state.
         let idle = impacts.first().map_or(1.0, |h| h.duration_s);
         for m in 0..self.samples {
+            for (c, h) in hold.iter().enumerate() {
+                state[4 * self.n + c] = h[m];
+            }
             for c in 0..self.n {
-                forces[c][m] = state[out_f[c]];
-                displacements[c][m] = state[out_x[c]];
+                forces[c][m] = sample(&state, &out_f[c]);
+                displacements[c][m] = sample(&state, &out_x[c]);
             }
             if m + 1 == self.samples {
                 break;

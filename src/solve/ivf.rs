@@ -54,6 +54,7 @@ impl IvfOptions {
 
 /// One IVF iteration: the block-wise relative changes from the previous iterate.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Iteration {
     /// `‖ΔM‖_F / ‖M‖_F`.
     pub mass_change: f64,

@@ -90,6 +90,16 @@ pub enum Convergence {
 }
 
 impl Convergence {
+    /// Short name: `"not_iterative"`, `"converged"`, `"iteration_limit"` or `"diverged"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Convergence::NotIterative => "not_iterative",
+            Convergence::Converged { .. } => "converged",
+            Convergence::IterationLimit { .. } => "iteration_limit",
+            Convergence::Diverged { .. } => "diverged",
+        }
+    }
+
     /// `true` for [`Convergence::NotIterative`] and [`Convergence::Converged`].
     pub fn is_converged(self) -> bool {
         matches!(
