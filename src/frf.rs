@@ -125,18 +125,24 @@ impl Assignment {
     /// [`Error::AssignmentLength`] or [`Error::InvalidAssignment`] for an explicit assignment
     /// that does not fit the records.
     pub fn resolve(&self, records: &[Record], dofs: usize) -> Result<Vec<usize>> {
+        let labels: Vec<&str> = records.iter().map(Record::label).collect();
+        let dominant: Vec<usize> = records.iter().map(Record::dominant_force).collect();
+        self.resolve_with(&labels, &dominant, dofs)
+    }
+
+    fn resolve_with(&self, labels: &[&str], dominant: &[usize], dofs: usize) -> Result<Vec<usize>> {
         match self {
-            Assignment::DominantForce => Ok(records.iter().map(Record::dominant_force).collect()),
+            Assignment::DominantForce => Ok(dominant.to_vec()),
             Assignment::Explicit(a) => {
-                if a.len() != records.len() {
+                if a.len() != labels.len() {
                     return Err(Error::AssignmentLength {
-                        expected: records.len(),
+                        expected: labels.len(),
                         actual: a.len(),
                     });
                 }
                 if let Some((r, &excitation)) = a.iter().enumerate().find(|(_, e)| **e >= dofs) {
                     return Err(Error::InvalidAssignment {
-                        record: records[r].label().to_owned(),
+                        record: labels[r].to_owned(),
                         excitation,
                         dofs,
                     });
@@ -162,27 +168,7 @@ pub fn common_shape(records: &[Record], dofs: Option<usize>) -> Result<(usize, f
     let first = records.first().ok_or(Error::NoRecords)?;
     let n = dofs.unwrap_or(first.dofs());
     for r in records {
-        if r.dofs() != n {
-            return Err(Error::DofMismatch {
-                record: r.label().to_owned(),
-                expected: n,
-                actual: r.dofs(),
-            });
-        }
-        if (r.sample_rate() / first.sample_rate() - 1.0).abs() > SAMPLE_RATE_TOLERANCE {
-            return Err(Error::SampleRateMismatch {
-                record: r.label().to_owned(),
-                expected: first.sample_rate(),
-                actual: r.sample_rate(),
-            });
-        }
-        if r.len() != first.len() {
-            return Err(Error::RecordLengthMismatch {
-                record: r.label().to_owned(),
-                expected: first.len(),
-                actual: r.len(),
-            });
-        }
+        check_against(r, n, first.sample_rate(), first.len())?;
     }
     Ok((n, first.sample_rate(), first.len()))
 }
@@ -365,45 +351,421 @@ impl Frf {
     }
 }
 
-/// Band-limited spectra of every channel of a list of records: `[record][line][channel]`.
-struct BandSpectra {
-    lines: usize,
-    n: usize,
-    forces: Vec<c64>,
-    displacements: Vec<c64>,
+/// What one record contributes to an estimator, computed independently of the others (so that
+/// records can be transformed in parallel and merged in order, bit for bit the same).
+#[derive(Debug, Clone)]
+enum Contribution {
+    /// Band-line spectra `[line][channel]` for paired sets.
+    Spectra {
+        forces: Vec<c64>,
+        displacements: Vec<c64>,
+    },
+    /// This record's sums over its segments of `F Fᴴ` and `X Fᴴ`, `[line][n × n]`.
+    Cross { sff: Vec<c64>, sxf: Vec<c64> },
 }
 
-impl BandSpectra {
-    fn at(&self, data: &[c64], record: usize, line: usize, channel: usize) -> c64 {
-        data[(record * self.lines + line) * self.n + channel]
-    }
+/// Everything an [`FrfBuilder`] has gathered from one record.
+#[derive(Debug, Clone)]
+struct Gathered {
+    label: String,
+    dominant: usize,
+    contribution: Contribution,
 }
 
-fn band_spectra(
-    records: &[Record],
-    estimator: &mut SpectralEstimator,
-    lines: &[usize],
+/// The fixed settings of a builder once the first record has fixed the shape.
+#[derive(Debug, Clone)]
+struct Plan {
     n: usize,
-) -> BandSpectra {
-    let mut out = BandSpectra {
-        lines: lines.len(),
-        n,
-        forces: vec![c64::new(0.0, 0.0); records.len() * lines.len() * n],
-        displacements: vec![c64::new(0.0, 0.0); records.len() * lines.len() * n],
-    };
-    for (r, rec) in records.iter().enumerate() {
-        for c in 0..n {
-            let spec = estimator.transform(rec.force(c));
-            for (l, &k) in lines.iter().enumerate() {
-                out.forces[(r * lines.len() + l) * n + c] = spec[k];
-            }
-            let spec = estimator.transform(rec.displacement(c));
-            for (l, &k) in lines.iter().enumerate() {
-                out.displacements[(r * lines.len() + l) * n + c] = spec[k];
-            }
+    sample_rate: f64,
+    len: usize,
+    seg_len: usize,
+    lines: Vec<usize>,
+    resolution_hz: f64,
+}
+
+/// Collects records one at a time into what an estimator needs — band-line spectra for paired
+/// sets, accumulated cross-spectra for H1 — and keeps no time data, so memory does not grow with
+/// record length and, for H1, not with the number of records either.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::frf::{Assignment, Band, Estimator, FrfBuilder};
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// use bearing_ident::spectra::{Segmentation, Window};
+/// let records = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+/// let mut builder = FrfBuilder::new(
+///     Estimator::PairedSets, Band::new(8.0, 49.0)?, Segmentation::WholeRecord, Window::Rectangular);
+/// for r in &records {
+///     builder.push(r)?; // each record may be dropped after this
+/// }
+/// let frf = builder.finish(&Assignment::DominantForce)?;
+/// assert_eq!(frf.lines(), 49);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct FrfBuilder {
+    estimator: Estimator,
+    band: Band,
+    segmentation: Segmentation,
+    window: Window,
+    dofs: Option<usize>,
+    plan: Option<(Plan, SpectralEstimator)>,
+    gathered: Vec<Gathered>,
+    /// H1 totals, merged record by record.
+    sff: Vec<c64>,
+    sxf: Vec<c64>,
+    averages: usize,
+}
+
+impl FrfBuilder {
+    /// A builder for `estimator` over `band`. Paired sets always use whole records.
+    pub fn new(
+        estimator: Estimator,
+        band: Band,
+        segmentation: Segmentation,
+        window: Window,
+    ) -> Self {
+        let segmentation = match estimator {
+            Estimator::PairedSets => Segmentation::WholeRecord,
+            Estimator::H1 => segmentation,
+        };
+        Self {
+            estimator,
+            band,
+            segmentation,
+            window,
+            dofs: None,
+            plan: None,
+            gathered: Vec::new(),
+            sff: Vec::new(),
+            sxf: Vec::new(),
+            averages: 0,
         }
     }
-    out
+
+    /// Requires every record to have `n` degrees of freedom (default: the first record's).
+    pub fn dofs(mut self, n: usize) -> Self {
+        self.dofs = Some(n);
+        self
+    }
+
+    /// Number of records pushed.
+    pub fn records(&self) -> usize {
+        self.gathered.len()
+    }
+
+    /// Checks `record` against the first one and fixes the plan on the first call.
+    fn check(&mut self, record: &Record) -> Result<()> {
+        match &self.plan {
+            None => {
+                let n = self.dofs.unwrap_or(record.dofs());
+                common_shape(std::slice::from_ref(record), Some(n))?;
+                let seg_len = self.segmentation.segment_len(record.len())?;
+                let lines = self.band.lines(record.sample_rate(), seg_len)?;
+                let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window);
+                let plan = Plan {
+                    n,
+                    sample_rate: record.sample_rate(),
+                    len: record.len(),
+                    seg_len,
+                    resolution_hz: spectral.resolution_hz(),
+                    lines,
+                };
+                let size = plan.lines.len() * n * n;
+                if self.estimator == Estimator::H1 {
+                    self.sff = vec![c64::new(0.0, 0.0); size];
+                    self.sxf = vec![c64::new(0.0, 0.0); size];
+                }
+                self.plan = Some((plan, spectral));
+                Ok(())
+            }
+            Some((plan, _)) => check_against(record, plan.n, plan.sample_rate, plan.len),
+        }
+    }
+
+    /// Adds one record.
+    ///
+    /// # Errors
+    /// [`Error::DofMismatch`], [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`]
+    /// against the first record; on the first record, [`Error::BandAboveNyquist`] and
+    /// [`Error::InvalidParameter`] for a bad Welch segment length.
+    pub fn push(&mut self, record: &Record) -> Result<()> {
+        self.check(record)?;
+        let (plan, spectral) = self.plan.as_mut().expect("set by check");
+        let contribution = contribute(self.estimator, self.segmentation, plan, spectral, record);
+        self.merge(record, contribution);
+        Ok(())
+    }
+
+    /// Adds every record of a slice. With the `rayon` feature the records are transformed in
+    /// parallel and merged in order: the result is bit for bit that of [`FrfBuilder::push`] in
+    /// a loop.
+    ///
+    /// # Errors
+    /// As [`FrfBuilder::push`], for the first record that fails.
+    pub fn push_all(&mut self, records: &[Record]) -> Result<()> {
+        let Some(first) = records.first() else {
+            return Ok(());
+        };
+        self.check(first)?;
+        for r in &records[1..] {
+            self.check(r)?;
+        }
+        let (plan, spectral) = self.plan.as_mut().expect("set by check");
+        let (estimator, segmentation) = (self.estimator, self.segmentation);
+        #[cfg(feature = "rayon")]
+        let contributions: Vec<Contribution> = {
+            use rayon::prelude::*;
+            let plan = &*plan;
+            records
+                .par_iter()
+                .map_init(
+                    || SpectralEstimator::new(plan.seg_len, plan.sample_rate, spectral.window()),
+                    |est, r| contribute(estimator, segmentation, plan, est, r),
+                )
+                .collect()
+        };
+        #[cfg(not(feature = "rayon"))]
+        let contributions: Vec<Contribution> = records
+            .iter()
+            .map(|r| contribute(estimator, segmentation, plan, spectral, r))
+            .collect();
+        for (r, c) in records.iter().zip(contributions) {
+            self.merge(r, c);
+        }
+        Ok(())
+    }
+
+    fn merge(&mut self, record: &Record, contribution: Contribution) {
+        let contribution = match contribution {
+            Contribution::Cross { sff, sxf } => {
+                for (total, part) in self.sff.iter_mut().zip(&sff) {
+                    *total += part;
+                }
+                for (total, part) in self.sxf.iter_mut().zip(&sxf) {
+                    *total += part;
+                }
+                self.averages += self.segmentation.starts(record.len()).count();
+                // Only the totals are kept.
+                Contribution::Cross {
+                    sff: Vec::new(),
+                    sxf: Vec::new(),
+                }
+            }
+            spectra => {
+                self.averages += 1;
+                spectra
+            }
+        };
+        self.gathered.push(Gathered {
+            label: record.label().to_owned(),
+            dominant: record.dominant_force(),
+            contribution,
+        });
+    }
+
+    /// The excitation of every record pushed, by `assignment`.
+    ///
+    /// # Errors
+    /// As [`Assignment::resolve`].
+    pub fn excitations(&self, assignment: &Assignment) -> Result<Vec<usize>> {
+        let n = self.plan.as_ref().map_or(0, |(p, _)| p.n);
+        let labels: Vec<&str> = self.gathered.iter().map(|g| g.label.as_str()).collect();
+        let dominant: Vec<usize> = self.gathered.iter().map(|g| g.dominant).collect();
+        assignment.resolve_with(&labels, &dominant, n)
+    }
+
+    /// Impedances and flexibilities from everything pushed.
+    ///
+    /// # Errors
+    /// [`Error::NoRecords`] if nothing was pushed; for paired sets, the assignment errors and
+    /// [`Error::RankDeficient`] when some direction has no record.
+    pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
+        let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
+        match self.estimator {
+            Estimator::PairedSets => self.finish_paired(plan, &self.excitations(assignment)?),
+            Estimator::H1 => Ok(self.finish_h1(plan)),
+        }
+    }
+
+    fn finish_paired(&self, plan: &Plan, excitation: &[usize]) -> Result<Frf> {
+        let n = plan.n;
+        let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (r, &e) in excitation.iter().enumerate() {
+            by_direction[e].push(r);
+        }
+        let rank = by_direction.iter().filter(|d| !d.is_empty()).count();
+        if rank < n {
+            return Err(Error::RankDeficient { rank, dofs: n });
+        }
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        let mut frf = Frf::empty(n, Estimator::PairedSets);
+        frf.averages = sets;
+        frf.unpaired = by_direction
+            .iter()
+            .flat_map(|d| d[sets..].iter().map(|&r| self.gathered[r].label.clone()))
+            .collect();
+        let spectra = |r: usize| match &self.gathered[r].contribution {
+            Contribution::Spectra {
+                forces,
+                displacements,
+            } => (forces, displacements),
+            Contribution::Cross { .. } => unreachable!("paired builders gather spectra"),
+        };
+        let nn = n * n;
+        let zero = c64::new(0.0, 0.0);
+        let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let (mut h, mut g, mut scratch) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let (mut pivots, mut sigma) = (vec![0; n], vec![0.0; n]);
+        'line: for (l, &k) in plan.lines.iter().enumerate() {
+            let freq = k as f64 * plan.resolution_hz;
+            h.fill(zero);
+            let mut worst = 0.0_f64;
+            for s in 0..sets {
+                for (j, dir) in by_direction.iter().enumerate() {
+                    let (fr, xr) = spectra(dir[s]);
+                    x[j * n..(j + 1) * n].copy_from_slice(&xr[l * n..(l + 1) * n]);
+                    f[j * n..(j + 1) * n].copy_from_slice(&fr[l * n..(l + 1) * n]);
+                }
+                worst = worst.max(linalg::condition_number_with(
+                    &x,
+                    n,
+                    &mut scratch,
+                    &mut sigma,
+                ));
+                if !linalg::invert_in_place(&mut x, n, &mut pivots) {
+                    frf.dropped_hz.push(freq);
+                    continue 'line;
+                }
+                linalg::mul_into(&f, &x, &mut hs, n);
+                for (a, b) in h.iter_mut().zip(&hs) {
+                    *a += b / sets as f64;
+                }
+            }
+            g.copy_from_slice(&h);
+            if linalg::invert_in_place(&mut g, n, &mut pivots) {
+                frf.push_line(freq, &h, &g, worst);
+            } else {
+                frf.dropped_hz.push(freq);
+            }
+        }
+        Ok(frf)
+    }
+
+    fn finish_h1(&self, plan: &Plan) -> Frf {
+        let n = plan.n;
+        let nn = n * n;
+        let zero = c64::new(0.0, 0.0);
+        let mut frf = Frf::empty(n, Estimator::H1);
+        frf.averages = self.averages;
+        let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let (mut scratch, mut pivots, mut sigma) = (vec![zero; nn], vec![0; n], vec![0.0; n]);
+        for (l, &k) in plan.lines.iter().enumerate() {
+            let freq = k as f64 * plan.resolution_hz;
+            let sf = &self.sff[l * nn..(l + 1) * nn];
+            let cond = linalg::condition_number_with(sf, n, &mut scratch, &mut sigma);
+            inv.copy_from_slice(sf);
+            let ok = linalg::invert_in_place(&mut inv, n, &mut pivots) && {
+                linalg::mul_into(&self.sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
+                h.copy_from_slice(&g);
+                linalg::invert_in_place(&mut h, n, &mut pivots)
+            };
+            if ok {
+                frf.push_line(freq, &h, &g, cond);
+            } else {
+                frf.dropped_hz.push(freq);
+            }
+        }
+        frf
+    }
+}
+
+/// `record` against the common shape `(n, sample_rate, len)`.
+fn check_against(record: &Record, n: usize, sample_rate: f64, len: usize) -> Result<()> {
+    if record.dofs() != n {
+        return Err(Error::DofMismatch {
+            record: record.label().to_owned(),
+            expected: n,
+            actual: record.dofs(),
+        });
+    }
+    if (record.sample_rate() / sample_rate - 1.0).abs() > SAMPLE_RATE_TOLERANCE {
+        return Err(Error::SampleRateMismatch {
+            record: record.label().to_owned(),
+            expected: sample_rate,
+            actual: record.sample_rate(),
+        });
+    }
+    if record.len() != len {
+        return Err(Error::RecordLengthMismatch {
+            record: record.label().to_owned(),
+            expected: len,
+            actual: record.len(),
+        });
+    }
+    Ok(())
+}
+
+/// One record's contribution: its band-line spectra (paired) or its segment sums (H1).
+fn contribute(
+    estimator: Estimator,
+    segmentation: Segmentation,
+    plan: &Plan,
+    spectral: &mut SpectralEstimator,
+    record: &Record,
+) -> Contribution {
+    let (n, lines) = (plan.n, &plan.lines);
+    let zero = c64::new(0.0, 0.0);
+    let mut forces = vec![zero; lines.len() * n];
+    let mut displacements = vec![zero; lines.len() * n];
+    let mut transform = |start: usize, forces: &mut [c64], displacements: &mut [c64]| {
+        let seg = start..start + plan.seg_len;
+        for c in 0..n {
+            let spec = spectral.transform(&record.force(c)[seg.clone()]);
+            for (l, &k) in lines.iter().enumerate() {
+                forces[l * n + c] = spec[k];
+            }
+            let spec = spectral.transform(&record.displacement(c)[seg.clone()]);
+            for (l, &k) in lines.iter().enumerate() {
+                displacements[l * n + c] = spec[k];
+            }
+        }
+    };
+    match estimator {
+        Estimator::PairedSets => {
+            transform(0, &mut forces, &mut displacements);
+            Contribution::Spectra {
+                forces,
+                displacements,
+            }
+        }
+        Estimator::H1 => {
+            let nn = n * n;
+            let mut sff = vec![zero; lines.len() * nn];
+            let mut sxf = vec![zero; lines.len() * nn];
+            for start in segmentation.starts(record.len()) {
+                transform(start, &mut forces, &mut displacements);
+                for l in 0..lines.len() {
+                    let (fl, xl) = (
+                        &forces[l * n..(l + 1) * n],
+                        &displacements[l * n..(l + 1) * n],
+                    );
+                    let (sf, sx) = (
+                        &mut sff[l * nn..(l + 1) * nn],
+                        &mut sxf[l * nn..(l + 1) * nn],
+                    );
+                    for j in 0..n {
+                        let fj = fl[j].conj();
+                        for i in 0..n {
+                            sf[i + j * n] += fl[i] * fj;
+                            sx[i + j * n] += xl[i] * fj;
+                        }
+                    }
+                }
+            }
+            Contribution::Cross { sff, sxf }
+        }
+    }
 }
 
 /// Impedance by paired sets (seed eq. 9): whole-record spectra, `H = F X⁻¹` per set, averaged.
@@ -413,74 +775,23 @@ fn band_spectra(
 /// counts the extra records are left out and listed in [`Frf::unpaired`].
 ///
 /// # Errors
-/// Shape errors from [`common_shape`]; [`Error::BandAboveNyquist`];
+/// Shape errors from [`common_shape`]; [`Error::BandAboveNyquist`]; the assignment errors;
 /// [`Error::RankDeficient`] when some direction has no record at all.
-///
-/// # Panics
-/// If `excitation.len() != records.len()` or an entry is `≥ n`.
 pub fn paired_sets(
     records: &[Record],
     excitation: &[usize],
     band: Band,
     window: Window,
 ) -> Result<Frf> {
-    let (n, fs, len) = common_shape(records, None)?;
-    assert_eq!(excitation.len(), records.len(), "one excitation per record");
-    let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (r, &e) in excitation.iter().enumerate() {
-        by_direction[e].push(r);
-    }
-    let rank = by_direction.iter().filter(|d| !d.is_empty()).count();
-    if rank < n {
-        return Err(Error::RankDeficient { rank, dofs: n });
-    }
-    let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
-    let lines = band.lines(fs, len)?;
-    let mut estimator = SpectralEstimator::new(len, fs, window);
-    let spectra = band_spectra(records, &mut estimator, &lines, n);
-
-    let mut frf = Frf::empty(n, Estimator::PairedSets);
-    frf.averages = sets;
-    frf.unpaired = by_direction
-        .iter()
-        .flat_map(|d| d[sets..].iter().map(|&r| records[r].label().to_owned()))
-        .collect();
-    let nn = n * n;
-    let zero = c64::new(0.0, 0.0);
-    let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
-    let (mut h, mut g) = (vec![zero; nn], vec![zero; nn]);
-    let mut pivots = vec![0; n];
-    'line: for (l, &k) in lines.iter().enumerate() {
-        h.fill(zero);
-        let mut worst = 0.0_f64;
-        for s in 0..sets {
-            for (j, dir) in by_direction.iter().enumerate() {
-                let r = dir[s];
-                for i in 0..n {
-                    x[i + j * n] = spectra.at(&spectra.displacements, r, l, i);
-                    f[i + j * n] = spectra.at(&spectra.forces, r, l, i);
-                }
-            }
-            worst = worst.max(linalg::condition_number(MatRef::from_column_major_slice(
-                &x, n, n,
-            ))?);
-            if !linalg::invert_in_place(&mut x, n, &mut pivots) {
-                frf.dropped_hz.push(estimator.frequency_hz(k));
-                continue 'line;
-            }
-            linalg::mul_into(&f, &x, &mut hs, n);
-            for (a, b) in h.iter_mut().zip(&hs) {
-                *a += b / sets as f64;
-            }
-        }
-        g.copy_from_slice(&h);
-        if linalg::invert_in_place(&mut g, n, &mut pivots) {
-            frf.push_line(estimator.frequency_hz(k), &h, &g, worst);
-        } else {
-            frf.dropped_hz.push(estimator.frequency_hz(k));
-        }
-    }
-    Ok(frf)
+    common_shape(records, None)?;
+    let mut b = FrfBuilder::new(
+        Estimator::PairedSets,
+        band,
+        Segmentation::WholeRecord,
+        window,
+    );
+    b.push_all(records)?;
+    b.finish(&Assignment::Explicit(excitation.to_vec()))
 }
 
 /// Impedance by the MIMO H1 estimator over all records and segments:
@@ -495,67 +806,10 @@ pub fn h1(
     segmentation: Segmentation,
     window: Window,
 ) -> Result<Frf> {
-    let (n, fs, len) = common_shape(records, None)?;
-    let seg_len = segmentation.segment_len(len)?;
-    let lines = band.lines(fs, seg_len)?;
-    let mut estimator = SpectralEstimator::new(seg_len, fs, window);
-    let nn = n * n;
-    let zero = c64::new(0.0, 0.0);
-    let mut sff = vec![zero; lines.len() * nn];
-    let mut sxf = vec![zero; lines.len() * nn];
-    let mut fspec = vec![zero; lines.len() * n];
-    let mut xspec = vec![zero; lines.len() * n];
-    let mut averages = 0;
-    for rec in records {
-        for start in segmentation.starts(len) {
-            let seg = start..start + seg_len;
-            for c in 0..n {
-                let spec = estimator.transform(&rec.force(c)[seg.clone()]);
-                for (l, &k) in lines.iter().enumerate() {
-                    fspec[l * n + c] = spec[k];
-                }
-                let spec = estimator.transform(&rec.displacement(c)[seg.clone()]);
-                for (l, &k) in lines.iter().enumerate() {
-                    xspec[l * n + c] = spec[k];
-                }
-            }
-            for l in 0..lines.len() {
-                let (fl, xl) = (&fspec[l * n..(l + 1) * n], &xspec[l * n..(l + 1) * n]);
-                let (sf, sx) = (
-                    &mut sff[l * nn..(l + 1) * nn],
-                    &mut sxf[l * nn..(l + 1) * nn],
-                );
-                for j in 0..n {
-                    let fj = fl[j].conj();
-                    for i in 0..n {
-                        sf[i + j * n] += fl[i] * fj;
-                        sx[i + j * n] += xl[i] * fj;
-                    }
-                }
-            }
-            averages += 1;
-        }
-    }
-    let mut frf = Frf::empty(n, Estimator::H1);
-    frf.averages = averages;
-    let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
-    let mut pivots = vec![0; n];
-    for (l, &k) in lines.iter().enumerate() {
-        let sf = &sff[l * nn..(l + 1) * nn];
-        let cond = linalg::condition_number(MatRef::from_column_major_slice(sf, n, n))?;
-        inv.copy_from_slice(sf);
-        let ok = linalg::invert_in_place(&mut inv, n, &mut pivots) && {
-            linalg::mul_into(&sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
-            h.copy_from_slice(&g);
-            linalg::invert_in_place(&mut h, n, &mut pivots)
-        };
-        if ok {
-            frf.push_line(estimator.frequency_hz(k), &h, &g, cond);
-        } else {
-            frf.dropped_hz.push(estimator.frequency_hz(k));
-        }
-    }
-    Ok(frf)
+    common_shape(records, None)?;
+    let mut b = FrfBuilder::new(Estimator::H1, band, segmentation, window);
+    b.push_all(records)?;
+    b.finish(&Assignment::DominantForce)
 }
 
 #[cfg(test)]

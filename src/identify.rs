@@ -8,7 +8,7 @@ use faer::{Mat, c64};
 
 use crate::conditioning::{ConditionLimits, Conditioning};
 use crate::error::{Error, Result, Warning};
-use crate::frf::{self, Assignment, Band, Estimator, Frf};
+use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
 use crate::model::{Coefficients, Mode};
 use crate::records::Record;
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
@@ -154,7 +154,71 @@ impl Identifier {
     /// [`Error::InvalidParameter`] for out-of-range settings, and [`Error::NotConverged`] under
     /// [`NonConvergence::Fail`].
     pub fn identify(&self, records: &[Record]) -> Result<Identification> {
-        let band = Band::new(self.low_hz, self.high_hz)?;
+        self.validate()?;
+        let mut builder = self.builder();
+        builder.push_all(records)?;
+        self.finish(builder)
+    }
+
+    /// [`Identifier::identify`] over records that arrive one at a time (read from files, say):
+    /// each is reduced to its band-line spectra (paired sets) or folded into the cross-spectra
+    /// (H1) and can be dropped at once, so memory does not grow with record length, nor, for
+    /// H1, with the number of records.
+    ///
+    /// # Errors
+    /// The first error of the iterator, then as [`Identifier::identify`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let records = test.run(&seed_rig())?;
+    /// let streamed = Identifier::new(8.0, 49.0).identify_stream(records.clone().into_iter().map(Ok))?;
+    /// let at_once = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// assert_eq!(streamed.coefficients(), at_once.coefficients());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_stream(
+        &self,
+        records: impl IntoIterator<Item = Result<Record>>,
+    ) -> Result<Identification> {
+        self.validate()?;
+        let mut builder = self.builder();
+        for r in records {
+            builder.push(&r?)?;
+        }
+        self.finish(builder)
+    }
+
+    /// Identifies many test conditions (operating points) with the same settings, one result
+    /// per record set, in order. With the `rayon` feature the sets run in parallel.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let sets = vec![test.run(&seed_rig())?, test.run(&seed_rig())?];
+    /// let results = Identifier::new(8.0, 49.0).identify_batch(&sets);
+    /// assert_eq!(results.len(), 2);
+    /// assert!(results.iter().all(|r| r.is_ok()));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_batch(&self, sets: &[Vec<Record>]) -> Vec<Result<Identification>> {
+        #[cfg(feature = "rayon")]
+        {
+            use rayon::prelude::*;
+            sets.par_iter().map(|s| self.identify(s)).collect()
+        }
+        #[cfg(not(feature = "rayon"))]
+        {
+            sets.iter().map(|s| self.identify(s)).collect()
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        Band::new(self.low_hz, self.high_hz)?;
         self.ivf.validate()?;
         if !(self.limits.warn >= 1.0 && self.limits.refuse >= self.limits.warn) {
             return Err(Error::InvalidParameter {
@@ -163,19 +227,27 @@ impl Identifier {
                 expected: "1 ≤ warn ≤ refuse",
             });
         }
-        let (n, _, _) = frf::common_shape(records, self.dofs)?;
-        let (frf, excitations) = match self.estimator {
-            Estimator::PairedSets => {
-                let excitations = self.assignment.resolve(records, n)?;
-                (
-                    frf::paired_sets(records, &excitations, band, self.window)?,
-                    excitations,
-                )
-            }
-            Estimator::H1 => (
-                frf::h1(records, band, self.segmentation, self.window)?,
-                records.iter().map(Record::dominant_force).collect(),
-            ),
+        Ok(())
+    }
+
+    fn builder(&self) -> FrfBuilder {
+        let band = Band::new(self.low_hz, self.high_hz).expect("validated");
+        let builder = FrfBuilder::new(self.estimator, band, self.segmentation, self.window);
+        match self.dofs {
+            Some(n) => builder.dofs(n),
+            None => builder,
+        }
+    }
+
+    fn finish(&self, builder: FrfBuilder) -> Result<Identification> {
+        if builder.records() == 0 {
+            return Err(Error::NoRecords);
+        }
+        let band = Band::new(self.low_hz, self.high_hz)?;
+        let frf = builder.finish(&self.assignment)?;
+        let excitations = match self.estimator {
+            Estimator::PairedSets => builder.excitations(&self.assignment)?,
+            Estimator::H1 => builder.excitations(&Assignment::DominantForce)?,
         };
         let conditioning = Conditioning::assess(&frf, self.limits)?;
         let fit = solve::fit(&frf, self.method, &self.ivf)?;

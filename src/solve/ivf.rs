@@ -1,9 +1,12 @@
 //! The instrumental-variable filter (Fritzen 1985; Diaz & San Andrés 1999, eqs. 11–13).
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
+use faer::linalg::lu::partial_pivoting::solve::{solve_in_place, solve_in_place_scratch};
 use faer::linalg::matmul::matmul;
-use faer::prelude::Solve;
 use faer::{Accum, Mat, MatRef, Par, c64};
 
+use super::system::Stacked;
 use super::{Convergence, Fit, Method, finish, ls};
 use crate::error::{Error, Result};
 use crate::frf::Frf;
@@ -90,98 +93,226 @@ fn block_change(new: MatRef<'_, f64>, old: MatRef<'_, f64>, block: usize, n: usi
     }
 }
 
-/// Iteration workspace: owned once, reused by every iteration.
-struct Workspace {
+/// The IVF iteration as a value: built once from an [`Frf`] (the least-squares start, the
+/// scaled `A`, every buffer an iteration needs), then stepped with [`IvfSolver::iterate`],
+/// which does not allocate, or run to the end with [`IvfSolver::solve`].
+///
+/// # Examples
+/// ```
+/// use bearing_ident::frf::Frf;
+/// use bearing_ident::model::Coefficients;
+/// use bearing_ident::solve::{IvfOptions, IvfSolver};
+/// use faer::{Mat, c64, mat};
+/// let truth = Coefficients::new(mat![[2.0]], mat![[10.0]], mat![[8.0e3]])?;
+/// let freqs: Vec<f64> = (5..=15).map(f64::from).collect();
+/// let g: Vec<Mat<c64>> = freqs.iter().map(|&f| truth.flexibility_at(f)).collect::<Result<_, _>>()?;
+/// let mut solver = IvfSolver::new(&Frf::from_flexibility(freqs, &g)?, IvfOptions::default())?;
+/// let step = solver.iterate().expect("a regular model");
+/// assert!(step.change() < 1e-9); // exact data: least squares was already right
+/// let fit = solver.solve()?;
+/// assert!((fit.coefficients().stiffness()[(0, 0)] / 8.0e3 - 1.0).abs() < 1e-10);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub struct IvfSolver {
+    sys: Stacked,
+    options: IvfOptions,
+    theta: Mat<f64>,
+    next: Mat<f64>,
+    history: Vec<Iteration>,
     w_s: Mat<f64>,
     normal: Mat<f64>,
     rhs: Mat<f64>,
+    theta_s: Mat<f64>,
+    residual: Mat<f64>,
     g: Vec<c64>,
     pivots: Vec<usize>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    stack: MemBuffer,
 }
 
-pub(super) fn fit(frf: &Frf, options: &IvfOptions) -> Result<Fit> {
-    options.validate()?;
-    let (theta0, sys) = ls::solve(frf, "ivf")?;
-    let n = sys.n;
-    let p = 3 * n;
-    let mut ws = Workspace {
-        w_s: Mat::zeros(sys.a.nrows(), p),
-        normal: Mat::zeros(p, p),
-        rhs: Mat::zeros(p, n),
-        g: vec![c64::new(0.0, 0.0); n * n],
-        pivots: vec![0; n],
-    };
-    let mut theta = theta0.clone();
-    let mut history: Vec<Iteration> = Vec::new();
-    let mut best = (f64::INFINITY, 0, theta0);
-    let mut rises = 0;
-    let mut convergence = None;
-    for it in 1..=options.max_iterations {
-        if !sys.fill_instruments(theta.as_ref(), ws.w_s.as_mut(), &mut ws.g, &mut ws.pivots) {
-            convergence = Some(Convergence::Diverged {
-                iterations: it - 1,
-                fallback_iteration: best.1,
-            });
-            break;
+impl std::fmt::Debug for IvfSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("IvfSolver")
+            .field("options", &self.options)
+            .field("theta", &self.theta)
+            .field("history", &self.history)
+            .finish_non_exhaustive()
+    }
+}
+
+impl IvfSolver {
+    /// Builds the stacked system, solves least squares for the start, and allocates every
+    /// buffer of the iteration.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid options, and the least-squares errors
+    /// ([`Error::TooFewLines`], [`Error::SingularFit`]).
+    pub fn new(frf: &Frf, options: IvfOptions) -> Result<Self> {
+        options.validate()?;
+        let (theta, sys) = ls::solve(frf, "ivf")?;
+        let (n, m) = (sys.n, sys.a.nrows());
+        let p = 3 * n;
+        let stack = MemBuffer::new(
+            lu_in_place_scratch::<usize, f64>(p, p, Par::Seq, Default::default())
+                .or(solve_in_place_scratch::<usize, f64>(p, n, Par::Seq)),
+        );
+        Ok(Self {
+            options,
+            next: theta.clone(),
+            theta,
+            history: Vec::with_capacity(options.max_iterations),
+            w_s: Mat::zeros(m, p),
+            normal: Mat::zeros(p, p),
+            rhs: Mat::zeros(p, n),
+            theta_s: Mat::zeros(p, n),
+            residual: Mat::zeros(m, n),
+            g: vec![c64::new(0.0, 0.0); n * n],
+            pivots: vec![0; n],
+            perm: vec![0; p],
+            perm_inv: vec![0; p],
+            stack,
+            sys,
+        })
+    }
+
+    /// The current iterate `Θ = [M; C; K]` (`3n × n`).
+    pub fn theta(&self) -> MatRef<'_, f64> {
+        self.theta.as_ref()
+    }
+
+    /// The iterations run so far.
+    pub fn history(&self) -> &[Iteration] {
+        &self.history
+    }
+
+    /// One iteration, `Θ ← (W_sᵀ A_s)⁻¹ W_sᵀ Ī` with instruments from the current model;
+    /// no heap allocation. `None` (and no change) if the model impedance is singular at a
+    /// line or the new iterate is not finite.
+    pub fn iterate(&mut self) -> Option<Iteration> {
+        let sys = &self.sys;
+        if !sys.fill_instruments(
+            self.theta.as_ref(),
+            self.w_s.as_mut(),
+            &mut self.g,
+            &mut self.pivots,
+        ) {
+            return None;
         }
         matmul(
-            ws.normal.as_mut(),
+            self.normal.as_mut(),
             Accum::Replace,
-            ws.w_s.transpose(),
+            self.w_s.transpose(),
             sys.a.as_ref(),
             1.0,
             Par::Seq,
         );
-        sys.instrument_rhs(ws.w_s.as_ref(), ws.rhs.as_mut());
-        let theta_s = ws.normal.partial_piv_lu().solve(&ws.rhs);
-        let next = sys.unscale(theta_s.as_ref());
-        if !next.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
-            convergence = Some(Convergence::Diverged {
-                iterations: it,
-                fallback_iteration: best.1,
-            });
-            break;
+        sys.instrument_rhs(self.w_s.as_ref(), self.rhs.as_mut());
+        let stack = MemStack::new(&mut self.stack);
+        let (_, perm) = lu_in_place(
+            self.normal.as_mut(),
+            &mut self.perm,
+            &mut self.perm_inv,
+            Par::Seq,
+            stack,
+            Default::default(),
+        );
+        solve_in_place(
+            self.normal.as_ref(),
+            self.normal.as_ref(),
+            perm,
+            self.rhs.as_mut(),
+            Par::Seq,
+            stack,
+        );
+        sys.unscale_into(self.rhs.as_ref(), self.next.as_mut());
+        if !self
+            .next
+            .col_iter()
+            .all(|c| c.iter().all(|v| v.is_finite()))
+        {
+            return None;
         }
+        let n = sys.n;
         let step = Iteration {
-            mass_change: block_change(next.as_ref(), theta.as_ref(), 0, n),
-            damping_change: block_change(next.as_ref(), theta.as_ref(), 1, n),
-            stiffness_change: block_change(next.as_ref(), theta.as_ref(), 2, n),
-            residual_norm: sys.residual_norm(next.as_ref()),
+            mass_change: block_change(self.next.as_ref(), self.theta.as_ref(), 0, n),
+            damping_change: block_change(self.next.as_ref(), self.theta.as_ref(), 1, n),
+            stiffness_change: block_change(self.next.as_ref(), self.theta.as_ref(), 2, n),
+            residual_norm: sys.residual_norm_into(
+                self.next.as_ref(),
+                self.theta_s.as_mut(),
+                self.residual.as_mut(),
+            ),
         };
-        let change = step.change();
-        if history.last().is_some_and(|prev| change > prev.change()) {
-            rises += 1;
-        } else {
-            rises = 0;
-        }
-        history.push(step);
-        theta = next;
-        if change < best.0 {
-            best = (change, it, theta.clone());
-        }
-        if change < options.tolerance {
-            convergence = Some(Convergence::Converged { iterations: it });
-            break;
-        }
-        if rises >= 3 {
-            convergence = Some(Convergence::Diverged {
-                iterations: it,
-                fallback_iteration: best.1,
-            });
-            break;
-        }
+        std::mem::swap(&mut self.theta, &mut self.next);
+        self.history.push(step);
+        Some(step)
     }
-    let convergence = convergence.unwrap_or(Convergence::IterationLimit {
-        iterations: options.max_iterations,
-        change: history.last().map_or(f64::NAN, Iteration::change),
-    });
-    if let Convergence::Diverged { .. } = convergence {
-        theta = best.2;
+
+    /// Iterates until the block-wise change falls below the tolerance, the iteration limit,
+    /// or divergence (the change rising three times in a row, or [`IvfSolver::iterate`]
+    /// returning `None`), when the iterate with the smallest change is returned.
+    ///
+    /// # Errors
+    /// [`Error::CoefficientShape`] never; kept for the uniform [`Fit`] constructor.
+    pub fn solve(mut self) -> Result<Fit> {
+        let mut best = (f64::INFINITY, 0, self.theta.clone());
+        let mut rises = 0;
+        let mut convergence = None;
+        while self.history.len() < self.options.max_iterations {
+            let Some(step) = self.iterate() else {
+                convergence = Some(Convergence::Diverged {
+                    iterations: self.history.len(),
+                    fallback_iteration: best.1,
+                });
+                break;
+            };
+            let it = self.history.len();
+            let change = step.change();
+            if it > 1 && change > self.history[it - 2].change() {
+                rises += 1;
+            } else {
+                rises = 0;
+            }
+            if change < best.0 {
+                best.0 = change;
+                best.1 = it;
+                best.2.copy_from(&self.theta);
+            }
+            if change < self.options.tolerance {
+                convergence = Some(Convergence::Converged { iterations: it });
+                break;
+            }
+            if rises >= 3 {
+                convergence = Some(Convergence::Diverged {
+                    iterations: it,
+                    fallback_iteration: best.1,
+                });
+                break;
+            }
+        }
+        let convergence = convergence.unwrap_or(Convergence::IterationLimit {
+            iterations: self.options.max_iterations,
+            change: self.history.last().map_or(f64::NAN, Iteration::change),
+        });
+        if let Convergence::Diverged { .. } = convergence {
+            self.theta = best.2;
+        }
+        // Instruments at the returned iterate, for the sandwich covariance.
+        let sys = &self.sys;
+        let std = sys
+            .fill_instruments(
+                self.theta.as_ref(),
+                self.w_s.as_mut(),
+                &mut self.g,
+                &mut self.pivots,
+            )
+            .then(|| sys.sandwich_std(self.theta.as_ref(), self.w_s.as_ref()))
+            .flatten();
+        finish(Method::Ivf, self.theta, sys, convergence, self.history, std)
     }
-    // Instruments at the returned iterate, for the sandwich covariance.
-    let std = sys
-        .fill_instruments(theta.as_ref(), ws.w_s.as_mut(), &mut ws.g, &mut ws.pivots)
-        .then(|| sys.sandwich_std(theta.as_ref(), ws.w_s.as_ref()))
-        .flatten();
-    finish(Method::Ivf, theta, &sys, convergence, history, std)
+}
+
+pub(super) fn fit(frf: &Frf, options: &IvfOptions) -> Result<Fit> {
+    IvfSolver::new(frf, *options)?.solve()
 }

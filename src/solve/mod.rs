@@ -29,7 +29,7 @@ use crate::frf::Frf;
 use crate::model::Coefficients;
 
 pub use direct::DirectFit;
-pub use ivf::{Iteration, IvfOptions};
+pub use ivf::{Iteration, IvfOptions, IvfSolver};
 
 /// The fitting method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]

@@ -1,7 +1,7 @@
 //! The stacked real system `A Θ = Ī` shared by least squares and IVF, with its column scaling.
 
 use faer::linalg::matmul::matmul;
-use faer::reborrow::ReborrowMut;
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par, c64};
 
 use crate::error::{Error, Result};
@@ -11,6 +11,7 @@ use crate::linalg;
 use super::required_lines;
 
 /// `A` with unit-norm columns (`A_s = A D`), the scaling `D` and the line frequencies (rad/s).
+#[derive(Debug)]
 pub(super) struct Stacked {
     pub n: usize,
     pub omegas: Vec<f64>,
@@ -117,6 +118,41 @@ impl Stacked {
         })
     }
 
+    /// `out = D Θ_s`, in place.
+    pub fn unscale_into(&self, theta_s: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
+        for j in 0..theta_s.ncols() {
+            for p in 0..theta_s.nrows() {
+                out[(p, j)] = theta_s[(p, j)] * self.scale[p];
+            }
+        }
+    }
+
+    /// `‖A Θ − Ī‖_F` using the caller's buffers (`3n × n` and `2nN × n`); no allocation.
+    pub fn residual_norm_into(
+        &self,
+        theta: MatRef<'_, f64>,
+        mut theta_s: MatMut<'_, f64>,
+        mut residual: MatMut<'_, f64>,
+    ) -> f64 {
+        self.rescale(theta, theta_s.rb_mut());
+        matmul(
+            residual.rb_mut(),
+            Accum::Replace,
+            self.a.as_ref(),
+            theta_s.rb(),
+            1.0,
+            Par::Seq,
+        );
+        let n = self.n;
+        for row in 0..residual.nrows() {
+            let j = row % (2 * n);
+            if j < n {
+                residual[(row, j)] -= 1.0;
+            }
+        }
+        residual.rb().norm_l2()
+    }
+
     /// `Θ_s = D⁻¹ Θ`.
     pub fn rescale(&self, theta: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
         for j in 0..theta.ncols() {
@@ -152,7 +188,9 @@ impl Stacked {
 
     /// `‖A Θ − Ī‖_F`.
     pub fn residual_norm(&self, theta: MatRef<'_, f64>) -> f64 {
-        self.residual(theta).norm_l2()
+        let mut theta_s = Mat::zeros(theta.nrows(), theta.ncols());
+        let mut residual = Mat::zeros(self.a.nrows(), self.n);
+        self.residual_norm_into(theta, theta_s.as_mut(), residual.as_mut())
     }
 
     /// Fills the scaled instruments `W_s` from the model flexibility of `theta` (unscaled).
