@@ -516,11 +516,11 @@ impl FrfBuilder {
         #[cfg(feature = "rayon")]
         let contributions: Vec<Contribution> = {
             use rayon::prelude::*;
-            let plan = &*plan;
+            let (plan, spectral) = (&*plan, &*spectral);
             records
                 .par_iter()
                 .map_init(
-                    || SpectralEstimator::new(plan.seg_len, plan.sample_rate, spectral.window()),
+                    || spectral.clone(),
                     |est, r| contribute(estimator, segmentation, plan, est, r),
                 )
                 .collect()

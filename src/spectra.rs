@@ -140,6 +140,23 @@ impl std::fmt::Debug for SpectralEstimator {
     }
 }
 
+/// A clone shares the FFT plan (and its twiddles) and gets buffers of its own: the cheap way
+/// to give each worker thread an estimator.
+impl Clone for SpectralEstimator {
+    fn clone(&self) -> Self {
+        Self {
+            len: self.len,
+            sample_rate: self.sample_rate,
+            window: self.window,
+            weights: self.weights.clone(),
+            fft: Arc::clone(&self.fft),
+            input: self.fft.make_input_vec(),
+            output: self.fft.make_output_vec(),
+            scratch: self.fft.make_scratch_vec(),
+        }
+    }
+}
+
 impl SpectralEstimator {
     /// Plans the FFT and allocates every buffer for segments of `len` samples at
     /// `sample_rate` Hz.

@@ -10,6 +10,7 @@ use super::system::Stacked;
 use super::{Convergence, Fit, Method, finish, ls};
 use crate::error::{Error, Result};
 use crate::frf::Frf;
+use crate::linalg::Inverter;
 
 /// Stopping rules of the IVF iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,7 +126,7 @@ pub struct IvfSolver {
     theta_s: Mat<f64>,
     residual: Mat<f64>,
     g: Vec<c64>,
-    pivots: Vec<usize>,
+    inverter: Inverter,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     stack: MemBuffer,
@@ -168,7 +169,7 @@ impl IvfSolver {
             theta_s: Mat::zeros(p, n),
             residual: Mat::zeros(m, n),
             g: vec![c64::new(0.0, 0.0); n * n],
-            pivots: vec![0; n],
+            inverter: Inverter::new(n),
             perm: vec![0; p],
             perm_inv: vec![0; p],
             stack,
@@ -195,7 +196,7 @@ impl IvfSolver {
             self.theta.as_ref(),
             self.w_s.as_mut(),
             &mut self.g,
-            &mut self.pivots,
+            &mut self.inverter,
         ) {
             return None;
         }
@@ -305,7 +306,7 @@ impl IvfSolver {
                 self.theta.as_ref(),
                 self.w_s.as_mut(),
                 &mut self.g,
-                &mut self.pivots,
+                &mut self.inverter,
             )
             .then(|| sys.sandwich_std(self.theta.as_ref(), self.w_s.as_ref()))
             .flatten();

@@ -23,15 +23,21 @@ pub(super) struct Stacked {
 
 /// Writes the `2n × 3n` block of one line: real rows on top, imaginary rows below.
 pub(super) fn fill_line(mut dst: MatMut<'_, f64>, g: &[c64], w: f64, n: usize, scale: &[f64]) {
-    for i in 0..n {
-        for m in 0..n {
-            let v = g[i + m * n];
-            dst[(i, m)] = -w * w * v.re * scale[m];
-            dst[(i, n + m)] = -w * v.im * scale[n + m];
-            dst[(i, 2 * n + m)] = v.re * scale[2 * n + m];
-            dst[(n + i, m)] = -w * w * v.im * scale[m];
-            dst[(n + i, n + m)] = w * v.re * scale[n + m];
-            dst[(n + i, 2 * n + m)] = v.im * scale[2 * n + m];
+    // Column by column: `dst` is column-major, so each inner loop writes contiguous rows.
+    for m in 0..n {
+        let (sm, sc, sk) = (-w * w * scale[m], w * scale[n + m], scale[2 * n + m]);
+        let col = &g[m * n..(m + 1) * n];
+        for (i, v) in col.iter().enumerate() {
+            dst[(i, m)] = sm * v.re;
+            dst[(n + i, m)] = sm * v.im;
+        }
+        for (i, v) in col.iter().enumerate() {
+            dst[(i, n + m)] = -sc * v.im;
+            dst[(n + i, n + m)] = sc * v.re;
+        }
+        for (i, v) in col.iter().enumerate() {
+            dst[(i, 2 * n + m)] = sk * v.re;
+            dst[(n + i, 2 * n + m)] = sk * v.im;
         }
     }
 }
@@ -200,7 +206,7 @@ impl Stacked {
         theta: MatRef<'_, f64>,
         mut w_s: MatMut<'_, f64>,
         g: &mut [c64],
-        pivots: &mut [usize],
+        inverter: &mut linalg::Inverter,
     ) -> bool {
         let n = self.n;
         for (k, &w) in self.omegas.iter().enumerate() {
@@ -212,7 +218,7 @@ impl Stacked {
                     );
                 }
             }
-            if !linalg::invert_in_place(g, n, pivots) {
+            if !inverter.invert(g) {
                 return false;
             }
             fill_line(

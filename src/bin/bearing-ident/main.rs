@@ -9,13 +9,15 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use bearing_ident::io::{self, CsvLayout};
-use bearing_ident::simulate::{ImpactTest, seed_rig};
+use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
 use bearing_ident::{
     Coefficients, Estimator, Identification, Identifier, Method, NonConvergence, Record,
     Segmentation, Window,
 };
 use clap::{Parser, Subcommand, ValueEnum};
 use faer::Mat;
+use rand::SeedableRng;
+use rand::rngs::StdRng;
 
 /// Dynamic force coefficients (M, C, K) of bearings, seals and dampers from test records.
 #[derive(Debug, Parser)]
@@ -112,8 +114,25 @@ struct DemoArgs {
     json: bool,
 }
 
+#[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
+enum KindArg {
+    /// Half-sine hammer hits, `--impacts` per degree of freedom.
+    Impact,
+    /// White Gaussian forces on every degree of freedom at once, `--records` records.
+    Random,
+}
+
 #[derive(Debug, clap::Args)]
 struct SimulateArgs {
+    /// Kind of excitation.
+    #[arg(long, value_enum, default_value = "impact")]
+    kind: KindArg,
+    /// Records of random excitation.
+    #[arg(long, default_value_t = 4)]
+    records: usize,
+    /// RMS of each random force (N).
+    #[arg(long, default_value_t = 50.0)]
+    force_rms: f64,
     /// Mass matrix (kg), rows separated by `;`, e.g. "4.7,0;0,4.8". Default: the seed's rig.
     #[arg(long, requires_all = ["damping", "stiffness"])]
     mass: Option<String>,
@@ -135,7 +154,8 @@ struct SimulateArgs {
     /// Sampling rate (Hz).
     #[arg(long, default_value_t = 6700.0)]
     rate: f64,
-    /// Record length (s); default: long enough for the response to decay to 1e-7.
+    /// Record length (s); default for impacts: long enough for the response to decay to 1e-7;
+    /// for random excitation: 60 s.
     #[arg(long)]
     duration: Option<f64>,
     /// Half-sine pulse duration (s).
@@ -217,49 +237,37 @@ fn crest_factor(record: &Record) -> f64 {
 /// has Gaussian-like crest factors of 3–5. The median over the records is compared with 8.
 const IMPACT_CREST: f64 = 8.0;
 
-fn read_records(args: &IdentifyArgs) -> Result<Vec<Record>, Failure> {
-    let layout = CsvLayout {
+fn layout(args: &IdentifyArgs) -> Result<CsvLayout, Failure> {
+    if args.force.len() != args.disp.len() {
+        return Err(invalid(format!(
+            "--force names {} columns and --disp {}: one of each per degree of freedom",
+            args.force.len(),
+            args.disp.len()
+        )));
+    }
+    Ok(CsvLayout {
         time: args.time.clone(),
         forces: args.force.clone(),
         displacements: args.disp.clone(),
-    };
-    if layout.forces.len() != layout.displacements.len() {
-        return Err(invalid(format!(
-            "--force names {} columns and --disp {}: one of each per degree of freedom",
-            layout.forces.len(),
-            layout.displacements.len()
-        )));
-    }
-    let bar = indicatif::ProgressBar::with_draw_target(
-        Some(args.files.len() as u64),
-        indicatif::ProgressDrawTarget::stderr(),
-    );
-    let mut records = Vec::with_capacity(args.files.len());
-    for path in &args.files {
-        bar.set_message(path.display().to_string());
-        records.push(io::read_record(path, &layout)?);
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    Ok(records)
+    })
 }
 
+/// Reads the record files one at a time and streams them into the identification, so memory
+/// holds one record (plus band-line spectra) however many files there are. The excitation kind
+/// is decided from the first record.
 fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let (lo, hi) = parse_band(&args.band)?;
-    let records = read_records(args)?;
+    let layout = layout(args)?;
     let start = Instant::now();
-    let crest = {
-        let mut c: Vec<f64> = records.iter().map(crest_factor).collect();
-        c.sort_by(f64::total_cmp);
-        c[c.len() / 2]
-    };
+    let first = io::read_record(&args.files[0], &layout)?;
+    let mut reading = start.elapsed();
+    let crest = crest_factor(&first);
     let excitation = match args.excitation {
         ExcitationArg::Auto if crest >= IMPACT_CREST => ExcitationArg::Impact,
         ExcitationArg::Auto => ExcitationArg::Random,
         chosen => chosen,
     };
-    let len = records[0].len();
-    let eighth = (len / 8).max(8);
+    let eighth = (first.len() / 8).max(8);
     let nperseg = args.nperseg.unwrap_or(if eighth.is_power_of_two() {
         eighth
     } else {
@@ -292,7 +300,7 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         MethodArg::Ls => Method::LeastSquares,
         MethodArg::Ivf => Method::Ivf,
     };
-    let id = Identifier::new(lo, hi)
+    let identifier = Identifier::new(lo, hi)
         .method(method)
         .estimator(estimator)
         .segmentation(segmentation)
@@ -303,9 +311,23 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             NonConvergence::Warn
         } else {
             NonConvergence::Fail
-        })
-        .identify(&records)?;
-    let compute_ms = start.elapsed().as_secs_f64() * 1e3;
+        });
+    let sample_rate = first.sample_rate();
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(args.files.len() as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    let rest = args.files[1..].iter().map(|path| {
+        let t = Instant::now();
+        bar.set_message(path.display().to_string());
+        let record = io::read_record(path, &layout);
+        bar.inc(1);
+        reading += t.elapsed();
+        record
+    });
+    let id = identifier.identify_stream(std::iter::once(Ok(first)).chain(rest))?;
+    bar.finish_and_clear();
+    let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
     let context = report::Context {
         excitation: match excitation {
             ExcitationArg::Random => "random",
@@ -317,7 +339,7 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             Segmentation::Welch { len } => Some(len),
             _ => None,
         },
-        sample_rate: records[0].sample_rate(),
+        sample_rate,
         files: args.files.iter().map(|p| p.display().to_string()).collect(),
         compute_ms,
         axes: args.disp.clone(),
@@ -390,6 +412,10 @@ fn parse_matrix(name: &str, s: &str) -> Result<Mat<f64>, Failure> {
     Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
 }
 
+/// Mixed into `--seed` for the measurement-noise generator of random records, so that noise
+/// and forcing come from unrelated streams.
+const NOISE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
+
 fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     let system = match (&args.mass, &args.damping, &args.stiffness) {
         (Some(m), Some(c), Some(k)) => Coefficients::new(
@@ -400,9 +426,10 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         _ => seed_rig(),
     };
     let base = ImpactTest::seed_rig();
-    let duration_s = match args.duration {
-        Some(d) => d,
-        None => {
+    let duration_s = match (args.duration, args.kind) {
+        (Some(d), _) => d,
+        (None, KindArg::Random) => 60.0,
+        (None, KindArg::Impact) => {
             let slowest = system
                 .eigenvalues()?
                 .iter()
@@ -421,7 +448,24 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         seed: args.seed,
         ..base
     };
-    let records = test.run(&system)?;
+    let records = match args.kind {
+        KindArg::Impact => test.run(&system)?,
+        KindArg::Random => {
+            let mut sim = Simulator::new(&system, args.rate, test.samples(), AntiAlias::default())?;
+            // The noise stream must not be the forcing stream (seeded by `seed + r`).
+            let mut rng = StdRng::seed_from_u64(args.seed ^ NOISE_STREAM);
+            (0..args.records)
+                .map(|r| {
+                    let clean = sim.random_record(
+                        format!("random-{r}"),
+                        args.force_rms,
+                        args.seed.wrapping_add(r as u64),
+                    )?;
+                    add_noise(&clean, args.noise, &mut rng)
+                })
+                .collect::<bearing_ident::Result<Vec<_>>>()?
+        }
+    };
     std::fs::create_dir_all(&args.out).map_err(|e| Failure {
         kind: "io_error",
         message: format!("{}: {e}", args.out.display()),
