@@ -14,6 +14,9 @@
 //!   `--features rayon`);
 //! - `csv`: parsing throughput of a record file.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::hint::black_box;
 
 use bearing_ident::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
@@ -21,7 +24,7 @@ use bearing_ident::io::{CsvLayout, read_record, write_record};
 use bearing_ident::simulate::{ImpactTest, seed_rig};
 use bearing_ident::solve::{self, IvfOptions, IvfSolver, Method};
 use bearing_ident::spectra::{Segmentation, SpectralEstimator, Window};
-use bearing_ident::{Coefficients, Identifier, Record};
+use bearing_ident::{Identifier, Record};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par, c64};
@@ -76,33 +79,8 @@ fn frf(c: &mut Criterion) {
     group.finish();
 }
 
-/// A diagonal-dominant n-DOF system with modes spread over 10–40 Hz and its flexibility on
-/// `lines` lines with a deterministic 1 % perturbation, so IVF iterates.
 fn synthetic_frf(n: usize, lines: usize) -> Frf {
-    let m = Mat::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.05 });
-    let k = Mat::from_fn(n, n, |i, j| {
-        let w = 2.0 * std::f64::consts::PI * (10.0 + 30.0 * i as f64 / n.max(2) as f64);
-        if i == j {
-            2.0 * w * w
-        } else {
-            100.0 * (i as f64 - j as f64)
-        }
-    });
-    let c = Mat::from_fn(n, n, |i, j| if i == j { 40.0 } else { 1.0 });
-    let sys = Coefficients::new(m, c, k).unwrap();
-    let freqs: Vec<f64> = (0..lines)
-        .map(|l| 5.0 + 40.0 * l as f64 / lines as f64)
-        .collect();
-    let g: Vec<Mat<c64>> = freqs
-        .iter()
-        .enumerate()
-        .map(|(l, &f)| {
-            let g = sys.flexibility_at(f).unwrap();
-            let e = 0.01 * (((l * 7919) % 101) as f64 / 50.0 - 1.0);
-            Mat::from_fn(n, n, |i, j| g[(i, j)] * c64::new(1.0 + e, -e))
-        })
-        .collect();
-    Frf::from_flexibility(freqs, &g).unwrap()
+    common::perturbed_frf(n, lines, 0.01)
 }
 
 /// `(n, N)`. At n = 32, 50 lines are too few for the 96 unknowns per column

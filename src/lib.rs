@@ -59,7 +59,9 @@
 //! The core depends only on faer, num-complex, realfft, thiserror and rand. Edges are opt-in:
 //! - `csv` — [`io`]: read and write records as CSV files;
 //! - `serde` — `Serialize` for [`Identification`], [`Coefficients`] and [`Mode`];
-//! - `cli` — the `bearing-ident` command-line tool (implies `csv` and `serde`).
+//! - `cli` — the `bearing-ident` command-line tool (implies `csv` and `serde`);
+//! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
+//!   conditions in parallel, with results bit for bit those of the sequential build.
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of

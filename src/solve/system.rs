@@ -137,9 +137,20 @@ impl Stacked {
     pub fn residual_norm_into(
         &self,
         theta: MatRef<'_, f64>,
-        mut theta_s: MatMut<'_, f64>,
+        theta_s: MatMut<'_, f64>,
         mut residual: MatMut<'_, f64>,
     ) -> f64 {
+        self.residual_into(theta, theta_s, residual.rb_mut());
+        residual.rb().norm_l2()
+    }
+
+    /// Residual `A Θ − Ī = A_s Θ_s − Ī` into `residual` (`2nN × n`), `theta_s` as scratch.
+    pub fn residual_into(
+        &self,
+        theta: MatRef<'_, f64>,
+        mut theta_s: MatMut<'_, f64>,
+        mut residual: MatMut<'_, f64>,
+    ) {
         self.rescale(theta, theta_s.rb_mut());
         matmul(
             residual.rb_mut(),
@@ -156,7 +167,6 @@ impl Stacked {
                 residual[(row, j)] -= 1.0;
             }
         }
-        residual.rb().norm_l2()
     }
 
     /// `Θ_s = D⁻¹ Θ`.
@@ -168,27 +178,11 @@ impl Stacked {
         }
     }
 
-    /// Residual `A_s Θ_s − Ī` (`2nN × n`).
+    /// Residual `A_s Θ_s − Ī` (`2nN × n`), allocated.
     pub fn residual(&self, theta: MatRef<'_, f64>) -> Mat<f64> {
         let mut theta_s = Mat::zeros(theta.nrows(), theta.ncols());
-        self.rescale(theta, theta_s.as_mut());
-        let mut r = self.rhs();
-        matmul(
-            r.as_mut(),
-            Accum::Add,
-            self.a.as_ref(),
-            theta_s.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        // r = Ī + AΘ; subtract 2Ī to get AΘ − Ī.
-        let n = self.n;
-        for row in 0..r.nrows() {
-            let j = row % (2 * n);
-            if j < n {
-                r[(row, j)] -= 2.0;
-            }
-        }
+        let mut r = Mat::zeros(self.a.nrows(), self.n);
+        self.residual_into(theta, theta_s.as_mut(), r.as_mut());
         r
     }
 

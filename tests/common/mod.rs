@@ -37,6 +37,37 @@ pub fn block_relative_error(got: &Coefficients, truth: &Coefficients) -> f64 {
     worst
 }
 
+/// An n-DOF system (modes spread over 10–40 Hz, cross-coupled) and its exact flexibility on
+/// `lines` lines from 5 to 45 Hz, perturbed by a deterministic relative error of up to
+/// `perturbation`, so that IVF has work to do. Shared by the allocation test and the benches.
+pub fn perturbed_frf(n: usize, lines: usize, perturbation: f64) -> bearing_ident::Frf {
+    use faer::{Mat, c64};
+    let m = Mat::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.05 });
+    let k = Mat::from_fn(n, n, |i, j| {
+        let w = 2.0 * std::f64::consts::PI * (10.0 + 30.0 * i as f64 / n.max(2) as f64);
+        if i == j {
+            2.0 * w * w
+        } else {
+            100.0 * (i as f64 - j as f64)
+        }
+    });
+    let c = Mat::from_fn(n, n, |i, j| if i == j { 40.0 } else { 1.0 });
+    let sys = Coefficients::new(m, c, k).unwrap();
+    let freqs: Vec<f64> = (0..lines)
+        .map(|l| 5.0 + 40.0 * l as f64 / lines as f64)
+        .collect();
+    let g: Vec<Mat<c64>> = freqs
+        .iter()
+        .enumerate()
+        .map(|(l, &f)| {
+            let g = sys.flexibility_at(f).unwrap();
+            let e = perturbation * (((l * 7919) % 101) as f64 / 50.0 - 1.0);
+            Mat::from_fn(n, n, |i, j| g[(i, j)] * c64::new(1.0 + e, -e))
+        })
+        .collect();
+    bearing_ident::Frf::from_flexibility(freqs, &g).unwrap()
+}
+
 /// Property-test strategies: random systems with known modes.
 pub mod strategies {
     use bearing_ident::Coefficients;
