@@ -219,6 +219,15 @@ impl Identifier {
 
     fn validate(&self) -> Result<()> {
         Band::new(self.low_hz, self.high_hz)?;
+        if let Some(a) = self.window.decay_per_s() {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::InvalidParameter {
+                    name: "exponential window decay",
+                    value: a,
+                    expected: "finite and ≥ 0 (1/s)",
+                });
+            }
+        }
         self.ivf.validate()?;
         if !(self.limits.warn >= 1.0 && self.limits.refuse >= self.limits.warn) {
             return Err(Error::InvalidParameter {
@@ -294,9 +303,15 @@ impl Identifier {
             }
             _ => {}
         }
+        // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
+        let fit = match self.window.decay_per_s() {
+            Some(a) if a > 0.0 => fit.corrected_for_window(a)?,
+            _ => fit,
+        };
         Ok(Identification {
             band,
+            window: self.window,
             estimator: self.estimator,
             frf,
             conditioning,
@@ -340,6 +355,7 @@ fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Identification {
     band: Band,
+    window: Window,
     estimator: Estimator,
     frf: Frf,
     conditioning: Conditioning,
@@ -350,6 +366,13 @@ pub struct Identification {
 }
 
 impl Identification {
+    /// The window the spectra were taken with. Under [`Window::Exponential`] the
+    /// coefficients, their standard deviations and the modes are already corrected back to
+    /// the unwindowed system; the residual, history and `r²` are those of the windowed fit.
+    pub fn window(&self) -> Window {
+        self.window
+    }
+
     /// The identified `M`, `C`, `K` of the whole test system.
     pub fn coefficients(&self) -> &Coefficients {
         self.fit.coefficients()
@@ -453,7 +476,8 @@ impl Identification {
 }
 
 /// Serializes as one flat object, in SI units and Hz:
-/// `method`, `estimator`, `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
+/// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
+/// otherwise), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
 /// `M_std`, `C_std`, `K_std` (null when not available), `iterations`, `converged`,
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
@@ -472,6 +496,8 @@ impl serde::Serialize for Identification {
         let mut m = s.serialize_map(None)?;
         m.serialize_entry("method", self.method().name())?;
         m.serialize_entry("estimator", self.estimator.name())?;
+        m.serialize_entry("window", self.window.name())?;
+        m.serialize_entry("window_decay_per_s", &self.window.decay_per_s())?;
         m.serialize_entry("n", &c.dofs())?;
         m.serialize_entry("band_hz", &[self.band.low_hz(), self.band.high_hz()])?;
         m.serialize_entry("band_used_hz", &[freqs[0], freqs[freqs.len() - 1]])?;

@@ -23,9 +23,8 @@ use crate::error::{Error, Result};
 
 /// Window applied to each segment before the DFT.
 ///
-/// More windows (force gate, exponential with exact coefficient correction) come with the
-/// estimation-quality work; the enum is `#[non_exhaustive]` for them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// The enum is `#[non_exhaustive]`: more windows (a force gate) will come.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[non_exhaustive]
 pub enum Window {
     /// No window (`w = 1`). Right for transients that decay inside the record.
@@ -33,17 +32,68 @@ pub enum Window {
     Rectangular,
     /// Periodic Hann window `w_m = sin²(π m / N)`, for random excitation with Welch averaging.
     Hann,
+    /// Exponential window $w(t) = e^{-a t}$, `t` from the segment's first sample, applied to
+    /// force and response alike, for lightly damped records that do not decay inside the
+    /// record. Windowed data belong to the system $Z(s + a)$: fitted coefficients are
+    /// `M_w = M`, `C_w = C + 2aM`, `K_w = K + aC + a²M`, which
+    /// [`Identifier`](crate::Identifier) undoes exactly (see
+    /// [`Fit::corrected_for_window`](crate::solve::Fit::corrected_for_window)). The segment
+    /// mean is **not** removed under this window (a removed constant would turn into a
+    /// decaying exponential and leak into every line): remove offsets, e.g. the pre-trigger
+    /// mean, before.
+    Exponential {
+        /// Decay rate `a` (1/s), `≥ 0`.
+        decay_per_s: f64,
+    },
 }
 
 impl Window {
-    /// The window's weight at sample `m` of `len`.
-    fn weight(self, m: usize, len: usize) -> f64 {
+    /// The exponential window that falls to `end_value` (e.g. 0.01) at `duration_s`:
+    /// `a = −ln(end_value) / duration_s`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// let w = Window::exponential_to(0.01, 1.2);
+    /// assert!((w.decay_per_s().unwrap() - 3.8376).abs() < 1e-4);
+    /// ```
+    pub fn exponential_to(end_value: f64, duration_s: f64) -> Window {
+        Window::Exponential {
+            decay_per_s: -end_value.ln() / duration_s,
+        }
+    }
+
+    /// The decay rate `a` (1/s) of an exponential window, `None` for the others.
+    pub fn decay_per_s(self) -> Option<f64> {
+        match self {
+            Window::Exponential { decay_per_s } => Some(decay_per_s),
+            _ => None,
+        }
+    }
+
+    /// Short name: `"rect"`, `"hann"` or `"exp"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Window::Rectangular => "rect",
+            Window::Hann => "hann",
+            Window::Exponential { .. } => "exp",
+        }
+    }
+
+    /// Whether the segment mean is removed before windowing.
+    fn removes_mean(self) -> bool {
+        !matches!(self, Window::Exponential { .. })
+    }
+
+    /// The window's weight at sample `m` of `len`, samples `dt` apart.
+    fn weight(self, m: usize, len: usize, dt: f64) -> f64 {
         match self {
             Window::Rectangular => 1.0,
             Window::Hann => {
                 let s = (std::f64::consts::PI * m as f64 / len as f64).sin();
                 s * s
             }
+            Window::Exponential { decay_per_s } => (-decay_per_s * m as f64 * dt).exp(),
         }
     }
 }
@@ -171,7 +221,8 @@ impl SpectralEstimator {
             "sample rate must be finite and positive"
         );
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
-        let weights = (0..len).map(|m| window.weight(m, len)).collect();
+        let dt = 1.0 / sample_rate;
+        let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
         let input = fft.make_input_vec();
         let output = fft.make_output_vec();
         let scratch = fft.make_scratch_vec();
@@ -233,7 +284,11 @@ impl SpectralEstimator {
             self.len,
             "segment length differs from the plan"
         );
-        let mean = signal.iter().sum::<f64>() / self.len as f64;
+        let mean = if self.window.removes_mean() {
+            signal.iter().sum::<f64>() / self.len as f64
+        } else {
+            0.0
+        };
         for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(&self.weights) {
             *dst = w * (x - mean);
         }
@@ -278,6 +333,16 @@ mod tests {
         let mut est = SpectralEstimator::new(16, 1.0, Window::Hann);
         let x = vec![3.0; 16];
         assert!(est.transform(&x).iter().all(|v| v.norm() < 1e-12));
+    }
+
+    #[test]
+    fn exponential_window_keeps_the_mean_and_decays() {
+        let mut est = SpectralEstimator::new(100, 100.0, Window::exponential_to(0.01, 1.0));
+        let x = vec![1.0; 100];
+        // Σ e^{-a m Δt} Δt with a = ln 100: (1 − e^{-a})/(1 − e^{-aΔt}) · Δt.
+        let a = 100f64.ln();
+        let expect = (1.0 - (-a).exp()) / (1.0 - (-a * 0.01).exp()) * 0.01;
+        assert!((est.transform(&x)[0].re - expect).abs() < 1e-12);
     }
 
     #[test]

@@ -336,6 +336,30 @@ fn random_excitation_is_detected_and_uses_h1() {
 }
 
 #[test]
+fn exponential_window_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "1"]);
+    let v = identify_json(&["--band", "8,49", "--window", "exp:0.01"], &files);
+    assert_eq!(v["window"], "exp");
+    // a = −ln(0.01)/1.2 s (the seed's figure).
+    assert!((v["window_decay_per_s"].as_f64().unwrap() - 3.8376).abs() < 1e-4);
+    let k = matrix(&v, "K");
+    assert!(
+        (k[0][0] / 146.3e3 - 1.0).abs() < 1e-6,
+        "corrected K_xx {}",
+        k[0][0]
+    );
+    expect_failure(
+        &[
+            &["identify", "--json", "--band", "8,49", "--window", "exp:2"][..],
+            &[files[0].as_str()],
+        ]
+        .concat(),
+        "invalid_argument",
+    );
+}
+
+#[test]
 fn demo_runs() {
     let out = run(&["demo", "--noise", "0.0"]);
     assert!(out.status.success());

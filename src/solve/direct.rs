@@ -80,6 +80,7 @@ pub(super) fn fit(frf: &Frf) -> Result<Fit> {
         convergence: Convergence::NotIterative,
         history: Vec::new(),
         std_dev: None,
+        covariance: None,
         direct: Some(DirectFit { r2_real, r2_imag }),
     })
 }

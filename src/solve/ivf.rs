@@ -308,7 +308,7 @@ impl IvfSolver {
                 &mut self.g,
                 &mut self.inverter,
             )
-            .then(|| sys.sandwich_std(self.theta.as_ref(), self.w_s.as_ref()))
+            .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
             .flatten();
         finish(Method::Ivf, self.theta, sys, convergence, self.history, std)
     }

@@ -28,7 +28,7 @@ pub(super) fn solve(frf: &Frf, method: &'static str) -> Result<(faer::Mat<f64>, 
 
 pub(super) fn fit(frf: &Frf) -> Result<Fit> {
     let (theta, sys) = solve(frf, "ls")?;
-    let std = sys.sandwich_std(theta.as_ref(), sys.a.as_ref());
+    let std = sys.sandwich_covariance(theta.as_ref(), sys.a.as_ref());
     finish(
         Method::LeastSquares,
         theta,

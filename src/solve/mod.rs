@@ -128,10 +128,84 @@ pub struct Fit {
     convergence: Convergence,
     history: Vec<Iteration>,
     std_dev: Option<Coefficients>,
+    covariance: Option<Vec<Mat<f64>>>,
     direct: Option<DirectFit>,
 }
 
+/// Standard deviations (square roots of the diagonals) of per-column covariances of `Θ`.
+fn std_from(covariance: &[Mat<f64>]) -> Result<Coefficients> {
+    let p = covariance.first().map_or(0, |c| c.nrows());
+    let theta = Mat::from_fn(p, covariance.len(), |q, j| {
+        covariance[j][(q, q)].max(0.0).sqrt()
+    });
+    Coefficients::from_stacked(theta.as_ref())
+}
+
 impl Fit {
+    /// The fit of exponentially windowed data (decay `a`, 1/s) mapped back to the system
+    /// itself. Windowed data belong to `Z(s + a)`, so
+    /// $M = M_w,\; C = C_w - 2aM_w,\; K = K_w - aC_w + a^2M_w$, every element, cross terms
+    /// included; covariances follow the same linear map, `Cov = T Cov_w Tᵀ`. The residual,
+    /// history and `r²` stay those of the windowed fit.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::Frf;
+    /// use bearing_ident::model::Coefficients;
+    /// use bearing_ident::solve::{fit, IvfOptions, Method};
+    /// use faer::{Mat, c64, mat};
+    /// // The seed's figures: a = 3.8376 1/s on 4.7 kg gives C_w − C = 2aM = 36.07 N·s/m.
+    /// let a = 3.8376;
+    /// let windowed = Coefficients::new(mat![[4.7]], mat![[20.0 + 2.0 * a * 4.7]],
+    ///     mat![[146.3e3 + a * 20.0 + a * a * 4.7]])?;
+    /// let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+    /// let g: Vec<Mat<c64>> = freqs.iter().map(|&f| windowed.flexibility_at(f)).collect::<Result<_, _>>()?;
+    /// let w = fit(&Frf::from_flexibility(freqs, &g)?, Method::LeastSquares, &IvfOptions::default())?;
+    /// let c = w.corrected_for_window(a)?;
+    /// assert!((c.coefficients().damping()[(0, 0)] - 20.0).abs() < 1e-6);
+    /// assert!((c.coefficients().stiffness()[(0, 0)] - 146.3e3).abs() < 1e-4);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteCoefficient`](crate::Error::NonFiniteCoefficient) if `a` is not finite.
+    pub fn corrected_for_window(&self, a: f64) -> Result<Fit> {
+        let n = self.coefficients.dofs();
+        let p = 3 * n;
+        // Θ = T Θ_w with T = [[I, 0, 0], [−2aI, I, 0], [a²I, −aI, I]].
+        let t = Mat::from_fn(p, p, |r, c| {
+            if r % n != c % n {
+                return 0.0;
+            }
+            match (r / n, c / n) {
+                (x, y) if x == y => 1.0,
+                (1, 0) => -2.0 * a,
+                (2, 0) => a * a,
+                (2, 1) => -a,
+                _ => 0.0,
+            }
+        });
+        let theta = &t * self.coefficients.stacked();
+        let covariance = self.covariance.as_ref().map(|cs| {
+            cs.iter()
+                .map(|c| &t * c * t.transpose())
+                .collect::<Vec<_>>()
+        });
+        Ok(Fit {
+            coefficients: Coefficients::from_stacked(theta.as_ref())?,
+            std_dev: covariance.as_deref().map(std_from).transpose()?,
+            covariance,
+            ..self.clone()
+        })
+    }
+
+    /// Covariance of column `j` of `Θ = [M; C; K]` (`3n × 3n`, rows and columns ordered
+    /// `M_0j … M_(n-1)j, C_0j …, K_0j …`), for every `j`; least squares and IVF only. Columns
+    /// are independent in this first-order (sandwich) model.
+    pub fn covariance(&self) -> Option<&[Mat<f64>]> {
+        self.covariance.as_deref()
+    }
+
     /// The method used.
     pub fn method(&self) -> Method {
         self.method
@@ -198,7 +272,7 @@ fn finish(
     sys: &system::Stacked,
     convergence: Convergence,
     history: Vec<Iteration>,
-    std_dev: Option<Mat<f64>>,
+    covariance: Option<Vec<Mat<f64>>>,
 ) -> Result<Fit> {
     let residual_norm = sys.residual_norm(theta.as_ref());
     Ok(Fit {
@@ -207,9 +281,8 @@ fn finish(
         residual_norm,
         convergence,
         history,
-        std_dev: std_dev
-            .map(|s| Coefficients::from_stacked(s.as_ref()))
-            .transpose()?,
+        std_dev: covariance.as_deref().map(std_from).transpose()?,
+        covariance,
         direct: None,
     })
 }

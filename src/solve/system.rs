@@ -226,9 +226,15 @@ impl Stacked {
         true
     }
 
-    /// Sandwich standard deviations of `Θ` (unscaled), instruments `w_s` (scaled; `A_s` for
-    /// least squares).
-    pub fn sandwich_std(&self, theta: MatRef<'_, f64>, w_s: MatRef<'_, f64>) -> Option<Mat<f64>> {
+    /// Sandwich covariance of every column of `Θ` (unscaled, `3n × 3n` each), instruments
+    /// `w_s` (scaled; `A_s` for least squares):
+    /// `(WᵀA)⁻¹ Wᵀ diag(r_j²) W (AᵀW)⁻¹ · m/(m − p)`. `None` without redundancy or when not
+    /// finite.
+    pub fn sandwich_covariance(
+        &self,
+        theta: MatRef<'_, f64>,
+        w_s: MatRef<'_, f64>,
+    ) -> Option<Vec<Mat<f64>>> {
         use faer::linalg::solvers::DenseSolveCore;
         let (m, p) = (self.a.nrows(), self.a.ncols());
         if m <= p {
@@ -245,12 +251,11 @@ impl Stacked {
         );
         let inv = bread.partial_piv_lu().inverse();
         let r = self.residual(theta);
-        let mut out = Mat::zeros(p, self.n);
         let mut weighted = Mat::<f64>::zeros(m, p);
         let mut meat = Mat::zeros(p, p);
         let mut tmp = Mat::zeros(p, p);
-        let mut cov = Mat::zeros(p, p);
         let dof = m as f64 / (m - p) as f64;
+        let mut out = Vec::with_capacity(self.n);
         for j in 0..self.n {
             for c in 0..p {
                 for row in 0..m {
@@ -273,19 +278,22 @@ impl Stacked {
                 1.0,
                 Par::Seq,
             );
+            let mut cov = Mat::zeros(p, p);
             matmul(
                 cov.as_mut(),
                 Accum::Replace,
                 tmp.as_ref(),
                 inv.transpose(),
-                1.0,
+                dof,
                 Par::Seq,
             );
-            for q in 0..p {
-                out[(q, j)] = (cov[(q, q)] * dof).max(0.0).sqrt() * self.scale[q];
+            // Undo the column scaling: Cov(Θ) = D Cov(Θ_s) D.
+            let cov = Mat::from_fn(p, p, |a, b| cov[(a, b)] * self.scale[a] * self.scale[b]);
+            if !cov.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
+                return None;
             }
+            out.push(cov);
         }
-        let finite = out.col_iter().all(|c| c.iter().all(|v| v.is_finite()));
-        finite.then_some(out)
+        Some(out)
     }
 }

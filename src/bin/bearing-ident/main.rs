@@ -77,6 +77,11 @@ struct IdentifyArgs {
     /// Override the impedance estimator chosen from the excitation.
     #[arg(long, value_enum)]
     estimator: Option<EstimatorArg>,
+    /// Window: `rect`, `hann`, or `exp:END` (exponential on force and response, falling to END,
+    /// e.g. 0.01, at the end of each record or segment; the coefficients are corrected
+    /// exactly). Default: `rect` for impacts, `hann` for random excitation.
+    #[arg(long)]
+    window: Option<String>,
     /// Welch segment length for random excitation (default: the largest power of two not above
     /// an eighth of the record).
     #[arg(long)]
@@ -237,6 +242,30 @@ fn crest_factor(record: &Record) -> f64 {
 /// has Gaussian-like crest factors of 3–5. The median over the records is compared with 8.
 const IMPACT_CREST: f64 = 8.0;
 
+/// `rect`, `hann` or `exp:END` with `0 < END < 1`, over segments of `segment_s` seconds.
+fn parse_window(s: &str, segment_s: f64) -> Result<Window, Failure> {
+    let bad = || {
+        invalid(format!(
+            "--window `{s}`: expected rect, hann or exp:END with 0 < END < 1"
+        ))
+    };
+    match s {
+        "rect" => Ok(Window::Rectangular),
+        "hann" => Ok(Window::Hann),
+        _ => {
+            let end: f64 = s
+                .strip_prefix("exp:")
+                .and_then(|e| e.parse().ok())
+                .ok_or_else(bad)?;
+            if end > 0.0 && end < 1.0 {
+                Ok(Window::exponential_to(end, segment_s))
+            } else {
+                Err(bad())
+            }
+        }
+    }
+}
+
 fn layout(args: &IdentifyArgs) -> Result<CsvLayout, Failure> {
     if args.force.len() != args.disp.len() {
         return Err(invalid(format!(
@@ -273,7 +302,7 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     } else {
         eighth.next_power_of_two() / 2
     });
-    let (estimator, segmentation, window) = match (excitation, args.estimator) {
+    let (estimator, segmentation, default_window) = match (excitation, args.estimator) {
         (ExcitationArg::Random, Some(EstimatorArg::Paired)) => (
             Estimator::PairedSets,
             Segmentation::WholeRecord,
@@ -294,6 +323,14 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             Segmentation::WholeRecord,
             Window::Rectangular,
         ),
+    };
+    let segment_s = match segmentation {
+        Segmentation::Welch { len } => len as f64 / first.sample_rate(),
+        _ => first.duration(),
+    };
+    let window = match args.window.as_deref() {
+        None => default_window,
+        Some(w) => parse_window(w, segment_s)?,
     };
     let method = match args.method {
         MethodArg::Direct => Method::Direct,

@@ -125,13 +125,17 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     );
     let _ = writeln!(
         out,
-        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages\n",
+        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages; window {}\n",
         id.band().low_hz(),
         id.band().high_hz(),
         freqs.len(),
         freqs[0],
         freqs[freqs.len() - 1],
-        id.frf().averages()
+        id.frf().averages(),
+        match id.window().decay_per_s() {
+            Some(a) => format!("exponential, a = {a:.4}/s, coefficients corrected"),
+            None => id.window().name().to_string(),
+        }
     );
     let _ = writeln!(out, "Coefficients (± one first-order standard deviation)");
     coefficient_lines(&mut out, &axes, id, truth);
