@@ -332,6 +332,14 @@ pub enum Warning {
         /// The warning threshold.
         threshold: f64,
     },
+    /// Lines were dropped because the multiple coherence of some output was below the
+    /// threshold.
+    LowCoherence {
+        /// Lines dropped.
+        lines: usize,
+        /// The threshold.
+        threshold: f64,
+    },
     /// Lines of the band were dropped because a matrix could not be inverted.
     DroppedLines {
         /// Frequencies of the dropped lines (Hz).
@@ -371,6 +379,10 @@ impl fmt::Display for Warning {
                 f,
                 "{lines} of {of} lines have a condition number above {threshold:.3e} \
                  (worst {worst:.3e} at {worst_hz:.3} Hz): excitations close to dependent"
+            ),
+            Warning::LowCoherence { lines, threshold } => write!(
+                f,
+                "{lines} lines dropped with a multiple coherence below {threshold}"
             ),
             Warning::DroppedLines { freqs_hz } => write!(
                 f,

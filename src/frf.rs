@@ -188,6 +188,10 @@ pub struct Frf {
     dropped_hz: Vec<f64>,
     averages: usize,
     unpaired: Vec<String>,
+    /// Multiple coherence per line and output (`lines × n`); empty when unknown.
+    multiple_coherence: Vec<f64>,
+    /// Ordinary coherence per line, `n × n` column-major (output, input); empty when unknown.
+    ordinary_coherence: Vec<f64>,
 }
 
 impl Frf {
@@ -271,7 +275,14 @@ impl Frf {
             dropped_hz: Vec::new(),
             averages: 0,
             unpaired: Vec::new(),
+            multiple_coherence: Vec::new(),
+            ordinary_coherence: Vec::new(),
         }
+    }
+
+    fn push_coherence(&mut self, multiple: &[f64], ordinary: &[f64]) {
+        self.multiple_coherence.extend_from_slice(multiple);
+        self.ordinary_coherence.extend_from_slice(ordinary);
     }
 
     fn push_line(&mut self, freq_hz: f64, h: &[c64], g: &[c64], condition: f64) {
@@ -344,10 +355,91 @@ impl Frf {
         self.averages
     }
 
+    /// Multiple coherence of every output at line `k`,
+    /// $\gamma^2_{i:f} = S_{x_i f} S_{ff}^{-1} S_{f x_i} / S_{x_i x_i}$: the fraction of output
+    /// `i`'s power explained linearly by all the forces together (1 for noise-free linear data).
+    /// `None` for an `Frf` built from external flexibilities.
+    ///
+    /// With as few averages as inputs it is 1 by construction; it says something only with
+    /// more averages (records × segments) than degrees of freedom.
+    pub fn multiple_coherence(&self, k: usize) -> Option<&[f64]> {
+        let n = self.dofs;
+        self.multiple_coherence.get(k * n..(k + 1) * n)
+    }
+
+    /// Ordinary coherence at line `k`, `γ²_ij = |S_xᵢfⱼ|² / (S_xᵢxᵢ S_fⱼfⱼ)`, column-major
+    /// `n × n` (output `i`, input `j`). `None` when unknown.
+    pub fn ordinary_coherence(&self, k: usize) -> Option<MatRef<'_, f64>> {
+        let nn = self.dofs * self.dofs;
+        self.ordinary_coherence
+            .get(k * nn..(k + 1) * nn)
+            .map(|s| MatRef::from_column_major_slice(s, self.dofs, self.dofs))
+    }
+
+    /// The same `Frf` restricted to the lines for which `keep(k)` holds; the others are added
+    /// to [`Frf::dropped_hz`].
+    pub fn retain_lines(&self, keep: impl Fn(usize) -> bool) -> Frf {
+        let (n, nn) = (self.dofs, self.dofs * self.dofs);
+        let mut out = Frf {
+            freqs_hz: Vec::new(),
+            impedance: Vec::new(),
+            flexibility: Vec::new(),
+            condition: Vec::new(),
+            multiple_coherence: Vec::new(),
+            ordinary_coherence: Vec::new(),
+            ..self.clone()
+        };
+        for k in 0..self.lines() {
+            if !keep(k) {
+                out.dropped_hz.push(self.freqs_hz[k]);
+                continue;
+            }
+            out.freqs_hz.push(self.freqs_hz[k]);
+            out.impedance
+                .extend_from_slice(&self.impedance[k * nn..(k + 1) * nn]);
+            out.flexibility
+                .extend_from_slice(&self.flexibility[k * nn..(k + 1) * nn]);
+            out.condition.push(self.condition[k]);
+            if let Some(c) = self.multiple_coherence.get(k * n..(k + 1) * n) {
+                out.multiple_coherence.extend_from_slice(c);
+            }
+            if let Some(c) = self.ordinary_coherence.get(k * nn..(k + 1) * nn) {
+                out.ordinary_coherence.extend_from_slice(c);
+            }
+        }
+        out.dropped_hz.sort_by(f64::total_cmp);
+        out
+    }
+
     /// Labels of records left out of the paired sets (more records in one direction than in
     /// another).
     pub fn unpaired(&self) -> &[String] {
         &self.unpaired
+    }
+}
+
+/// Multiple and ordinary coherences at one line from `S_ff`, its inverse, `S_xf` (all `n × n`
+/// column-major) and the output auto-spectra `S_xᵢxᵢ`.
+fn line_coherence(
+    n: usize,
+    sff: &[c64],
+    sff_inv: &[c64],
+    sxf: &[c64],
+    sxx: &[f64],
+    multiple: &mut [f64],
+    ordinary: &mut [f64],
+) {
+    for i in 0..n {
+        let mut explained = c64::new(0.0, 0.0);
+        for a in 0..n {
+            for b in 0..n {
+                explained += sxf[i + a * n] * sff_inv[a + b * n] * sxf[i + b * n].conj();
+            }
+        }
+        multiple[i] = explained.re / sxx[i];
+        for j in 0..n {
+            ordinary[i + j * n] = sxf[i + j * n].norm_sqr() / (sxx[i] * sff[j + j * n].re);
+        }
     }
 }
 
@@ -360,8 +452,13 @@ enum Contribution {
         forces: Vec<c64>,
         displacements: Vec<c64>,
     },
-    /// This record's sums over its segments of `F Fᴴ` and `X Fᴴ`, `[line][n × n]`.
-    Cross { sff: Vec<c64>, sxf: Vec<c64> },
+    /// This record's sums over its segments of `F Fᴴ` and `X Fᴴ`, `[line][n × n]`, and of
+    /// `|X_i|²`, `[line][n]`.
+    Cross {
+        sff: Vec<c64>,
+        sxf: Vec<c64>,
+        sxx: Vec<f64>,
+    },
 }
 
 /// Everything an [`FrfBuilder`] has gathered from one record.
@@ -414,6 +511,7 @@ pub struct FrfBuilder {
     /// H1 totals, merged record by record.
     sff: Vec<c64>,
     sxf: Vec<c64>,
+    sxx: Vec<f64>,
     averages: usize,
 }
 
@@ -439,6 +537,7 @@ impl FrfBuilder {
             gathered: Vec::new(),
             sff: Vec::new(),
             sxf: Vec::new(),
+            sxx: Vec::new(),
             averages: 0,
         }
     }
@@ -475,6 +574,7 @@ impl FrfBuilder {
                 if self.estimator == Estimator::H1 {
                     self.sff = vec![c64::new(0.0, 0.0); size];
                     self.sxf = vec![c64::new(0.0, 0.0); size];
+                    self.sxx = vec![0.0; plan.lines.len() * n];
                 }
                 self.plan = Some((plan, spectral));
                 Ok(())
@@ -538,11 +638,14 @@ impl FrfBuilder {
 
     fn merge(&mut self, record: &Record, contribution: Contribution) {
         let contribution = match contribution {
-            Contribution::Cross { sff, sxf } => {
+            Contribution::Cross { sff, sxf, sxx } => {
                 for (total, part) in self.sff.iter_mut().zip(&sff) {
                     *total += part;
                 }
                 for (total, part) in self.sxf.iter_mut().zip(&sxf) {
+                    *total += part;
+                }
+                for (total, part) in self.sxx.iter_mut().zip(&sxx) {
                     *total += part;
                 }
                 self.averages += self.segmentation.starts(record.len()).count();
@@ -550,6 +653,7 @@ impl FrfBuilder {
                 Contribution::Cross {
                     sff: Vec::new(),
                     sxf: Vec::new(),
+                    sxx: Vec::new(),
                 }
             }
             spectra => {
@@ -617,6 +721,8 @@ impl FrfBuilder {
         let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut h, mut g, mut scratch) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut pivots, mut sigma) = (vec![0; n], vec![0.0; n]);
+        let (mut sff, mut sxf, mut inv) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let (mut sxx, mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; n], vec![0.0; nn]);
         'line: for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             h.fill(zero);
@@ -645,6 +751,32 @@ impl FrfBuilder {
             g.copy_from_slice(&h);
             if linalg::invert_in_place(&mut g, n, &mut pivots) {
                 frf.push_line(freq, &h, &g, worst);
+                // Coherence from the cross-spectra of all records at this line.
+                sff.fill(zero);
+                sxf.fill(zero);
+                sxx.fill(0.0);
+                for r in 0..self.gathered.len() {
+                    let (fr, xr) = spectra(r);
+                    let (fl, xl) = (&fr[l * n..(l + 1) * n], &xr[l * n..(l + 1) * n]);
+                    for j in 0..n {
+                        let fj = fl[j].conj();
+                        for i in 0..n {
+                            sff[i + j * n] += fl[i] * fj;
+                            sxf[i + j * n] += xl[i] * fj;
+                        }
+                    }
+                    for (t, x) in sxx.iter_mut().zip(xl) {
+                        *t += x.norm_sqr();
+                    }
+                }
+                inv.copy_from_slice(&sff);
+                if linalg::invert_in_place(&mut inv, n, &mut pivots) {
+                    line_coherence(n, &sff, &inv, &sxf, &sxx, &mut multiple, &mut ordinary);
+                } else {
+                    multiple.fill(0.0);
+                    ordinary.fill(0.0);
+                }
+                frf.push_coherence(&multiple, &ordinary);
             } else {
                 frf.dropped_hz.push(freq);
             }
@@ -660,6 +792,7 @@ impl FrfBuilder {
         frf.averages = self.averages;
         let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut scratch, mut pivots, mut sigma) = (vec![zero; nn], vec![0; n], vec![0.0; n]);
+        let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             let sf = &self.sff[l * nn..(l + 1) * nn];
@@ -672,6 +805,16 @@ impl FrfBuilder {
             };
             if ok {
                 frf.push_line(freq, &h, &g, cond);
+                line_coherence(
+                    n,
+                    sf,
+                    &inv,
+                    &self.sxf[l * nn..(l + 1) * nn],
+                    &self.sxx[l * n..(l + 1) * n],
+                    &mut multiple,
+                    &mut ordinary,
+                );
+                frf.push_coherence(&multiple, &ordinary);
             } else {
                 frf.dropped_hz.push(freq);
             }
@@ -743,6 +886,7 @@ fn contribute(
             let nn = n * n;
             let mut sff = vec![zero; lines.len() * nn];
             let mut sxf = vec![zero; lines.len() * nn];
+            let mut sxx = vec![0.0; lines.len() * n];
             for start in segmentation.starts(record.len()) {
                 transform(start, &mut forces, &mut displacements);
                 for l in 0..lines.len() {
@@ -761,9 +905,12 @@ fn contribute(
                             sx[i + j * n] += xl[i] * fj;
                         }
                     }
+                    for (total, x) in sxx[l * n..(l + 1) * n].iter_mut().zip(xl) {
+                        *total += x.norm_sqr();
+                    }
                 }
             }
-            Contribution::Cross { sff, sxf }
+            Contribution::Cross { sff, sxf, sxx }
         }
     }
 }
@@ -852,6 +999,47 @@ mod tests {
                 Record::new(format!("dir{dir}"), 64.0, f, x).unwrap()
             })
             .collect()
+    }
+
+    #[test]
+    fn siso_coherence_matches_signal_to_noise() {
+        // x = 2 f + e with white f (σ = 1) and independent white e (σ = 1):
+        // γ² = 4 / (4 + 1) = 0.8 at every line, up to the estimate's scatter.
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(9);
+        let normal = Normal::new(0.0, 1.0).unwrap();
+        let len = 1 << 16;
+        let f: Vec<f64> = (0..len).map(|_| normal.sample(&mut rng)).collect();
+        let x: Vec<f64> = f
+            .iter()
+            .map(|v| 2.0 * v + normal.sample(&mut rng))
+            .collect();
+        let rec = Record::new("siso", 1000.0, vec![f], vec![x]).unwrap();
+        let frf = h1(
+            &[rec],
+            Band::new(10.0, 400.0).unwrap(),
+            Segmentation::Welch { len: 256 },
+            Window::Hann,
+        )
+        .unwrap();
+        let mean: f64 = (0..frf.lines())
+            .map(|k| frf.multiple_coherence(k).unwrap()[0])
+            .sum::<f64>()
+            / frf.lines() as f64;
+        assert!((mean - 0.8).abs() < 0.01, "mean coherence {mean}");
+        let ord = frf.ordinary_coherence(3).unwrap()[(0, 0)];
+        assert!((ord - frf.multiple_coherence(3).unwrap()[0]).abs() < 1e-12); // SISO: equal
+        // G stays unbiased under output noise (H1): 2 on average.
+        let g: f64 = (0..frf.lines())
+            .map(|k| frf.flexibility(k)[(0, 0)].re)
+            .sum::<f64>()
+            / frf.lines() as f64;
+        assert!((g - 2.0).abs() < 0.01, "mean G {g}");
+        // Keeping only some lines moves the rest to the dropped list.
+        let kept = frf.retain_lines(|k| k % 2 == 0);
+        assert_eq!(kept.lines() + kept.dropped_hz().len(), frf.lines());
+        assert!(kept.multiple_coherence(0).is_some());
     }
 
     #[test]

@@ -52,6 +52,7 @@ pub struct Identifier {
     ivf: IvfOptions,
     limits: ConditionLimits,
     non_convergence: NonConvergence,
+    min_coherence: f64,
 }
 
 impl Identifier {
@@ -71,6 +72,7 @@ impl Identifier {
             ivf: IvfOptions::default(),
             limits: ConditionLimits::default(),
             non_convergence: NonConvergence::default(),
+            min_coherence: 0.0,
         }
     }
 
@@ -135,6 +137,14 @@ impl Identifier {
     /// Condition-number thresholds. Valid `1 ≤ warn ≤ refuse`; default `1e3` and `1e8`.
     pub fn condition_limits(mut self, limits: ConditionLimits) -> Self {
         self.limits = limits;
+        self
+    }
+
+    /// Drops the lines where the multiple coherence of any output is below `threshold` before
+    /// fitting, and reports how many with [`Warning::LowCoherence`]. Valid `[0, 1)`; default
+    /// `0` (keep every line).
+    pub fn min_coherence(mut self, threshold: f64) -> Self {
+        self.min_coherence = threshold;
         self
     }
 
@@ -219,6 +229,13 @@ impl Identifier {
 
     fn validate(&self) -> Result<()> {
         Band::new(self.low_hz, self.high_hz)?;
+        if !(0.0..1.0).contains(&self.min_coherence) {
+            return Err(Error::InvalidParameter {
+                name: "minimum coherence",
+                value: self.min_coherence,
+                expected: "0 ≤ threshold < 1",
+            });
+        }
         if let Some(a) = self.window.decay_per_s() {
             if !(a.is_finite() && a >= 0.0) {
                 return Err(Error::InvalidParameter {
@@ -253,7 +270,18 @@ impl Identifier {
             return Err(Error::NoRecords);
         }
         let band = Band::new(self.low_hz, self.high_hz)?;
-        let frf = builder.finish(&self.assignment)?;
+        let mut frf = builder.finish(&self.assignment)?;
+        let mut low_coherence = 0;
+        if self.min_coherence > 0.0 {
+            let keep = |k: usize| {
+                frf.multiple_coherence(k)
+                    .is_none_or(|c| c.iter().all(|&g| g >= self.min_coherence))
+            };
+            low_coherence = (0..frf.lines()).filter(|&k| !keep(k)).count();
+            if low_coherence > 0 {
+                frf = frf.retain_lines(keep);
+            }
+        }
         let excitations = match self.estimator {
             Estimator::PairedSets => builder.excitations(&self.assignment)?,
             Estimator::H1 => builder.excitations(&Assignment::DominantForce)?,
@@ -262,6 +290,12 @@ impl Identifier {
         let fit = solve::fit(&frf, self.method, &self.ivf)?;
 
         let mut warnings = Vec::new();
+        if low_coherence > 0 {
+            warnings.push(Warning::LowCoherence {
+                lines: low_coherence,
+                threshold: self.min_coherence,
+            });
+        }
         warnings.extend(conditioning.warning());
         if !frf.dropped_hz().is_empty() {
             warnings.push(Warning::DroppedLines {
@@ -469,6 +503,16 @@ impl Identification {
         &self.excitations
     }
 
+    /// The smallest multiple coherence over the lines used and the outputs (`None` when the
+    /// spectra carried none).
+    pub fn coherence_min(&self) -> Option<f64> {
+        (0..self.frf.lines())
+            .filter_map(|k| self.frf.multiple_coherence(k))
+            .flatten()
+            .copied()
+            .reduce(f64::min)
+    }
+
     /// What the user should know.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
@@ -481,7 +525,7 @@ impl Identification {
 /// `M_std`, `C_std`, `K_std` (null when not available), `iterations`, `converged`,
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
-/// `natural_frequencies_hz`, `damping_ratios`, `averages`, `warnings` (sentences) and `history`
+/// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences) and `history`
 /// (IVF iterations).
 #[cfg(feature = "serde")]
 impl serde::Serialize for Identification {
@@ -527,6 +571,7 @@ impl serde::Serialize for Identification {
         m.serialize_entry("natural_frequencies_hz", &fns)?;
         m.serialize_entry("damping_ratios", &zetas)?;
         m.serialize_entry("averages", &self.frf.averages())?;
+        m.serialize_entry("coherence_min", &self.coherence_min())?;
         let warnings: Vec<String> = self.warnings.iter().map(ToString::to_string).collect();
         m.serialize_entry("warnings", &warnings)?;
         m.serialize_entry("history", self.history())?;

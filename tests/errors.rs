@@ -186,6 +186,52 @@ fn unequal_directions_leave_records_unpaired_with_a_warning() {
 }
 
 #[test]
+fn low_coherence_lines_are_dropped_and_reported() {
+    let recs = records(4, 0.05, 0.5);
+    let all = Identifier::new(8.0, 49.0).identify(&recs).unwrap();
+    let c_min = all.coherence_min().unwrap();
+    assert!(c_min < 1.0);
+    // A threshold between the smallest and the median coherence drops some lines, not all.
+    let mut per_line: Vec<f64> = (0..all.frf().lines())
+        .map(|k| {
+            all.frf()
+                .multiple_coherence(k)
+                .unwrap()
+                .iter()
+                .cloned()
+                .fold(1.0, f64::min)
+        })
+        .collect();
+    per_line.sort_by(f64::total_cmp);
+    let threshold = per_line[per_line.len() / 4];
+    let some = Identifier::new(8.0, 49.0)
+        .min_coherence(threshold)
+        .identify(&recs)
+        .unwrap();
+    let dropped = (0..all.frf().lines()).filter(|&k| {
+        all.frf()
+            .multiple_coherence(k)
+            .unwrap()
+            .iter()
+            .any(|&g| g < threshold)
+    });
+    let dropped = dropped.count();
+    assert!(dropped > 0);
+    assert_eq!(some.frf().lines(), all.frf().lines() - dropped);
+    assert!(some.coherence_min().unwrap() >= threshold);
+    assert!(matches!(some.warnings()[0], Warning::LowCoherence { lines, .. } if lines == dropped));
+    assert!(matches!(
+        Identifier::new(8.0, 49.0)
+            .min_coherence(1.5)
+            .identify(&recs),
+        Err(Error::InvalidParameter {
+            name: "minimum coherence",
+            ..
+        })
+    ));
+}
+
+#[test]
 fn ill_conditioned_lines_warn() {
     let recs = records(1, 0.05, 0.0);
     let limits = ConditionLimits {

@@ -82,6 +82,9 @@ struct IdentifyArgs {
     /// exactly). Default: `rect` for impacts, `hann` for random excitation.
     #[arg(long)]
     window: Option<String>,
+    /// Drop lines where the multiple coherence of any output is below X (0 ≤ X < 1).
+    #[arg(long, default_value_t = 0.0)]
+    min_coherence: f64,
     /// Welch segment length for random excitation (default: the largest power of two not above
     /// an eighth of the record).
     #[arg(long)]
@@ -344,6 +347,7 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .window(window)
         .tolerance(args.tolerance)
         .max_iterations(args.max_iterations)
+        .min_coherence(args.min_coherence)
         .on_non_convergence(if args.allow_unconverged {
             NonConvergence::Warn
         } else {

@@ -167,6 +167,9 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         id.residual_norm(),
         c.compute_ms
     );
+    if let Some(c) = id.coherence_min() {
+        let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
+    }
     let r2 = id.fit_r2();
     let _ = write!(out, "  flexibility fit r²:");
     for (i, ai) in axes.iter().enumerate() {
