@@ -340,6 +340,12 @@ pub enum Warning {
         /// The threshold.
         threshold: f64,
     },
+    /// The jackknife had fewer than 3 replicates; the sandwich standard deviations are
+    /// reported instead.
+    FewReplicates {
+        /// Replicates available (paired sets or records).
+        replicates: usize,
+    },
     /// Lines of the band were dropped because a matrix could not be inverted.
     DroppedLines {
         /// Frequencies of the dropped lines (Hz).
@@ -383,6 +389,10 @@ impl fmt::Display for Warning {
             Warning::LowCoherence { lines, threshold } => write!(
                 f,
                 "{lines} lines dropped with a multiple coherence below {threshold}"
+            ),
+            Warning::FewReplicates { replicates } => write!(
+                f,
+                "only {replicates} replicates for the jackknife (3 needed): sandwich standard deviations reported"
             ),
             Warning::DroppedLines { freqs_hz } => write!(
                 f,

@@ -513,6 +513,8 @@ pub struct FrfBuilder {
     sxf: Vec<c64>,
     sxx: Vec<f64>,
     averages: usize,
+    /// Keep each H1 record's own sums too (for leave-one-out replicates).
+    keep_partials: bool,
 }
 
 impl FrfBuilder {
@@ -539,6 +541,7 @@ impl FrfBuilder {
             sxf: Vec::new(),
             sxx: Vec::new(),
             averages: 0,
+            keep_partials: false,
         }
     }
 
@@ -546,6 +549,41 @@ impl FrfBuilder {
     pub fn dofs(mut self, n: usize) -> Self {
         self.dofs = Some(n);
         self
+    }
+
+    /// Keeps every H1 record's own cross-spectra as well as the totals, so that
+    /// [`FrfBuilder::finish_leaving_out`] can drop one (memory then grows with the records).
+    pub(crate) fn keeping_partials(mut self) -> Self {
+        self.keep_partials = true;
+        self
+    }
+
+    /// Number of leave-one-out replicates: paired sets (paired), records (H1, which needs
+    /// [`FrfBuilder::keeping_partials`]; 0 without).
+    pub(crate) fn replicates(&self, assignment: &Assignment) -> Result<usize> {
+        match self.estimator {
+            Estimator::PairedSets => {
+                let n = self.plan.as_ref().map_or(0, |(p, _)| p.n);
+                let excitation = self.excitations(assignment)?;
+                Ok((0..n)
+                    .map(|d| excitation.iter().filter(|&&e| e == d).count())
+                    .min()
+                    .unwrap_or(0))
+            }
+            Estimator::H1 if self.keep_partials => Ok(self.gathered.len()),
+            Estimator::H1 => Ok(0),
+        }
+    }
+
+    /// [`FrfBuilder::finish`] without replicate `r`: paired set `r`, or H1 record `r`.
+    pub(crate) fn finish_leaving_out(&self, assignment: &Assignment, r: usize) -> Result<Frf> {
+        let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
+        match self.estimator {
+            Estimator::PairedSets => {
+                self.finish_paired(plan, &self.excitations(assignment)?, Some(r))
+            }
+            Estimator::H1 => Ok(self.finish_h1(plan, Some(r))),
+        }
     }
 
     /// Number of records pushed.
@@ -649,11 +687,15 @@ impl FrfBuilder {
                     *total += part;
                 }
                 self.averages += self.segmentation.starts(record.len()).count();
-                // Only the totals are kept.
-                Contribution::Cross {
-                    sff: Vec::new(),
-                    sxf: Vec::new(),
-                    sxx: Vec::new(),
+                if self.keep_partials {
+                    Contribution::Cross { sff, sxf, sxx }
+                } else {
+                    // Only the totals are kept.
+                    Contribution::Cross {
+                        sff: Vec::new(),
+                        sxf: Vec::new(),
+                        sxx: Vec::new(),
+                    }
                 }
             }
             spectra => {
@@ -687,12 +729,12 @@ impl FrfBuilder {
     pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
         match self.estimator {
-            Estimator::PairedSets => self.finish_paired(plan, &self.excitations(assignment)?),
-            Estimator::H1 => Ok(self.finish_h1(plan)),
+            Estimator::PairedSets => self.finish_paired(plan, &self.excitations(assignment)?, None),
+            Estimator::H1 => Ok(self.finish_h1(plan, None)),
         }
     }
 
-    fn finish_paired(&self, plan: &Plan, excitation: &[usize]) -> Result<Frf> {
+    fn finish_paired(&self, plan: &Plan, excitation: &[usize], skip: Option<usize>) -> Result<Frf> {
         let n = plan.n;
         let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
         for (r, &e) in excitation.iter().enumerate() {
@@ -704,7 +746,8 @@ impl FrfBuilder {
         }
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let mut frf = Frf::empty(n, Estimator::PairedSets);
-        frf.averages = sets;
+        let used: Vec<usize> = (0..sets).filter(|&s| Some(s) != skip).collect();
+        frf.averages = used.len();
         frf.unpaired = by_direction
             .iter()
             .flat_map(|d| d[sets..].iter().map(|&r| self.gathered[r].label.clone()))
@@ -727,7 +770,7 @@ impl FrfBuilder {
             let freq = k as f64 * plan.resolution_hz;
             h.fill(zero);
             let mut worst = 0.0_f64;
-            for s in 0..sets {
+            for &s in &used {
                 for (j, dir) in by_direction.iter().enumerate() {
                     let (fr, xr) = spectra(dir[s]);
                     x[j * n..(j + 1) * n].copy_from_slice(&xr[l * n..(l + 1) * n]);
@@ -745,7 +788,7 @@ impl FrfBuilder {
                 }
                 linalg::mul_into(&f, &x, &mut hs, n);
                 for (a, b) in h.iter_mut().zip(&hs) {
-                    *a += b / sets as f64;
+                    *a += b / used.len() as f64;
                 }
             }
             g.copy_from_slice(&h);
@@ -784,22 +827,40 @@ impl FrfBuilder {
         Ok(frf)
     }
 
-    fn finish_h1(&self, plan: &Plan) -> Frf {
+    fn finish_h1(&self, plan: &Plan, skip: Option<usize>) -> Frf {
         let n = plan.n;
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let mut frf = Frf::empty(n, Estimator::H1);
+        // Totals, less the skipped record's own sums when leaving one out.
+        let (mut sff, mut sxf, mut sxx) = (self.sff.clone(), self.sxf.clone(), self.sxx.clone());
         frf.averages = self.averages;
+        if let Some(Gathered {
+            contribution:
+                Contribution::Cross {
+                    sff: pf,
+                    sxf: px,
+                    sxx: pxx,
+                },
+            ..
+        }) = skip.and_then(|r| self.gathered.get(r))
+        {
+            sff.iter_mut().zip(pf).for_each(|(t, p)| *t -= p);
+            sxf.iter_mut().zip(px).for_each(|(t, p)| *t -= p);
+            sxx.iter_mut().zip(pxx).for_each(|(t, p)| *t -= p);
+            let len = plan.len;
+            frf.averages -= self.segmentation.starts(len).count();
+        }
         let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut scratch, mut pivots, mut sigma) = (vec![zero; nn], vec![0; n], vec![0.0; n]);
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
-            let sf = &self.sff[l * nn..(l + 1) * nn];
+            let sf = &sff[l * nn..(l + 1) * nn];
             let cond = linalg::condition_number_with(sf, n, &mut scratch, &mut sigma);
             inv.copy_from_slice(sf);
             let ok = linalg::invert_in_place(&mut inv, n, &mut pivots) && {
-                linalg::mul_into(&self.sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
+                linalg::mul_into(&sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
                 h.copy_from_slice(&g);
                 linalg::invert_in_place(&mut h, n, &mut pivots)
             };
@@ -809,8 +870,8 @@ impl FrfBuilder {
                     n,
                     sf,
                     &inv,
-                    &self.sxf[l * nn..(l + 1) * nn],
-                    &self.sxx[l * n..(l + 1) * n],
+                    &sxf[l * nn..(l + 1) * nn],
+                    &sxx[l * n..(l + 1) * n],
                     &mut multiple,
                     &mut ordinary,
                 );

@@ -25,6 +25,50 @@ pub enum NonConvergence {
     Fail,
 }
 
+/// How the standard deviations of the coefficients are estimated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Uncertainty {
+    /// No error bars.
+    None,
+    /// First-order sandwich covariance from the fit's own residuals (least squares and IVF;
+    /// see [`Fit::std_dev`]). 95 % intervals use the normal quantile 1.96.
+    #[default]
+    Sandwich,
+    /// Jackknife over records: the fit is repeated with each paired set (paired sets) or each
+    /// record (H1) left out, and $\sigma^2 = \frac{R-1}{R}\sum_r (\theta_{(-r)} - \bar\theta)^2$.
+    /// Needs at least 3 replicates (else the sandwich is used, with a warning). 95 % intervals
+    /// use Student's t with `R − 1` degrees of freedom.
+    Jackknife,
+}
+
+impl Uncertainty {
+    /// Short name: `"none"`, `"sandwich"` or `"jackknife"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Uncertainty::None => "none",
+            Uncertainty::Sandwich => "sandwich",
+            Uncertainty::Jackknife => "jackknife",
+        }
+    }
+}
+
+/// The two-sided 95 % quantile of Student's t with `dof` degrees of freedom (table to 30,
+/// `1.96 + 2.4/dof` beyond, within 0.002 of the exact value; the normal 1.96 for `dof = 0`,
+/// meaning "normal").
+fn t975(dof: usize) -> f64 {
+    const TABLE: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    match dof {
+        0 => 1.96,
+        1..=30 => TABLE[dof - 1],
+        _ => 1.96 + 2.4 / dof as f64,
+    }
+}
+
 /// Settings of an identification. Build with [`Identifier::new`] and chained setters, then call
 /// [`Identifier::identify`].
 ///
@@ -53,6 +97,7 @@ pub struct Identifier {
     limits: ConditionLimits,
     non_convergence: NonConvergence,
     min_coherence: f64,
+    uncertainty: Uncertainty,
 }
 
 impl Identifier {
@@ -73,6 +118,7 @@ impl Identifier {
             limits: ConditionLimits::default(),
             non_convergence: NonConvergence::default(),
             min_coherence: 0.0,
+            uncertainty: Uncertainty::default(),
         }
     }
 
@@ -145,6 +191,12 @@ impl Identifier {
     /// `0` (keep every line).
     pub fn min_coherence(mut self, threshold: f64) -> Self {
         self.min_coherence = threshold;
+        self
+    }
+
+    /// How coefficient standard deviations are estimated. Default [`Uncertainty::Sandwich`].
+    pub fn uncertainty(mut self, uncertainty: Uncertainty) -> Self {
+        self.uncertainty = uncertainty;
         self
     }
 
@@ -258,7 +310,10 @@ impl Identifier {
 
     fn builder(&self) -> FrfBuilder {
         let band = Band::new(self.low_hz, self.high_hz).expect("validated");
-        let builder = FrfBuilder::new(self.estimator, band, self.segmentation, self.window);
+        let mut builder = FrfBuilder::new(self.estimator, band, self.segmentation, self.window);
+        if self.uncertainty == Uncertainty::Jackknife {
+            builder = builder.keeping_partials();
+        }
         match self.dofs {
             Some(n) => builder.dofs(n),
             None => builder,
@@ -339,13 +394,27 @@ impl Identifier {
         }
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
-        let fit = match self.window.decay_per_s() {
-            Some(a) if a > 0.0 => fit.corrected_for_window(a)?,
-            _ => fit,
+        let fit = self.corrected(fit)?;
+        let (std_dev, interval_factor) = match self.uncertainty {
+            Uncertainty::None => (None, 0.0),
+            Uncertainty::Sandwich => (fit.std_dev().cloned(), t975(0)),
+            Uncertainty::Jackknife => {
+                let replicates = builder.replicates(&self.assignment)?;
+                if replicates >= 3 {
+                    let std = self.jackknife(&builder, &frf, replicates)?;
+                    (Some(std), t975(replicates - 1))
+                } else {
+                    warnings.push(Warning::FewReplicates { replicates });
+                    (fit.std_dev().cloned(), t975(0))
+                }
+            }
         };
         Ok(Identification {
             band,
             window: self.window,
+            uncertainty: self.uncertainty,
+            std_dev,
+            interval_factor,
             estimator: self.estimator,
             frf,
             conditioning,
@@ -354,6 +423,48 @@ impl Identifier {
             excitations,
             warnings,
         })
+    }
+}
+
+impl Identifier {
+    /// The fit mapped back through an exponential window's exact correction, if any.
+    fn corrected(&self, fit: Fit) -> Result<Fit> {
+        match self.window.decay_per_s() {
+            Some(a) if a > 0.0 => fit.corrected_for_window(a),
+            _ => Ok(fit),
+        }
+    }
+
+    /// Jackknife standard deviations over `replicates` leave-one-out refits, each on the same
+    /// lines as `frf` (the full data's, after any coherence selection).
+    fn jackknife(
+        &self,
+        builder: &FrfBuilder,
+        frf: &Frf,
+        replicates: usize,
+    ) -> Result<Coefficients> {
+        let used = frf.freqs_hz();
+        let mut thetas = Vec::with_capacity(replicates);
+        for r in 0..replicates {
+            let all = builder.finish_leaving_out(&self.assignment, r)?;
+            let same_lines = all.retain_lines(|k| {
+                let f = all.freqs_hz()[k];
+                used.binary_search_by(|u| u.total_cmp(&f)).is_ok()
+            });
+            let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
+            thetas.push(fit.coefficients().stacked());
+        }
+        let (p, n) = (thetas[0].nrows(), thetas[0].ncols());
+        let r = replicates as f64;
+        let std = faer::Mat::from_fn(p, n, |i, j| {
+            let mean = thetas.iter().map(|t| t[(i, j)]).sum::<f64>() / r;
+            let ss = thetas
+                .iter()
+                .map(|t| (t[(i, j)] - mean).powi(2))
+                .sum::<f64>();
+            ((r - 1.0) / r * ss).sqrt()
+        });
+        Coefficients::from_stacked(std.as_ref())
     }
 }
 
@@ -390,6 +501,9 @@ fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
 pub struct Identification {
     band: Band,
     window: Window,
+    uncertainty: Uncertainty,
+    std_dev: Option<Coefficients>,
+    interval_factor: f64,
     estimator: Estimator,
     frf: Frf,
     conditioning: Conditioning,
@@ -412,10 +526,28 @@ impl Identification {
         self.fit.coefficients()
     }
 
-    /// First-order (sandwich) standard deviations of the coefficients, for least squares and
-    /// IVF; see [`Fit::std_dev`].
+    /// Standard deviations of the coefficients by the chosen [`Uncertainty`] (sandwich by
+    /// default: least squares and IVF only; jackknife: any method).
     pub fn std_dev(&self) -> Option<&Coefficients> {
-        self.fit.std_dev()
+        self.std_dev.as_ref()
+    }
+
+    /// How [`Identification::std_dev`] was estimated.
+    pub fn uncertainty(&self) -> Uncertainty {
+        self.uncertainty
+    }
+
+    /// Half-widths of the 95 % intervals, `q · σ`, with `q` = 1.96 for the sandwich and
+    /// Student's `t(R − 1)` for the jackknife over `R` replicates.
+    pub fn interval_95(&self) -> Option<Coefficients> {
+        let s = self.std_dev.as_ref()?;
+        let q = self.interval_factor;
+        Coefficients::new(
+            s.mass() * faer::Scale(q),
+            s.damping() * faer::Scale(q),
+            s.stiffness() * faer::Scale(q),
+        )
+        .ok()
     }
 
     /// Natural frequencies and damping ratios of the identified system.
@@ -522,7 +654,8 @@ impl Identification {
 /// Serializes as one flat object, in SI units and Hz:
 /// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
 /// otherwise), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
-/// `M_std`, `C_std`, `K_std` (null when not available), `iterations`, `converged`,
+/// `M_std`, `C_std`, `K_std` (null when not available), `uncertainty`, `M_ci95`, `C_ci95`,
+/// `K_ci95` (half-widths of the 95 % intervals), `iterations`, `converged`,
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
 /// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences) and `history`
@@ -536,6 +669,7 @@ impl serde::Serialize for Identification {
         let freqs = self.freqs_hz();
         let modes = self.modes().unwrap_or_default();
         let std = self.std_dev();
+        let ci = self.interval_95();
         let cond = &self.conditioning;
         let mut m = s.serialize_map(None)?;
         m.serialize_entry("method", self.method().name())?;
@@ -553,6 +687,10 @@ impl serde::Serialize for Identification {
         m.serialize_entry("M_std", &std.map(|s| rows(s.mass())))?;
         m.serialize_entry("C_std", &std.map(|s| rows(s.damping())))?;
         m.serialize_entry("K_std", &std.map(|s| rows(s.stiffness())))?;
+        m.serialize_entry("uncertainty", self.uncertainty.name())?;
+        m.serialize_entry("M_ci95", &ci.as_ref().map(|s| rows(s.mass())))?;
+        m.serialize_entry("C_ci95", &ci.as_ref().map(|s| rows(s.damping())))?;
+        m.serialize_entry("K_ci95", &ci.as_ref().map(|s| rows(s.stiffness())))?;
         m.serialize_entry("iterations", &self.iterations())?;
         m.serialize_entry("converged", &self.converged())?;
         m.serialize_entry("convergence", self.convergence().name())?;

@@ -93,7 +93,7 @@ pub mod spectra;
 pub use conditioning::ConditionLimits;
 pub use error::{Channel, Error, Result, Warning};
 pub use frf::{Assignment, Band, Estimator, Frf};
-pub use identify::{Identification, Identifier, NonConvergence};
+pub use identify::{Identification, Identifier, NonConvergence, Uncertainty};
 pub use model::{Coefficients, Mode};
 pub use records::Record;
 pub use solve::{Convergence, Method};

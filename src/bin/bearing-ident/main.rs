@@ -12,7 +12,7 @@ use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
 use bearing_ident::{
     Coefficients, Estimator, Identification, Identifier, Method, NonConvergence, Record,
-    Segmentation, Window,
+    Segmentation, Uncertainty, Window,
 };
 use clap::{Parser, Subcommand, ValueEnum};
 use faer::Mat;
@@ -55,6 +55,13 @@ enum ExcitationArg {
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
+enum UncertaintyArg {
+    None,
+    Sandwich,
+    Jackknife,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
 enum EstimatorArg {
     Paired,
     H1,
@@ -82,6 +89,10 @@ struct IdentifyArgs {
     /// exactly). Default: `rect` for impacts, `hann` for random excitation.
     #[arg(long)]
     window: Option<String>,
+    /// Error bars: jackknife over paired sets or records (falls back to the sandwich, with a
+    /// warning, below 3 of them), first-order sandwich, or none.
+    #[arg(long, value_enum, default_value = "jackknife")]
+    uncertainty: UncertaintyArg,
     /// Drop lines where the multiple coherence of any output is below X (0 ≤ X < 1).
     #[arg(long, default_value_t = 0.0)]
     min_coherence: f64,
@@ -348,6 +359,11 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .tolerance(args.tolerance)
         .max_iterations(args.max_iterations)
         .min_coherence(args.min_coherence)
+        .uncertainty(match args.uncertainty {
+            UncertaintyArg::None => Uncertainty::None,
+            UncertaintyArg::Sandwich => Uncertainty::Sandwich,
+            UncertaintyArg::Jackknife => Uncertainty::Jackknife,
+        })
         .on_non_convergence(if args.allow_unconverged {
             NonConvergence::Warn
         } else {

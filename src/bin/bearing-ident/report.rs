@@ -137,7 +137,11 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
             None => id.window().name().to_string(),
         }
     );
-    let _ = writeln!(out, "Coefficients (± one first-order standard deviation)");
+    let _ = writeln!(
+        out,
+        "Coefficients (± one standard deviation, {})",
+        id.uncertainty().name()
+    );
     coefficient_lines(&mut out, &axes, id, truth);
     let _ = writeln!(out);
     let _ = writeln!(out, "Modes");
