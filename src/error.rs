@@ -238,6 +238,15 @@ pub enum Error {
         /// Degrees of freedom of the right operand.
         right: usize,
     },
+    /// A dry-structure baseline was identified differently from the system it is subtracted
+    /// from.
+    #[error(
+        "the baseline differs from the system in its {what}: identify both with the same band, lines, estimator, window and degrees of freedom"
+    )]
+    BaselineMismatch {
+        /// What differs.
+        what: &'static str,
+    },
     /// A numeric parameter is outside its valid range.
     #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
     InvalidParameter {
@@ -425,7 +434,8 @@ impl Error {
     /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
-    /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`.
+    /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
+    /// `baseline_mismatch`.
     ///
     /// # Examples
     /// ```
@@ -458,6 +468,7 @@ impl Error {
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
                 "singular"
             }
+            Error::BaselineMismatch { .. } => "baseline_mismatch",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",

@@ -645,6 +645,51 @@ impl Identification {
             .reduce(f64::min)
     }
 
+    /// The bearing's own coefficients: this (lubricated) system minus a dry-structure
+    /// `baseline` identified the same way, `K_b = K_s − K_h`, `C_b = C_s − C_h`,
+    /// `M_b = M_s − M_h`; standard deviations add in quadrature (independent tests), `None`
+    /// unless both carry them.
+    ///
+    /// # Errors
+    /// [`Error::BaselineMismatch`] if the two differ in degrees of freedom, band, lines used,
+    /// estimator or window (an exponential window must have the same decay).
+    pub fn subtract_baseline(
+        &self,
+        baseline: &Identification,
+    ) -> Result<(Coefficients, Option<Coefficients>)> {
+        let mismatch = |what| Err(Error::BaselineMismatch { what });
+        if self.coefficients().dofs() != baseline.coefficients().dofs() {
+            return mismatch("degrees of freedom");
+        }
+        if self.band != baseline.band {
+            return mismatch("band");
+        }
+        if self.freqs_hz() != baseline.freqs_hz() {
+            return mismatch("frequency lines");
+        }
+        if self.estimator != baseline.estimator {
+            return mismatch("estimator");
+        }
+        if self.window != baseline.window {
+            return mismatch("window");
+        }
+        let coefficients = self.coefficients().subtract(baseline.coefficients())?;
+        let std = match (self.std_dev(), baseline.std_dev()) {
+            (Some(a), Some(b)) => {
+                let add = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
+                    faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)].hypot(y[(i, j)]))
+                };
+                Some(Coefficients::new(
+                    add(a.mass(), b.mass()),
+                    add(a.damping(), b.damping()),
+                    add(a.stiffness(), b.stiffness()),
+                )?)
+            }
+            _ => None,
+        };
+        Ok((coefficients, std))
+    }
+
     /// What the user should know.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings

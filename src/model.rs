@@ -273,6 +273,38 @@ impl Coefficients {
     }
 }
 
+impl Coefficients {
+    /// The coefficients in other coordinates `q`, with the physical ones `x = T q`
+    /// (`T` is `n × m`): `M_q = Tᵀ M T`, `C_q = Tᵀ C T`, `K_q = Tᵀ K T` (impedances transform
+    /// as `Z_q = Tᵀ Z_x T`).
+    ///
+    /// # Errors
+    /// [`Error::DofCountMismatch`] unless `T` has `n` rows.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::model::Coefficients;
+    /// use faer::mat;
+    /// // x and y swapped.
+    /// let c = Coefficients::new(mat![[1.0, 0.0], [0.0, 2.0]], mat![[3.0, 0.5], [0.0, 4.0]],
+    ///     mat![[5.0, 0.0], [0.0, 6.0]])?;
+    /// let swapped = c.transform(mat![[0.0, 1.0], [1.0, 0.0]].as_ref())?;
+    /// assert_eq!(swapped.mass()[(0, 0)], 2.0);
+    /// assert_eq!(swapped.damping()[(1, 0)], 0.5);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn transform(&self, t: MatRef<'_, f64>) -> Result<Coefficients> {
+        if t.nrows() != self.dofs() {
+            return Err(Error::DofCountMismatch {
+                left: self.dofs(),
+                right: t.nrows(),
+            });
+        }
+        let map = |m: &Mat<f64>| t.transpose() * m * t;
+        Coefficients::new(map(&self.mass), map(&self.damping), map(&self.stiffness))
+    }
+}
+
 impl std::ops::Sub for &Coefficients {
     type Output = Coefficients;
 
@@ -374,6 +406,14 @@ mod tests {
         assert!((modes[1].natural_frequency_hz - 30.19).abs() < 5e-3);
         let zeta = 60.0 / (2.0 * (169.1e3_f64 * 4.7).sqrt());
         assert!((modes[1].damping_ratio - zeta).abs() < 1e-12);
+    }
+
+    #[test]
+    fn transform_checks_sizes() {
+        let e = two_dof()
+            .transform(Mat::<f64>::zeros(3, 2).as_ref())
+            .unwrap_err();
+        assert_eq!(e, Error::DofCountMismatch { left: 2, right: 3 });
     }
 
     #[test]

@@ -182,6 +182,44 @@ impl Record {
     }
 }
 
+/// Displacement at a bearing plane `z_b` from two sensor planes `z_1`, `z_2` on a rigid shaft:
+/// $x_B = x_1 + (x_2 - x_1)\,\frac{z_B - z_1}{z_2 - z_1}$, sample by sample.
+///
+/// # Panics
+/// If the channels differ in length or `z_1 = z_2`.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::records::two_plane_to_bearing;
+/// let xb = two_plane_to_bearing(&[1.0, 2.0], &[3.0, 6.0], 0.0, 0.2, 0.1);
+/// assert_eq!(xb, vec![2.0, 4.0]);
+/// ```
+pub fn two_plane_to_bearing(x1: &[f64], x2: &[f64], z1: f64, z2: f64, zb: f64) -> Vec<f64> {
+    assert_eq!(x1.len(), x2.len(), "sensor channels of different lengths");
+    assert!((z2 - z1).abs() > 0.0, "the two sensor planes must differ");
+    let r = (zb - z1) / (z2 - z1);
+    x1.iter().zip(x2).map(|(a, b)| a + (b - a) * r).collect()
+}
+
+/// Displacement at a bearing plane `z_b` from one sensor plane `z_s` for a conical mode about
+/// a pivot at `z_p`: $x_B = r\,x_S$ with $r = (z_B - z_p)/(z_S - z_p)$.
+///
+/// # Panics
+/// If `z_s = z_p`.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::records::conical_to_bearing;
+/// // Sensor at the disk (0.3 m from the pivot), damper at 0.1 m: a third of the motion.
+/// let xb = conical_to_bearing(&[3.0e-6], 0.3, 0.0, 0.1);
+/// assert!((xb[0] - 1.0e-6).abs() < 1e-18);
+/// ```
+pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Vec<f64> {
+    assert!((zs - zp).abs() > 0.0, "the sensor plane must differ from the pivot");
+    let r = (zb - zp) / (zs - zp);
+    xs.iter().map(|x| x * r).collect()
+}
+
 #[cfg(test)]
 #[allow(clippy::float_cmp)] // the values compared are copied through, not computed
 mod tests {

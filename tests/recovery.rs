@@ -34,6 +34,28 @@ fn small_test() -> ImpactTest {
 }
 
 #[test]
+fn coordinate_transform_of_a_rigid_shaft() {
+    // Coefficients at two sensor planes z1 = 0, z2 = 0.2 m; the bearing at zb = 0.1 m sees the
+    // mean motion. With x = T q for q = (x_B, tilt), T = [[1, −0.1], [1, 0.1]].
+    let t = mat![[1.0, -0.1], [1.0, 0.1]];
+    let sensors = Coefficients::new(
+        mat![[2.0, 0.0], [0.0, 3.0]],
+        mat![[10.0, 0.0], [0.0, 20.0]],
+        mat![[1.0e4, 0.0], [0.0, 2.0e4]],
+    )
+    .unwrap();
+    let q = sensors.transform(t.as_ref()).unwrap();
+    // Translation: M_qq = Σ m = 5; tilt: Σ m z² = 2·0.01 + 3·0.01; coupling Σ m z = −0.2 + 0.3.
+    assert!((q.mass()[(0, 0)] - 5.0).abs() < 1e-12);
+    assert!((q.mass()[(1, 1)] - 0.05).abs() < 1e-12);
+    assert!((q.mass()[(0, 1)] - 0.1).abs() < 1e-12);
+    assert!((q.stiffness()[(0, 0)] - 3.0e4).abs() < 1e-9);
+    // The record-level helpers agree with x_B = (x1 + x2)/2 here.
+    let xb = bearing_ident::records::two_plane_to_bearing(&[1.0], &[3.0], 0.0, 0.2, 0.1);
+    assert!((xb[0] - 2.0).abs() < 1e-15);
+}
+
+#[test]
 fn sdof_impedance_closed_form() {
     let (m, c, k) = (4.7, 132.0, 146.3e3);
     let sdof = Coefficients::new(mat![[m]], mat![[c]], mat![[k]]).unwrap();
@@ -180,6 +202,23 @@ fn baseline_subtraction_recovers_the_bearing() {
             .clone()
     };
     let found = identify(&lubricated).subtract(&identify(&dry)).unwrap();
+    // The same through the identifications, which check that both were processed alike.
+    let full = |sys: &Coefficients| {
+        Identifier::new(8.0, 49.0)
+            .identify(&test.run(sys).unwrap())
+            .unwrap()
+    };
+    let (via_ids, _) = full(&lubricated).subtract_baseline(&full(&dry)).unwrap();
+    assert_eq!(via_ids, found);
+    let other_band = Identifier::new(8.0, 45.0)
+        .identify(&test.run(&dry).unwrap())
+        .unwrap();
+    assert_eq!(
+        full(&lubricated)
+            .subtract_baseline(&other_band)
+            .unwrap_err(),
+        bearing_ident::Error::BaselineMismatch { what: "band" }
+    );
     // Errors scale with the system identified, so each block is judged against the
     // lubricated system's block norm.
     let scale = common::blocks(&lubricated).map(|b| b.norm_l2());
