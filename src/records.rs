@@ -215,7 +215,10 @@ pub fn two_plane_to_bearing(x1: &[f64], x2: &[f64], z1: f64, z2: f64, zb: f64) -
 /// assert!((xb[0] - 1.0e-6).abs() < 1e-18);
 /// ```
 pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Vec<f64> {
-    assert!((zs - zp).abs() > 0.0, "the sensor plane must differ from the pivot");
+    assert!(
+        (zs - zp).abs() > 0.0,
+        "the sensor plane must differ from the pivot"
+    );
     let r = (zb - zp) / (zs - zp);
     xs.iter().map(|x| x * r).collect()
 }
