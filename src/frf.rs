@@ -232,6 +232,7 @@ impl Frf {
         let mut out = Frf::empty(n, Estimator::H1);
         let mut g = vec![c64::new(0.0, 0.0); n * n];
         let mut pivots = vec![0; n];
+        let (mut scratch, mut sigma) = (vec![c64::new(0.0, 0.0); n * n], vec![0.0; n]);
         for (&f, m) in freqs_hz.iter().zip(flexibility) {
             if m.nrows() != n || m.ncols() != n || n == 0 {
                 return Err(Error::InvalidParameter {
@@ -252,7 +253,7 @@ impl Frf {
                     g[i + j * n] = m[(i, j)];
                 }
             }
-            let cond = linalg::condition_number(m.as_ref())?;
+            let cond = linalg::condition_number_with(&g, n, &mut scratch, &mut sigma);
             let mut h = g.clone();
             if linalg::invert_in_place(&mut h, n, &mut pivots) {
                 out.push_line(f, &h, &g, cond);
@@ -380,15 +381,10 @@ impl Frf {
     /// to [`Frf::dropped_hz`].
     pub fn retain_lines(&self, keep: impl Fn(usize) -> bool) -> Frf {
         let (n, nn) = (self.dofs, self.dofs * self.dofs);
-        let mut out = Frf {
-            freqs_hz: Vec::new(),
-            impedance: Vec::new(),
-            flexibility: Vec::new(),
-            condition: Vec::new(),
-            multiple_coherence: Vec::new(),
-            ordinary_coherence: Vec::new(),
-            ..self.clone()
-        };
+        let mut out = Frf::empty(n, self.estimator);
+        out.averages = self.averages;
+        out.unpaired = self.unpaired.clone();
+        out.dropped_hz = self.dropped_hz.clone();
         for k in 0..self.lines() {
             if !keep(k) {
                 out.dropped_hz.push(self.freqs_hz[k]);

@@ -203,8 +203,12 @@ impl Coefficients {
     pub fn eigenvalues(&self) -> Result<Vec<c64>> {
         use faer::prelude::Solve;
         let n = self.dofs();
-        if linalg::condition_number(self.mass.as_ref().map(|v| c64::new(*v, 0.0)).as_ref())? > 1e14
-        {
+        let mass: Vec<c64> = (0..n * n)
+            .map(|k| c64::new(self.mass[(k % n, k / n)], 0.0))
+            .collect();
+        let mut scratch = vec![c64::new(0.0, 0.0); n * n];
+        let cond = linalg::condition_number_with(&mass, n, &mut scratch, &mut vec![0.0; n]);
+        if cond.is_nan() || cond > 1e14 {
             return Err(Error::Singular {
                 what: "mass matrix",
             });
