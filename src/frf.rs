@@ -231,7 +231,8 @@ impl Frf {
         let n = flexibility[0].nrows();
         let mut out = Frf::empty(n, Estimator::H1);
         let mut g = vec![c64::new(0.0, 0.0); n * n];
-        let mut pivots = vec![0; n];
+        let mut inverter = linalg::Inverter::new(n);
+        let mut h = vec![c64::new(0.0, 0.0); n * n];
         let (mut scratch, mut sigma) = (vec![c64::new(0.0, 0.0); n * n], vec![0.0; n]);
         for (&f, m) in freqs_hz.iter().zip(flexibility) {
             if m.nrows() != n || m.ncols() != n || n == 0 {
@@ -254,8 +255,8 @@ impl Frf {
                 }
             }
             let cond = linalg::condition_number_with(&g, n, &mut scratch, &mut sigma);
-            let mut h = g.clone();
-            if linalg::invert_in_place(&mut h, n, &mut pivots) {
+            h.copy_from_slice(&g);
+            if inverter.invert(&mut h) {
                 out.push_line(f, &h, &g, cond);
             } else {
                 out.dropped_hz.push(f);
@@ -759,7 +760,7 @@ impl FrfBuilder {
         let zero = c64::new(0.0, 0.0);
         let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut h, mut g, mut scratch) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
-        let (mut pivots, mut sigma) = (vec![0; n], vec![0.0; n]);
+        let (mut inverter, mut sigma) = (linalg::Inverter::new(n), vec![0.0; n]);
         let (mut sff, mut sxf, mut inv) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut sxx, mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; n], vec![0.0; nn]);
         'line: for (l, &k) in plan.lines.iter().enumerate() {
@@ -778,7 +779,7 @@ impl FrfBuilder {
                     &mut scratch,
                     &mut sigma,
                 ));
-                if !linalg::invert_in_place(&mut x, n, &mut pivots) {
+                if !inverter.invert(&mut x) {
                     frf.dropped_hz.push(freq);
                     continue 'line;
                 }
@@ -788,7 +789,7 @@ impl FrfBuilder {
                 }
             }
             g.copy_from_slice(&h);
-            if linalg::invert_in_place(&mut g, n, &mut pivots) {
+            if inverter.invert(&mut g) {
                 frf.push_line(freq, &h, &g, worst);
                 // Coherence from the cross-spectra of all records at this line.
                 sff.fill(zero);
@@ -809,7 +810,7 @@ impl FrfBuilder {
                     }
                 }
                 inv.copy_from_slice(&sff);
-                if linalg::invert_in_place(&mut inv, n, &mut pivots) {
+                if inverter.invert(&mut inv) {
                     line_coherence(n, &sff, &inv, &sxf, &sxx, &mut multiple, &mut ordinary);
                 } else {
                     multiple.fill(0.0);
@@ -848,17 +849,18 @@ impl FrfBuilder {
             frf.averages -= self.segmentation.starts(len).count();
         }
         let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
-        let (mut scratch, mut pivots, mut sigma) = (vec![zero; nn], vec![0; n], vec![0.0; n]);
+        let (mut scratch, mut inverter, mut sigma) =
+            (vec![zero; nn], linalg::Inverter::new(n), vec![0.0; n]);
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             let sf = &sff[l * nn..(l + 1) * nn];
             let cond = linalg::condition_number_with(sf, n, &mut scratch, &mut sigma);
             inv.copy_from_slice(sf);
-            let ok = linalg::invert_in_place(&mut inv, n, &mut pivots) && {
+            let ok = inverter.invert(&mut inv) && {
                 linalg::mul_into(&sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
                 h.copy_from_slice(&g);
-                linalg::invert_in_place(&mut h, n, &mut pivots)
+                inverter.invert(&mut h)
             };
             if ok {
                 frf.push_line(freq, &h, &g, cond);

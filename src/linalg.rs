@@ -11,12 +11,13 @@ use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratc
 use faer::linalg::lu::partial_pivoting::inverse::{inverse, inverse_scratch};
 use faer::{MatMut, MatRef, Par, c64};
 
-/// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan elimination with
+/// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan (the small-`n`
+/// path of [`Inverter`]; everything else goes through `Inverter`) elimination with
 /// partial pivoting. `pivots` is caller-owned scratch of length `n`.
 ///
 /// Returns `false` (leaving `a` in an unspecified state) if a pivot is zero or the result is
 /// not finite.
-pub(crate) fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
+fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
     debug_assert_eq!(a.len(), n * n);
     debug_assert!(pivots.len() >= n);
     for k in 0..n {

@@ -189,7 +189,7 @@ impl Coefficients {
         let n = self.dofs();
         let h = self.impedance_at(freq_hz);
         let mut g: Vec<c64> = (0..n * n).map(|k| h[(k % n, k / n)]).collect();
-        if !linalg::invert_in_place(&mut g, n, &mut vec![0; n]) {
+        if !linalg::Inverter::new(n).invert(&mut g) {
             return Err(Error::Singular { what: "impedance" });
         }
         Ok(Mat::from_fn(n, n, |i, j| g[i + j * n]))
