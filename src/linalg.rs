@@ -11,9 +11,9 @@ use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratc
 use faer::linalg::lu::partial_pivoting::inverse::{inverse, inverse_scratch};
 use faer::{MatMut, MatRef, Par, c64};
 
-/// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan (the small-`n`
-/// path of [`Inverter`]; everything else goes through `Inverter`) elimination with
-/// partial pivoting. `pivots` is caller-owned scratch of length `n`.
+/// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan elimination with
+/// partial pivoting; `pivots` is caller-owned scratch of length `n`. This is the small-`n`
+/// path of [`Inverter`], through which every caller goes.
 ///
 /// Returns `false` (leaving `a` in an unspecified state) if a pivot is zero or the result is
 /// not finite.
