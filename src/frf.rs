@@ -10,6 +10,11 @@
 //!   $G_1 = S_{xf} S_{ff}^{-1}$ and $H = G_1^{-1}$. No pairing is needed and `G₁` is unbiased
 //!   under displacement noise.
 //!
+//! - [`Estimator::H2`]: $G_2 = S_{xx} S_{fx}^{-1}$, unbiased under force noise.
+//! - [`Estimator::Hv`]: per output, the total-least-squares fit of force and displacement
+//!   together (smallest eigenvector of the augmented cross-spectral matrix), between H1 and H2
+//!   when both channels are noisy.
+//!
 //! Each line also carries the condition number the next stage judges: `cond([X¹…Xⁿ])` for paired
 //! sets (the worst set), `cond(S_ff)` for H1. Lines whose matrices cannot be inverted are dropped
 //! and listed in [`Frf::dropped_hz`].
@@ -19,7 +24,7 @@ use faer::{Mat, MatRef, c64};
 use crate::error::{Error, Result};
 use crate::linalg;
 use crate::records::Record;
-use crate::spectra::{Segmentation, SpectralEstimator, Window};
+use crate::spectra::{ForceGate, Segmentation, SpectralEstimator, Window};
 
 /// A frequency band in Hz, edges inclusive. DC is never used.
 ///
@@ -92,17 +97,33 @@ pub enum Estimator {
     /// sets (the seed's eq. 9).
     #[default]
     PairedSets,
-    /// MIMO H1 over all records and segments: `G = S_xf S_ff⁻¹`, `H = G⁻¹`.
+    /// MIMO H1 over all records and segments: `G = S_xf S_ff⁻¹`, `H = G⁻¹`. Unbiased under
+    /// displacement noise; force noise biases `|G|` low (`H` high).
     H1,
+    /// MIMO H2: `G = S_xx S_fx⁻¹`, i.e. `H = S_fx S_xx⁻¹`. Unbiased under force noise;
+    /// displacement noise biases `|G|` high. Needs the records to excite all `n` directions.
+    H2,
+    /// Hv (total least squares) per output `i`: the eigenvector of the smallest eigenvalue of
+    /// $\begin{bmatrix} S_{ff} & S_{fx_i} \\ S_{x_i f} & S_{x_i x_i}\end{bmatrix}$ gives row
+    /// `i` of `G`. The displacement is first scaled to the forces' mean power, so the estimator
+    /// assumes equal noise-to-signal ratios on force and displacement; between H1 and H2.
+    Hv,
 }
 
 impl Estimator {
-    /// Short name: `"paired"` or `"h1"`.
+    /// Short name: `"paired"`, `"h1"`, `"h2"` or `"hv"`.
     pub fn name(self) -> &'static str {
         match self {
             Estimator::PairedSets => "paired",
             Estimator::H1 => "h1",
+            Estimator::H2 => "h2",
+            Estimator::Hv => "hv",
         }
+    }
+
+    /// Whether the estimator works on accumulated cross-spectra (all but paired sets).
+    pub fn is_cross_spectral(self) -> bool {
+        !matches!(self, Estimator::PairedSets)
     }
 }
 
@@ -192,6 +213,10 @@ pub struct Frf {
     multiple_coherence: Vec<f64>,
     /// Ordinary coherence per line, `n × n` column-major (output, input); empty when unknown.
     ordinary_coherence: Vec<f64>,
+    /// `E|δH_ij|²` per line, `n × n` column-major; empty when unknown.
+    impedance_variance: Vec<f64>,
+    /// Band lines the excitation does not drive (periodic segmentation only).
+    unexcited_hz: Vec<f64>,
 }
 
 impl Frf {
@@ -279,6 +304,8 @@ impl Frf {
             unpaired: Vec::new(),
             multiple_coherence: Vec::new(),
             ordinary_coherence: Vec::new(),
+            impedance_variance: Vec::new(),
+            unexcited_hz: Vec::new(),
         }
     }
 
@@ -378,6 +405,32 @@ impl Frf {
             .map(|s| MatRef::from_column_major_slice(s, self.dofs, self.dofs))
     }
 
+    /// Variance of the measured impedance at line `k`, `E|δH_ij|²` (real and imaginary parts
+    /// each carry half), column-major `n × n`; `None` when it cannot be estimated.
+    ///
+    /// - Paired sets: the scatter of the per-set impedances, $\sum_s |H_s - \bar H|^2 / (S(S-1))$
+    ///   (needs 2 sets).
+    /// - Cross-spectral estimators: the MIMO H1 random error (METHOD.md §2). Row `a` of `G` has
+    ///   covariance $\sigma_a^2 S_{ff}^{-1}$ with
+    ///   $\sigma_a^2 = S_{x_a x_a}(1 - \gamma^2_{a:f}) / (n_d - n)$, and $\delta H = -H\,\delta G\,H$
+    ///   gives $E|\delta H_{ij}|^2 = \sum_a |H_{ia}|^2 \sigma_a^2 \; h_j^H S_{ff}^{-1} h_j$
+    ///   (`h_j` column `j` of `H`); needs more averages `n_d` than degrees of freedom. Welch
+    ///   segments overlap and are not independent, so with Hann and 50 % overlap this is
+    ///   somewhat optimistic.
+    pub fn impedance_variance(&self, k: usize) -> Option<MatRef<'_, f64>> {
+        let nn = self.dofs * self.dofs;
+        self.impedance_variance
+            .get(k * nn..(k + 1) * nn)
+            .map(|s| MatRef::from_column_major_slice(s, self.dofs, self.dofs))
+    }
+
+    /// Lines of the band left out because the excitation does not drive them: with
+    /// [`Segmentation::Periods`], lines whose force power `tr S_ff` is below
+    /// [`UNEXCITED_RATIO`] of the band's strongest line.
+    pub fn unexcited_hz(&self) -> &[f64] {
+        &self.unexcited_hz
+    }
+
     /// The same `Frf` restricted to the lines for which `keep(k)` holds; the others are added
     /// to [`Frf::dropped_hz`].
     pub fn retain_lines(&self, keep: impl Fn(usize) -> bool) -> Frf {
@@ -403,7 +456,11 @@ impl Frf {
             if let Some(c) = self.ordinary_coherence.get(k * nn..(k + 1) * nn) {
                 out.ordinary_coherence.extend_from_slice(c);
             }
+            if let Some(v) = self.impedance_variance.get(k * nn..(k + 1) * nn) {
+                out.impedance_variance.extend_from_slice(v);
+            }
         }
+        out.unexcited_hz = self.unexcited_hz.clone();
         out.dropped_hz.sort_by(f64::total_cmp);
         out
     }
@@ -449,12 +506,11 @@ enum Contribution {
         forces: Vec<c64>,
         displacements: Vec<c64>,
     },
-    /// This record's sums over its segments of `F Fᴴ` and `X Fᴴ`, `[line][n × n]`, and of
-    /// `|X_i|²`, `[line][n]`.
+    /// This record's sums over its segments of `F Fᴴ`, `X Fᴴ` and `X Xᴴ`, `[line][n × n]`.
     Cross {
         sff: Vec<c64>,
         sxf: Vec<c64>,
-        sxx: Vec<f64>,
+        sxx: Vec<c64>,
     },
 }
 
@@ -503,12 +559,13 @@ pub struct FrfBuilder {
     segmentation: Segmentation,
     window: Window,
     dofs: Option<usize>,
+    force_gate: Option<ForceGate>,
     plan: Option<(Plan, SpectralEstimator)>,
     gathered: Vec<Gathered>,
-    /// H1 totals, merged record by record.
+    /// Cross-spectral totals, merged record by record.
     sff: Vec<c64>,
     sxf: Vec<c64>,
-    sxx: Vec<f64>,
+    sxx: Vec<c64>,
     averages: usize,
     /// Keep each H1 record's own sums too (for leave-one-out replicates).
     keep_partials: bool,
@@ -524,7 +581,7 @@ impl FrfBuilder {
     ) -> Self {
         let segmentation = match estimator {
             Estimator::PairedSets => Segmentation::WholeRecord,
-            Estimator::H1 => segmentation,
+            _ => segmentation,
         };
         Self {
             estimator,
@@ -532,6 +589,7 @@ impl FrfBuilder {
             segmentation,
             window,
             dofs: None,
+            force_gate: None,
             plan: None,
             gathered: Vec::new(),
             sff: Vec::new(),
@@ -545,6 +603,12 @@ impl FrfBuilder {
     /// Requires every record to have `n` degrees of freedom (default: the first record's).
     pub fn dofs(mut self, n: usize) -> Self {
         self.dofs = Some(n);
+        self
+    }
+
+    /// Gates every force channel with `gate` ([`ForceGate`]) before its transform.
+    pub fn force_gate(mut self, gate: ForceGate) -> Self {
+        self.force_gate = Some(gate);
         self
     }
 
@@ -567,19 +631,21 @@ impl FrfBuilder {
                     .min()
                     .unwrap_or(0))
             }
-            Estimator::H1 if self.keep_partials => Ok(self.gathered.len()),
-            Estimator::H1 => Ok(0),
+            _ if self.keep_partials => Ok(self.gathered.len()),
+            _ => Ok(0),
         }
     }
 
-    /// [`FrfBuilder::finish`] without replicate `r`: paired set `r`, or H1 record `r`.
-    pub(crate) fn finish_leaving_out(&self, assignment: &Assignment, r: usize) -> Result<Frf> {
+    /// [`FrfBuilder::finish`] with replicate `r` (paired set `r`, or record `r` of a
+    /// cross-spectral estimator, which needs [`FrfBuilder::keeping_partials`]) counted
+    /// `weights[r]` times: 0 leaves it out (jackknife), bootstrap counts resample. No error
+    /// bars are computed for weighted finishes.
+    pub(crate) fn finish_weighted(&self, assignment: &Assignment, weights: &[f64]) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
-        match self.estimator {
-            Estimator::PairedSets => {
-                self.finish_paired(plan, &self.excitations(assignment)?, Some(r))
-            }
-            Estimator::H1 => Ok(self.finish_h1(plan, Some(r))),
+        if self.estimator == Estimator::PairedSets {
+            self.finish_paired(plan, &self.excitations(assignment)?, Some(weights))
+        } else {
+            Ok(self.finish_cross(plan, Some(weights)))
         }
     }
 
@@ -606,11 +672,15 @@ impl FrfBuilder {
                     lines,
                 };
                 let size = plan.lines.len() * n * n;
-                if self.estimator == Estimator::H1 {
+                if self.estimator.is_cross_spectral() {
                     self.sff = vec![c64::new(0.0, 0.0); size];
                     self.sxf = vec![c64::new(0.0, 0.0); size];
-                    self.sxx = vec![0.0; plan.lines.len() * n];
+                    self.sxx = vec![c64::new(0.0, 0.0); size];
                 }
+                let spectral = match self.force_gate {
+                    Some(gate) => spectral.with_force_gate(gate),
+                    None => spectral,
+                };
                 self.plan = Some((plan, spectral));
                 Ok(())
             }
@@ -725,13 +795,19 @@ impl FrfBuilder {
     /// [`Error::RankDeficient`] when some direction has no record.
     pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
-        match self.estimator {
-            Estimator::PairedSets => self.finish_paired(plan, &self.excitations(assignment)?, None),
-            Estimator::H1 => Ok(self.finish_h1(plan, None)),
+        if self.estimator == Estimator::PairedSets {
+            self.finish_paired(plan, &self.excitations(assignment)?, None)
+        } else {
+            Ok(self.finish_cross(plan, None))
         }
     }
 
-    fn finish_paired(&self, plan: &Plan, excitation: &[usize], skip: Option<usize>) -> Result<Frf> {
+    fn finish_paired(
+        &self,
+        plan: &Plan,
+        excitation: &[usize],
+        weights: Option<&[f64]>,
+    ) -> Result<Frf> {
         let n = plan.n;
         let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
         for (r, &e) in excitation.iter().enumerate() {
@@ -743,7 +819,9 @@ impl FrfBuilder {
         }
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let mut frf = Frf::empty(n, Estimator::PairedSets);
-        let used: Vec<usize> = (0..sets).filter(|&s| Some(s) != skip).collect();
+        let weight = |s: usize| weights.map_or(1.0, |w| w.get(s).copied().unwrap_or(0.0));
+        let used: Vec<usize> = (0..sets).filter(|&s| weight(s) > 0.0).collect();
+        let total_weight: f64 = used.iter().map(|&s| weight(s)).sum();
         frf.averages = used.len();
         frf.unpaired = by_direction
             .iter()
@@ -756,6 +834,8 @@ impl FrfBuilder {
             } => (forces, displacements),
             Contribution::Cross { .. } => unreachable!("paired builders gather spectra"),
         };
+        // Scatter of the per-set impedances, for the error bars of the unweighted finish.
+        let with_variance = weights.is_none() && used.len() >= 2;
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
@@ -763,11 +843,13 @@ impl FrfBuilder {
         let (mut inverter, mut sigma) = (linalg::Inverter::new(n), vec![0.0; n]);
         let (mut sff, mut sxf, mut inv) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut sxx, mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; n], vec![0.0; nn]);
+        let mut per_set = vec![zero; if with_variance { used.len() * nn } else { 0 }];
+        let mut variance = vec![0.0; nn];
         'line: for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             h.fill(zero);
             let mut worst = 0.0_f64;
-            for &s in &used {
+            for (u, &s) in used.iter().enumerate() {
                 for (j, dir) in by_direction.iter().enumerate() {
                     let (fr, xr) = spectra(dir[s]);
                     x[j * n..(j + 1) * n].copy_from_slice(&xr[l * n..(l + 1) * n]);
@@ -784,13 +866,27 @@ impl FrfBuilder {
                     continue 'line;
                 }
                 linalg::mul_into(&f, &x, &mut hs, n);
+                let w = weight(s) / total_weight;
                 for (a, b) in h.iter_mut().zip(&hs) {
-                    *a += b / used.len() as f64;
+                    *a += b * w;
+                }
+                if with_variance {
+                    per_set[u * nn..(u + 1) * nn].copy_from_slice(&hs);
                 }
             }
             g.copy_from_slice(&h);
             if inverter.invert(&mut g) {
                 frf.push_line(freq, &h, &g, worst);
+                if with_variance {
+                    let sets = used.len() as f64;
+                    variance.fill(0.0);
+                    for set in per_set.chunks_exact(nn) {
+                        for ((v, a), b) in variance.iter_mut().zip(set).zip(&h) {
+                            *v += (a - b).norm_sqr() / (sets * (sets - 1.0));
+                        }
+                    }
+                    frf.impedance_variance.extend_from_slice(&variance);
+                }
                 // Coherence from the cross-spectra of all records at this line.
                 sff.fill(zero);
                 sxf.fill(zero);
@@ -824,61 +920,195 @@ impl FrfBuilder {
         Ok(frf)
     }
 
-    fn finish_h1(&self, plan: &Plan, skip: Option<usize>) -> Frf {
+    /// The cross-spectral totals, or their sums over records weighted by `weights` (which needs
+    /// the partials), with the number of averages they hold.
+    fn cross_totals(&self, plan: &Plan, weights: Option<&[f64]>) -> (Cross, f64) {
+        let segments = self.segmentation.starts(plan.len).count() as f64;
+        let Some(weights) = weights else {
+            let totals = Cross {
+                sff: self.sff.clone(),
+                sxf: self.sxf.clone(),
+                sxx: self.sxx.clone(),
+            };
+            return (totals, self.averages as f64);
+        };
+        let zero = c64::new(0.0, 0.0);
+        let mut totals = Cross {
+            sff: vec![zero; self.sff.len()],
+            sxf: vec![zero; self.sxf.len()],
+            sxx: vec![zero; self.sxx.len()],
+        };
+        let mut averages = 0.0;
+        for (g, &w) in self.gathered.iter().zip(weights) {
+            if let Contribution::Cross { sff, sxf, sxx } = &g.contribution {
+                if w == 0.0 || sff.is_empty() {
+                    continue;
+                }
+                averages += w * segments;
+                let add = |t: &mut Vec<c64>, p: &Vec<c64>| {
+                    t.iter_mut().zip(p).for_each(|(t, p)| *t += p * w);
+                };
+                add(&mut totals.sff, sff);
+                add(&mut totals.sxf, sxf);
+                add(&mut totals.sxx, sxx);
+            }
+        }
+        (totals, averages)
+    }
+
+    fn finish_cross(&self, plan: &Plan, weights: Option<&[f64]>) -> Frf {
         let n = plan.n;
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
-        let mut frf = Frf::empty(n, Estimator::H1);
-        // Totals, less the skipped record's own sums when leaving one out.
-        let (mut sff, mut sxf, mut sxx) = (self.sff.clone(), self.sxf.clone(), self.sxx.clone());
-        frf.averages = self.averages;
-        if let Some(Gathered {
-            contribution:
-                Contribution::Cross {
-                    sff: pf,
-                    sxf: px,
-                    sxx: pxx,
-                },
-            ..
-        }) = skip.and_then(|r| self.gathered.get(r))
-        {
-            sff.iter_mut().zip(pf).for_each(|(t, p)| *t -= p);
-            sxf.iter_mut().zip(px).for_each(|(t, p)| *t -= p);
-            sxx.iter_mut().zip(pxx).for_each(|(t, p)| *t -= p);
-            let len = plan.len;
-            frf.averages -= self.segmentation.starts(len).count();
-        }
+        let mut frf = Frf::empty(n, self.estimator);
+        let (Cross { sff, sxf, sxx }, averages) = self.cross_totals(plan, weights);
+        frf.averages = averages.round() as usize;
+        // Lines the excitation drives (periodic excitation leaves the others empty).
+        let power = |l: usize| (0..n).map(|i| sff[l * nn + i * (n + 1)].re).sum::<f64>();
+        let strongest = (0..plan.lines.len()).map(power).fold(0.0, f64::max);
+        let periodic = matches!(self.segmentation, Segmentation::Periods { .. });
+        let with_variance = weights.is_none() && averages > n as f64;
         let (mut inv, mut g, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
         let (mut scratch, mut inverter, mut sigma) =
             (vec![zero; nn], linalg::Inverter::new(n), vec![0.0; n]);
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
+        let (mut auto, mut variance) = (vec![0.0; n], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
-            let sf = &sff[l * nn..(l + 1) * nn];
+            if periodic && power(l) < UNEXCITED_RATIO * strongest {
+                frf.unexcited_hz.push(freq);
+                continue;
+            }
+            let range = l * nn..(l + 1) * nn;
+            let (sf, sx, ss) = (&sff[range.clone()], &sxf[range.clone()], &sxx[range]);
             let cond = linalg::condition_number_with(sf, n, &mut scratch, &mut sigma);
             inv.copy_from_slice(sf);
-            let ok = inverter.invert(&mut inv) && {
-                linalg::mul_into(&sxf[l * nn..(l + 1) * nn], &inv, &mut g, n);
-                h.copy_from_slice(&g);
-                inverter.invert(&mut h)
-            };
-            if ok {
-                frf.push_line(freq, &h, &g, cond);
-                line_coherence(
-                    n,
-                    sf,
-                    &inv,
-                    &sxf[l * nn..(l + 1) * nn],
-                    &sxx[l * n..(l + 1) * n],
-                    &mut multiple,
-                    &mut ordinary,
-                );
-                frf.push_coherence(&multiple, &ordinary);
-            } else {
+            let ok = inverter.invert(&mut inv)
+                && match self.estimator {
+                    Estimator::H2 => {
+                        // H = S_fx S_xx⁻¹ with S_fx = S_xfᴴ.
+                        scratch.copy_from_slice(ss);
+                        inverter.invert(&mut scratch) && {
+                            for j in 0..n {
+                                for i in 0..n {
+                                    g[i + j * n] = sx[j + i * n].conj();
+                                }
+                            }
+                            linalg::mul_into(&g, &scratch, &mut h, n);
+                            g.copy_from_slice(&h);
+                            inverter.invert(&mut g)
+                        }
+                    }
+                    Estimator::Hv => {
+                        hv_flexibility(n, sf, sx, ss, &mut g) && {
+                            h.copy_from_slice(&g);
+                            inverter.invert(&mut h)
+                        }
+                    }
+                    _ => {
+                        linalg::mul_into(sx, &inv, &mut g, n);
+                        h.copy_from_slice(&g);
+                        inverter.invert(&mut h)
+                    }
+                };
+            if !ok {
                 frf.dropped_hz.push(freq);
+                continue;
+            }
+            frf.push_line(freq, &h, &g, cond);
+            for (i, a) in auto.iter_mut().enumerate() {
+                *a = ss[i * (n + 1)].re;
+            }
+            line_coherence(n, sf, &inv, sx, &auto, &mut multiple, &mut ordinary);
+            frf.push_coherence(&multiple, &ordinary);
+            if with_variance {
+                h1_impedance_variance(n, &h, &inv, &auto, &multiple, averages, &mut variance);
+                frf.impedance_variance.extend_from_slice(&variance);
             }
         }
         frf
+    }
+}
+
+/// Cross-spectral sums `S_ff`, `S_xf`, `S_xx`, `[line][n × n]` column-major.
+struct Cross {
+    sff: Vec<c64>,
+    sxf: Vec<c64>,
+    sxx: Vec<c64>,
+}
+
+/// Band lines whose force power `tr S_ff` is below this fraction of the band's strongest line
+/// are not excited (periodic segmentation): −20 dB, far above a broadband noise floor spread
+/// over every line and far below the lines a multisine drives.
+pub const UNEXCITED_RATIO: f64 = 1e-2;
+
+/// Row by row Hv flexibility into `g` (column-major `n × n`) from one line's cross-spectra.
+/// `false` if an augmented matrix is not finite or its smallest eigenvector has no output part.
+fn hv_flexibility(n: usize, sff: &[c64], sxf: &[c64], sxx: &[c64], g: &mut [c64]) -> bool {
+    let force_power = (0..n).map(|i| sff[i * (n + 1)].re).sum::<f64>() / n as f64;
+    let mut aug = Mat::<c64>::zeros(n + 1, n + 1);
+    for i in 0..n {
+        let out_power = sxx[i * (n + 1)].re;
+        if !(out_power > 0.0 && force_power > 0.0) {
+            return false;
+        }
+        // Displacement scaled to the forces' mean power: x' = s x.
+        let s = (force_power / out_power).sqrt();
+        for b in 0..n {
+            for a in 0..n {
+                aug[(a, b)] = sff[a + b * n];
+            }
+            // S_{f x'} = s Σ F x̄_i = s conj(S_{x_i f}).
+            aug[(b, n)] = sxf[i + b * n].conj() * s;
+            aug[(n, b)] = sxf[i + b * n] * s;
+        }
+        aug[(n, n)] = c64::new(out_power * s * s, 0.0);
+        let Ok(eig) = aug.self_adjoint_eigen(faer::Side::Lower) else {
+            return false;
+        };
+        // Eigenvalues ascend: column 0 is the smallest. With u that eigenvector, the residual
+        // x' − g' F is orthogonal-least-squares minimal for g'_b = −conj(u_b / u_n).
+        let u = eig.U().col(0);
+        let last = u[n];
+        if last.norm() == 0.0 || !last.is_finite() {
+            return false;
+        }
+        for b in 0..n {
+            g[i + b * n] = -(u[b] / last).conj() / s;
+        }
+    }
+    true
+}
+
+/// `E|δH_ij|²` at one line from the MIMO H1 random error (see [`Frf::impedance_variance`]):
+/// `sff_inv = S_ff⁻¹`, `auto[i] = S_xᵢxᵢ`, `multiple[i] = γ²ᵢ:f`, `averages = n_d`.
+fn h1_impedance_variance(
+    n: usize,
+    h: &[c64],
+    sff_inv: &[c64],
+    auto: &[f64],
+    multiple: &[f64],
+    averages: f64,
+    out: &mut [f64],
+) {
+    let dof = averages - n as f64;
+    for j in 0..n {
+        // q_j = h_jᴴ S_ff⁻¹ h_j (real: S_ff⁻¹ is Hermitian).
+        let mut q = c64::new(0.0, 0.0);
+        for b in 0..n {
+            for a in 0..n {
+                q += h[a + j * n].conj() * sff_inv[a + b * n] * h[b + j * n];
+            }
+        }
+        for i in 0..n {
+            out[i + j * n] = (0..n)
+                .map(|a| {
+                    let noise = (auto[a] * (1.0 - multiple[a])).max(0.0) / dof;
+                    h[i + a * n].norm_sqr() * noise
+                })
+                .sum::<f64>()
+                * q.re.max(0.0);
+        }
     }
 }
 
@@ -923,7 +1153,7 @@ fn contribute(
     let mut transform = |start: usize, forces: &mut [c64], displacements: &mut [c64]| {
         let seg = start..start + plan.seg_len;
         for c in 0..n {
-            let spec = spectral.transform(&record.force(c)[seg.clone()]);
+            let spec = spectral.transform_force(&record.force(c)[seg.clone()]);
             for (l, &k) in lines.iter().enumerate() {
                 forces[l * n + c] = spec[k];
             }
@@ -941,11 +1171,11 @@ fn contribute(
                 displacements,
             }
         }
-        Estimator::H1 => {
+        _ => {
             let nn = n * n;
             let mut sff = vec![zero; lines.len() * nn];
             let mut sxf = vec![zero; lines.len() * nn];
-            let mut sxx = vec![0.0; lines.len() * n];
+            let mut sxx = vec![zero; lines.len() * nn];
             for start in segmentation.starts(record.len()) {
                 transform(start, &mut forces, &mut displacements);
                 for l in 0..lines.len() {
@@ -953,19 +1183,18 @@ fn contribute(
                         &forces[l * n..(l + 1) * n],
                         &displacements[l * n..(l + 1) * n],
                     );
-                    let (sf, sx) = (
+                    let (sf, sx, ss) = (
                         &mut sff[l * nn..(l + 1) * nn],
                         &mut sxf[l * nn..(l + 1) * nn],
+                        &mut sxx[l * nn..(l + 1) * nn],
                     );
                     for j in 0..n {
-                        let fj = fl[j].conj();
+                        let (fj, xj) = (fl[j].conj(), xl[j].conj());
                         for i in 0..n {
                             sf[i + j * n] += fl[i] * fj;
                             sx[i + j * n] += xl[i] * fj;
+                            ss[i + j * n] += xl[i] * xj;
                         }
-                    }
-                    for (total, x) in sxx[l * n..(l + 1) * n].iter_mut().zip(xl) {
-                        *total += x.norm_sqr();
                     }
                 }
             }

@@ -10,9 +10,10 @@ use crate::conditioning::{ConditionLimits, Conditioning};
 use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
 use crate::model::{Coefficients, Mode};
+use crate::per_frequency::PerFrequency;
 use crate::records::Record;
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
-use crate::spectra::{Segmentation, Window};
+use crate::spectra::{ForceGate, Segmentation, Window};
 
 /// What to do when an iterative fit does not converge.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -40,16 +41,46 @@ pub enum Uncertainty {
     /// Needs at least 3 replicates (else the sandwich is used, with a warning). 95 % intervals
     /// use Student's t with `R − 1` degrees of freedom.
     Jackknife,
+    /// Bootstrap over records: `replicates` refits, each on `R` paired sets (paired sets) or
+    /// records (cross-spectral estimators) drawn with replacement by a generator seeded with
+    /// `seed`; $\sigma^2 = \frac{R}{R-1}\,\mathrm{var}_b(\theta_b)$ (the factor corrects
+    /// the resampling's small-`R` shrinkage). Needs at least 3 replicates (else the sandwich is
+    /// used, with a warning). 95 % intervals use Student's t with `R − 1` degrees of freedom.
+    Bootstrap {
+        /// Number of bootstrap refits (≥ 20; 200 is usual).
+        replicates: usize,
+        /// Seed of the resampling.
+        seed: u64,
+    },
+    /// The jackknife when there are at least 3 replicates, else the sandwich (no warning).
+    /// The result reports the one used.
+    Auto,
 }
 
 impl Uncertainty {
-    /// Short name: `"none"`, `"sandwich"` or `"jackknife"`.
+    /// The bootstrap with 200 replicates and seed 0.
+    pub const BOOTSTRAP: Uncertainty = Uncertainty::Bootstrap {
+        replicates: 200,
+        seed: 0,
+    };
+
+    /// Short name: `"none"`, `"sandwich"`, `"jackknife"`, `"bootstrap"` or `"auto"`.
     pub fn name(self) -> &'static str {
         match self {
             Uncertainty::None => "none",
             Uncertainty::Sandwich => "sandwich",
             Uncertainty::Jackknife => "jackknife",
+            Uncertainty::Bootstrap { .. } => "bootstrap",
+            Uncertainty::Auto => "auto",
         }
+    }
+
+    /// Whether the replicates' own spectra must be kept.
+    fn resamples(self) -> bool {
+        matches!(
+            self,
+            Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } | Uncertainty::Auto
+        )
     }
 }
 
@@ -98,6 +129,7 @@ pub struct Identifier {
     non_convergence: NonConvergence,
     min_coherence: f64,
     uncertainty: Uncertainty,
+    force_gate: Option<ForceGate>,
 }
 
 impl Identifier {
@@ -119,6 +151,7 @@ impl Identifier {
             non_convergence: NonConvergence::default(),
             min_coherence: 0.0,
             uncertainty: Uncertainty::default(),
+            force_gate: None,
         }
     }
 
@@ -197,6 +230,13 @@ impl Identifier {
     /// How coefficient standard deviations are estimated. Default [`Uncertainty::Sandwich`].
     pub fn uncertainty(mut self, uncertainty: Uncertainty) -> Self {
         self.uncertainty = uncertainty;
+        self
+    }
+
+    /// Gates every force channel ([`ForceGate`]): after an impact the force record holds only
+    /// noise, which the gate keeps out of the spectra. The response is not gated.
+    pub fn force_gate(mut self, gate: ForceGate) -> Self {
+        self.force_gate = Some(gate);
         self
     }
 
@@ -281,6 +321,15 @@ impl Identifier {
 
     fn validate(&self) -> Result<()> {
         Band::new(self.low_hz, self.high_hz)?;
+        if let Uncertainty::Bootstrap { replicates, .. } = self.uncertainty {
+            if replicates < 20 {
+                return Err(Error::InvalidParameter {
+                    name: "bootstrap replicates",
+                    value: replicates as f64,
+                    expected: "at least 20",
+                });
+            }
+        }
         if !(0.0..1.0).contains(&self.min_coherence) {
             return Err(Error::InvalidParameter {
                 name: "minimum coherence",
@@ -311,8 +360,11 @@ impl Identifier {
     fn builder(&self) -> FrfBuilder {
         let band = Band::new(self.low_hz, self.high_hz).expect("validated");
         let mut builder = FrfBuilder::new(self.estimator, band, self.segmentation, self.window);
-        if self.uncertainty == Uncertainty::Jackknife {
+        if self.uncertainty.resamples() {
             builder = builder.keeping_partials();
+        }
+        if let Some(gate) = self.force_gate {
+            builder = builder.force_gate(gate);
         }
         match self.dofs {
             Some(n) => builder.dofs(n),
@@ -324,8 +376,52 @@ impl Identifier {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
+        let frf = builder.finish(&self.assignment)?;
+        let excitations = match self.estimator {
+            Estimator::PairedSets => builder.excitations(&self.assignment)?,
+            _ => builder.excitations(&Assignment::DominantForce)?,
+        };
+        self.conclude(frf, Some(&builder), excitations)
+    }
+
+    /// Fits an [`Frf`] measured some other way — stepped sine
+    /// ([`crate::stepped::stepped_sine`]), or flexibilities from another tool
+    /// ([`Frf::from_flexibility`]) — with every check and diagnostic of
+    /// [`Identifier::identify`]. Lines outside the band are left out. Resampling uncertainties
+    /// need the records, so the jackknife and bootstrap fall back to the sandwich here
+    /// (silently under [`Uncertainty::Auto`], else with [`Warning::FewReplicates`]).
+    ///
+    /// # Errors
+    /// As [`Identifier::identify`], after the record stages.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Frf, Identifier, simulate::seed_rig};
+    /// let truth = seed_rig();
+    /// let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+    /// let g: Vec<_> = freqs.iter().map(|&f| truth.flexibility_at(f)).collect::<Result<_, _>>()?;
+    /// let id = Identifier::new(8.0, 49.0).identify_frf(Frf::from_flexibility(freqs, &g)?)?;
+    /// assert!((id.coefficients().damping()[(0, 0)] / 131.98 - 1.0).abs() < 1e-8);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_frf(&self, frf: Frf) -> Result<Identification> {
+        self.validate()?;
         let band = Band::new(self.low_hz, self.high_hz)?;
-        let mut frf = builder.finish(&self.assignment)?;
+        let tolerance = 1e-9 * band.high_hz();
+        let inside = |f: f64| f >= band.low_hz() - tolerance && f <= band.high_hz() + tolerance;
+        let frf = frf.retain_lines(|k| inside(frf.freqs_hz()[k]));
+        self.conclude(frf, None, Vec::new())
+    }
+
+    /// The stages after the spectra: coherence selection, conditioning, fit, correction,
+    /// uncertainty. `builder` (with its replicates) is there unless the FRF came ready-made.
+    fn conclude(
+        &self,
+        mut frf: Frf,
+        builder: Option<&FrfBuilder>,
+        excitations: Vec<usize>,
+    ) -> Result<Identification> {
+        let band = Band::new(self.low_hz, self.high_hz)?;
         let mut low_coherence = 0;
         if self.min_coherence > 0.0 {
             let keep = |k: usize| {
@@ -337,10 +433,6 @@ impl Identifier {
                 frf = frf.retain_lines(keep);
             }
         }
-        let excitations = match self.estimator {
-            Estimator::PairedSets => builder.excitations(&self.assignment)?,
-            Estimator::H1 => builder.excitations(&Assignment::DominantForce)?,
-        };
         let conditioning = Conditioning::assess(&frf, self.limits)?;
         let fit = solve::fit(&frf, self.method, &self.ivf)?;
 
@@ -395,24 +487,35 @@ impl Identifier {
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         let fit = self.corrected(fit)?;
-        let (std_dev, interval_factor) = match self.uncertainty {
-            Uncertainty::None => (None, 0.0),
-            Uncertainty::Sandwich => (fit.std_dev().cloned(), t975(0)),
-            Uncertainty::Jackknife => {
-                let replicates = builder.replicates(&self.assignment)?;
-                if replicates >= 3 {
-                    let std = self.jackknife(&builder, &frf, replicates)?;
-                    (Some(std), t975(replicates - 1))
-                } else {
-                    warnings.push(Warning::FewReplicates { replicates });
-                    (fit.std_dev().cloned(), t975(0))
-                }
+        let replicates = match builder {
+            Some(b) if self.uncertainty.resamples() => b.replicates(&self.assignment)?,
+            _ => 0,
+        };
+        let uncertainty = match self.uncertainty {
+            Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
+            Uncertainty::Auto => Uncertainty::Sandwich,
+            Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } if replicates < 3 => {
+                warnings.push(Warning::FewReplicates { replicates });
+                Uncertainty::Sandwich
             }
+            chosen => chosen,
+        };
+        let (std_dev, interval_factor) = match (uncertainty, builder) {
+            (Uncertainty::Jackknife, Some(b)) => {
+                let std = self.jackknife(b, &frf, replicates)?;
+                (Some(std), t975(replicates - 1))
+            }
+            (Uncertainty::Bootstrap { replicates: draws, seed }, Some(b)) => {
+                let std = self.bootstrap(b, &frf, replicates, draws, seed)?;
+                (Some(std), t975(replicates - 1))
+            }
+            (Uncertainty::None, _) => (None, 0.0),
+            _ => (fit.std_dev().cloned(), t975(0)),
         };
         Ok(Identification {
             band,
             window: self.window,
-            uncertainty: self.uncertainty,
+            uncertainty,
             std_dev,
             interval_factor,
             estimator: self.estimator,
@@ -443,29 +546,77 @@ impl Identifier {
         frf: &Frf,
         replicates: usize,
     ) -> Result<Coefficients> {
-        let used = frf.freqs_hz();
+        let mut weights = vec![1.0; replicates];
         let mut thetas = Vec::with_capacity(replicates);
         for r in 0..replicates {
-            let all = builder.finish_leaving_out(&self.assignment, r)?;
-            let same_lines = all.retain_lines(|k| {
-                let f = all.freqs_hz()[k];
-                used.binary_search_by(|u| u.total_cmp(&f)).is_ok()
-            });
-            let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
-            thetas.push(fit.coefficients().stacked());
+            weights[r] = 0.0;
+            thetas.push(self.refit(builder, frf, &weights)?);
+            weights[r] = 1.0;
         }
-        let (p, n) = (thetas[0].nrows(), thetas[0].ncols());
         let r = replicates as f64;
-        let std = faer::Mat::from_fn(p, n, |i, j| {
-            let mean = thetas.iter().map(|t| t[(i, j)]).sum::<f64>() / r;
-            let ss = thetas
-                .iter()
-                .map(|t| (t[(i, j)] - mean).powi(2))
-                .sum::<f64>();
-            ((r - 1.0) / r * ss).sqrt()
-        });
-        Coefficients::from_stacked(std.as_ref())
+        spread(&thetas, r - 1.0)
     }
+
+    /// Bootstrap standard deviations over `draws` refits, each on `replicates` replicates
+    /// drawn with replacement (seeded). A draw that cannot be fitted (it may, rarely, miss a
+    /// direction altogether) is redrawn, up to `draws` times in all.
+    fn bootstrap(
+        &self,
+        builder: &FrfBuilder,
+        frf: &Frf,
+        replicates: usize,
+        draws: usize,
+        seed: u64,
+    ) -> Result<Coefficients> {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let mut weights = vec![0.0; replicates];
+        let mut thetas = Vec::with_capacity(draws);
+        let mut failures = 0;
+        while thetas.len() < draws {
+            weights.fill(0.0);
+            for _ in 0..replicates {
+                weights[rng.random_range(0..replicates)] += 1.0;
+            }
+            match self.refit(builder, frf, &weights) {
+                Ok(theta) => thetas.push(theta),
+                Err(e) if failures >= draws => return Err(e),
+                Err(_) => failures += 1,
+            }
+        }
+        let r = replicates as f64;
+        spread(&thetas, r / (r - 1.0))
+    }
+
+    /// The corrected, stacked coefficients refitted with the replicates weighted by
+    /// `weights`, on the same lines as `frf` (the full data's, after any coherence selection).
+    fn refit(&self, builder: &FrfBuilder, frf: &Frf, weights: &[f64]) -> Result<Mat<f64>> {
+        let used = frf.freqs_hz();
+        let all = builder.finish_weighted(&self.assignment, weights)?;
+        let same_lines = all.retain_lines(|k| {
+            let f = all.freqs_hz()[k];
+            used.binary_search_by(|u| u.total_cmp(&f)).is_ok()
+        });
+        let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
+        Ok(fit.coefficients().stacked())
+    }
+}
+
+/// Element-wise $\sqrt{s \cdot \mathrm{var}}$ over refits, with `var` the population variance
+/// ($\frac1B\sum_b(\theta_b - \bar\theta)^2$) and `s` the estimator's factor.
+fn spread(thetas: &[Mat<f64>], factor: f64) -> Result<Coefficients> {
+    let (p, n) = (thetas[0].nrows(), thetas[0].ncols());
+    let b = thetas.len() as f64;
+    let std = Mat::from_fn(p, n, |i, j| {
+        let mean = thetas.iter().map(|t| t[(i, j)]).sum::<f64>() / b;
+        let var = thetas
+            .iter()
+            .map(|t| (t[(i, j)] - mean).powi(2))
+            .sum::<f64>()
+            / b;
+        (factor * var).sqrt()
+    });
+    Coefficients::from_stacked(std.as_ref())
 }
 
 /// Per-element coefficient of determination between measured and fitted flexibility,
@@ -650,31 +801,45 @@ impl Identification {
     /// `M_b = M_s − M_h`; standard deviations add in quadrature (independent tests), `None`
     /// unless both carry them.
     ///
+    /// `baseline` is an [`Identification`] (`&dry`) or a [`Baseline`] read back from a saved
+    /// result.
+    ///
     /// # Errors
     /// [`Error::BaselineMismatch`] if the two differ in degrees of freedom, band, lines used,
     /// estimator or window (an exponential window must have the same decay).
     pub fn subtract_baseline(
         &self,
-        baseline: &Identification,
+        baseline: impl Into<Baseline>,
     ) -> Result<(Coefficients, Option<Coefficients>)> {
+        let baseline: Baseline = baseline.into();
         let mismatch = |what| Err(Error::BaselineMismatch { what });
-        if self.coefficients().dofs() != baseline.coefficients().dofs() {
+        if self.coefficients().dofs() != baseline.coefficients.dofs() {
             return mismatch("degrees of freedom");
         }
         if self.band != baseline.band {
             return mismatch("band");
         }
-        if self.freqs_hz() != baseline.freqs_hz() {
+        let same_lines = self.freqs_hz().len() == baseline.freqs_hz.len()
+            && self
+                .freqs_hz()
+                .iter()
+                .zip(&baseline.freqs_hz)
+                .all(|(a, b)| (a - b).abs() <= 1e-9 * a.abs().max(1.0));
+        if !same_lines {
             return mismatch("frequency lines");
         }
         if self.estimator != baseline.estimator {
             return mismatch("estimator");
         }
-        if self.window != baseline.window {
+        let same_window = match (self.window.decay_per_s(), baseline.window.decay_per_s()) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * a.abs().max(1e-12),
+            _ => self.window == baseline.window,
+        };
+        if !same_window {
             return mismatch("window");
         }
-        let coefficients = self.coefficients().subtract(baseline.coefficients())?;
-        let std = match (self.std_dev(), baseline.std_dev()) {
+        let coefficients = self.coefficients().subtract(&baseline.coefficients)?;
+        let std = match (self.std_dev(), baseline.std_dev.as_ref()) {
             (Some(a), Some(b)) => {
                 let add = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
                     faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)].hypot(y[(i, j)]))
@@ -690,9 +855,73 @@ impl Identification {
         Ok((coefficients, std))
     }
 
+    /// Stiffness and damping line by line, `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω`, with the
+    /// fitted `M` (and the exponential window's exact correction), error bars from the FRF's
+    /// variance when it has one; see [`PerFrequency`].
+    ///
+    /// # Errors
+    /// As [`PerFrequency::new`] (not for a successful identification's own data).
+    pub fn per_frequency(&self) -> Result<PerFrequency> {
+        let decay = self.window.decay_per_s().unwrap_or(0.0);
+        PerFrequency::new(&self.frf, self.coefficients().mass(), decay)
+    }
+
     /// What the user should know.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
+    }
+}
+
+/// What a baseline subtraction needs of a dry-structure identification: its coefficients,
+/// standard deviations and the processing that produced them (to check they match). Made
+/// from an [`Identification`] (`From`) or, for a result saved earlier, with
+/// [`Baseline::new`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Baseline {
+    coefficients: Coefficients,
+    std_dev: Option<Coefficients>,
+    band: Band,
+    freqs_hz: Vec<f64>,
+    estimator: Estimator,
+    window: Window,
+}
+
+impl Baseline {
+    /// A baseline from its parts (read back from a saved result, say).
+    pub fn new(
+        coefficients: Coefficients,
+        std_dev: Option<Coefficients>,
+        band: Band,
+        freqs_hz: Vec<f64>,
+        estimator: Estimator,
+        window: Window,
+    ) -> Self {
+        Self {
+            coefficients,
+            std_dev,
+            band,
+            freqs_hz,
+            estimator,
+            window,
+        }
+    }
+
+    /// The dry structure's coefficients.
+    pub fn coefficients(&self) -> &Coefficients {
+        &self.coefficients
+    }
+}
+
+impl From<&Identification> for Baseline {
+    fn from(id: &Identification) -> Self {
+        Baseline::new(
+            id.coefficients().clone(),
+            id.std_dev().cloned(),
+            id.band,
+            id.freqs_hz().to_vec(),
+            id.estimator,
+            id.window,
+        )
     }
 }
 

@@ -37,11 +37,13 @@
 //!
 //! 1. [`records`] — validated time records ([`Record`]);
 //! 2. [`spectra`] — windows and planned FFTs ([`spectra::SpectralEstimator`]);
-//! 3. [`frf`] — impedance and flexibility per line, by paired sets or MIMO H1;
+//! 3. [`frf`] — impedance and flexibility per line, by paired sets or MIMO H1, H2, Hv;
 //! 4. [`conditioning`] — condition numbers, warnings, refusal of rank-deficient excitation;
 //! 5. [`model`] — [`Coefficients`]: `H(ω)`, `G(ω)`, modes, baseline subtraction;
 //! 6. [`solve`] — the direct, least-squares and IVF fits;
-//! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result.
+//! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result;
+//! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
+//!    coefficients.
 //!
 //! [`simulate`] produces exact time records of a known system, for learning and testing.
 //!
@@ -85,6 +87,7 @@ pub mod identify;
 pub mod io;
 mod linalg;
 pub mod model;
+pub mod per_frequency;
 pub mod records;
 pub mod simulate;
 pub mod solve;
@@ -93,7 +96,7 @@ pub mod spectra;
 pub use conditioning::ConditionLimits;
 pub use error::{Channel, Error, Result, Warning};
 pub use frf::{Assignment, Band, Estimator, Frf};
-pub use identify::{Identification, Identifier, NonConvergence, Uncertainty};
+pub use identify::{Baseline, Identification, Identifier, NonConvergence, Uncertainty};
 pub use model::{Coefficients, Mode};
 pub use records::Record;
 pub use solve::{Convergence, Method};

@@ -98,6 +98,81 @@ impl Window {
     }
 }
 
+/// A force gate: the force channel is kept as it is up to `open_s` after the segment's start,
+/// falls to zero along a half cosine over `taper_s`, and is zero after, so that the noise of the
+/// quiet force record after an impact does not enter the spectra. The response is not gated.
+///
+/// Weight at time `t` from the segment's start:
+/// $g(t) = 1$ for $t \le t_o$, $\tfrac12\,(1 + \cos(\pi (t - t_o)/t_\tau))$ for
+/// $t_o < t < t_o + t_\tau$, 0 after. The force's offset is taken as the mean of the samples
+/// after the gate has closed (the quiet force), and removed before gating; with no such samples
+/// the window's own rule applies. The gate multiplies whatever [`Window`] is in use.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::spectra::ForceGate;
+/// let gate = ForceGate::new(0.05, 0.01)?;
+/// assert_eq!(gate.weight(0.02), 1.0);
+/// assert!((gate.weight(0.055) - 0.5).abs() < 1e-12);
+/// assert_eq!(gate.weight(0.07), 0.0);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceGate {
+    open_s: f64,
+    taper_s: f64,
+}
+
+impl ForceGate {
+    /// A gate open for `open_s` seconds with a cosine taper of `taper_s` seconds.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `open_s > 0` and `taper_s ≥ 0`, both finite.
+    pub fn new(open_s: f64, taper_s: f64) -> Result<Self> {
+        if !(open_s.is_finite() && open_s > 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "force gate",
+                value: open_s,
+                expected: "finite and positive (s)",
+            });
+        }
+        if !(taper_s.is_finite() && taper_s >= 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "force gate taper",
+                value: taper_s,
+                expected: "finite and ≥ 0 (s)",
+            });
+        }
+        Ok(Self { open_s, taper_s })
+    }
+
+    /// Time the gate stays fully open (s).
+    pub fn open_s(self) -> f64 {
+        self.open_s
+    }
+
+    /// Length of the cosine taper (s).
+    pub fn taper_s(self) -> f64 {
+        self.taper_s
+    }
+
+    /// The gate's weight at `t` seconds from the segment's start.
+    pub fn weight(self, t: f64) -> f64 {
+        if t <= self.open_s {
+            1.0
+        } else if t < self.open_s + self.taper_s {
+            0.5 * (1.0 + (std::f64::consts::PI * (t - self.open_s) / self.taper_s).cos())
+        } else {
+            0.0
+        }
+    }
+
+    /// First sample index at which the gate is closed, for segments sampled `dt` apart.
+    fn closed_from(self, dt: f64) -> usize {
+        ((self.open_s + self.taper_s) / dt).floor() as usize + 1
+    }
+}
+
 /// How records are cut into segments before their spectra are taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
@@ -111,23 +186,39 @@ pub enum Segmentation {
         /// Samples per segment.
         len: usize,
     },
+    /// Consecutive, non-overlapping segments of exactly one period of `len` samples, for
+    /// periodic and multisine excitation in steady state (use the rectangular window). Every
+    /// line on the period's grid is then leakage-free; lines the excitation does not drive are
+    /// left out by the cross-spectral estimators (see [`crate::frf::Frf::unexcited_hz`]) and the
+    /// period-to-period scatter is the noise the coherence and error bars see. Samples after
+    /// the last whole period are not used.
+    Periods {
+        /// Samples per period.
+        len: usize,
+    },
 }
 
 impl Segmentation {
     /// Segment length for a record of `record_len` samples.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] if a Welch segment is shorter than 8 samples or longer than
-    /// the record.
+    /// [`Error::InvalidParameter`] if a Welch segment or a period is shorter than 8 samples or
+    /// longer than the record.
     pub fn segment_len(self, record_len: usize) -> Result<usize> {
         match self {
             Segmentation::WholeRecord => Ok(record_len),
-            Segmentation::Welch { len } if (8..=record_len).contains(&len) => Ok(len),
-            Segmentation::Welch { len } => Err(Error::InvalidParameter {
-                name: "segment length",
-                value: len as f64,
-                expected: "8 ≤ segment length ≤ record length",
-            }),
+            Segmentation::Welch { len } | Segmentation::Periods { len }
+                if (8..=record_len).contains(&len) =>
+            {
+                Ok(len)
+            }
+            Segmentation::Welch { len } | Segmentation::Periods { len } => {
+                Err(Error::InvalidParameter {
+                    name: "segment length",
+                    value: len as f64,
+                    expected: "8 ≤ segment (period) length ≤ record length",
+                })
+            }
         }
     }
 
@@ -139,11 +230,14 @@ impl Segmentation {
     /// let starts: Vec<usize> = Segmentation::Welch { len: 8 }.starts(20).collect();
     /// assert_eq!(starts, vec![0, 4, 8, 12]);
     /// assert_eq!(Segmentation::WholeRecord.starts(20).count(), 1);
+    /// let periods: Vec<usize> = Segmentation::Periods { len: 8 }.starts(20).collect();
+    /// assert_eq!(periods, vec![0, 8]);
     /// ```
     pub fn starts(self, record_len: usize) -> impl Iterator<Item = usize> {
         let (len, hop) = match self {
             Segmentation::WholeRecord => (record_len, record_len.max(1)),
             Segmentation::Welch { len } => (len, (len / 2).max(1)),
+            Segmentation::Periods { len } => (len, len.max(1)),
         };
         let count = if len == 0 || len > record_len {
             0
@@ -174,6 +268,8 @@ pub struct SpectralEstimator {
     sample_rate: f64,
     window: Window,
     weights: Vec<f64>,
+    /// Window × gate weights for force channels, and the first closed sample, when gated.
+    gate: Option<(ForceGate, Vec<f64>, usize)>,
     fft: Arc<dyn RealToComplex<f64>>,
     input: Vec<f64>,
     output: Vec<c64>,
@@ -199,6 +295,7 @@ impl Clone for SpectralEstimator {
             sample_rate: self.sample_rate,
             window: self.window,
             weights: self.weights.clone(),
+            gate: self.gate.clone(),
             fft: Arc::clone(&self.fft),
             input: self.fft.make_input_vec(),
             output: self.fft.make_output_vec(),
@@ -231,6 +328,7 @@ impl SpectralEstimator {
             sample_rate,
             window,
             weights,
+            gate: None,
             fft,
             input,
             output,
@@ -268,6 +366,37 @@ impl SpectralEstimator {
         self.window
     }
 
+    /// The same estimator with `gate` on the force channels ([`SpectralEstimator::transform_force`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::spectra::{ForceGate, SpectralEstimator, Window};
+    /// // A 1 N offset, a unit pulse at sample 2, noise-like junk after the gate.
+    /// let mut f = vec![1.0; 64];
+    /// f[2] = 2.0;
+    /// f[40] = 1.5;
+    /// f[41] = 0.5;
+    /// let gate = ForceGate::new(0.1, 0.0)?; // 6.4 samples at 64 Hz
+    /// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular).with_force_gate(gate);
+    /// let spectrum = est.transform_force(&f);
+    /// // Only the pulse is left (offset removed from the quiet part): |F| = 1 · Δt everywhere.
+    /// assert!((spectrum[7].norm() - 1.0 / 64.0).abs() < 1e-12);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn with_force_gate(mut self, gate: ForceGate) -> Self {
+        let dt = 1.0 / self.sample_rate;
+        let weights = (0..self.len)
+            .map(|m| self.weights[m] * gate.weight(m as f64 * dt))
+            .collect();
+        self.gate = Some((gate, weights, gate.closed_from(dt)));
+        self
+    }
+
+    /// The force gate in use, if any.
+    pub fn force_gate(&self) -> Option<ForceGate> {
+        self.gate.as_ref().map(|g| g.0)
+    }
+
     /// Sum of the squared window weights, `Σ w_m²` (for density scaling).
     pub fn window_power(&self) -> f64 {
         self.weights.iter().map(|w| w * w).sum()
@@ -292,6 +421,38 @@ impl SpectralEstimator {
         for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(&self.weights) {
             *dst = w * (x - mean);
         }
+        self.run_fft()
+    }
+
+    /// As [`SpectralEstimator::transform`] for a force channel: with a force gate
+    /// ([`SpectralEstimator::with_force_gate`]) the offset is the mean of the samples after the
+    /// gate has closed, and the gate multiplies the window. Without one, the same as
+    /// [`SpectralEstimator::transform`]. Does not allocate.
+    ///
+    /// # Panics
+    /// If `signal.len() != self.len()`.
+    pub fn transform_force(&mut self, signal: &[f64]) -> &[c64] {
+        let Some((_, weights, closed)) = &self.gate else {
+            return self.transform(signal);
+        };
+        assert_eq!(
+            signal.len(),
+            self.len,
+            "segment length differs from the plan"
+        );
+        let offset = match signal.get(*closed..) {
+            Some(quiet) if !quiet.is_empty() => quiet.iter().sum::<f64>() / quiet.len() as f64,
+            _ if self.window.removes_mean() => signal.iter().sum::<f64>() / self.len as f64,
+            _ => 0.0,
+        };
+        for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(weights) {
+            *dst = w * (x - offset);
+        }
+        self.run_fft()
+    }
+
+    /// FFT of the prepared input, `Δt`-scaled, into the output buffer.
+    fn run_fft(&mut self) -> &[c64] {
         // The buffers come from the plan itself, so their lengths always match.
         self.fft
             .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
