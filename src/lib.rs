@@ -43,7 +43,9 @@
 //! 6. [`solve`] — the direct, least-squares and IVF fits;
 //! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result.
 //!
-//! [`simulate`] produces exact time records of a known system, for learning and testing.
+//! [`quality`] screens impact records for double hits and clipped channels before they reach
+//! the spectra; [`simulate`] produces exact time records of a known system, for learning and
+//! testing.
 //!
 //! ## Conventions
 //! - **Units:** SI throughout — N, m, s, kg; `K` in N/m, `C` in N·s/m, `M` in kg.
@@ -85,6 +87,7 @@ pub mod identify;
 pub mod io;
 mod linalg;
 pub mod model;
+pub mod quality;
 pub mod records;
 pub mod simulate;
 pub mod solve;
