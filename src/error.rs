@@ -379,6 +379,33 @@ pub enum Warning {
         /// The iterate returned (0 = the least-squares start).
         fallback_iteration: usize,
     },
+    /// An impact record holds a second hammer pulse (see
+    /// [`quality::check_record`](crate::quality::check_record)).
+    DoubleHit {
+        /// Label of the record.
+        record: String,
+        /// Time of the second pulse's peak (s from the record's first sample).
+        second_s: f64,
+        /// Its peak over the main peak.
+        ratio: f64,
+    },
+    /// A channel of a record sits at its extreme value for several samples: the ADC or
+    /// amplifier was overloaded (see [`quality::check_record`](crate::quality::check_record)).
+    Clipped {
+        /// Label of the record.
+        record: String,
+        /// The clipped channel.
+        channel: Channel,
+        /// The clipping level (N or m).
+        value: f64,
+    },
+    /// A record was left out of the identification because it failed a quality check.
+    Rejected {
+        /// Label of the record.
+        record: String,
+        /// Why, in words (for example the issues found).
+        reason: String,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -426,6 +453,22 @@ impl fmt::Display for Warning {
                 f,
                 "diverged after {iterations} iterations; returning iterate {fallback_iteration}"
             ),
+            Warning::DoubleHit {
+                record,
+                second_s,
+                ratio,
+            } => write!(
+                f,
+                "record `{record}`: double hit, a second pulse at {second_s:.4} s of {ratio:.2} × the main peak"
+            ),
+            Warning::Clipped {
+                record,
+                channel,
+                value,
+            } => write!(f, "record `{record}`: {channel} clipped at {value:.4e}"),
+            Warning::Rejected { record, reason } => {
+                write!(f, "record `{record}` rejected: {reason}")
+            }
         }
     }
 }
@@ -520,6 +563,36 @@ mod tests {
         assert!(s.contains("x1.csv") && s.contains("displacement channel 1") && s.contains("42"));
         let e = Error::RankDeficient { rank: 1, dofs: 2 };
         assert!(e.to_string().contains("1 of 2"));
+    }
+
+    #[test]
+    fn quality_warnings_name_the_record_and_numbers() {
+        let w = Warning::DoubleHit {
+            record: "hit-x-1".into(),
+            second_s: 0.0512,
+            ratio: 0.31,
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-x-1`: double hit, a second pulse at 0.0512 s of 0.31 × the main peak"
+        );
+        let w = Warning::Clipped {
+            record: "hit-y-2".into(),
+            channel: Channel::Displacement(1),
+            value: -2.5e-4,
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-y-2`: displacement channel 1 clipped at -2.5000e-4"
+        );
+        let w = Warning::Rejected {
+            record: "hit-y-3".into(),
+            reason: "force channel 1 clipped".into(),
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-y-3` rejected: force channel 1 clipped"
+        );
     }
 
     #[test]

@@ -45,7 +45,9 @@
 //! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
 //!    coefficients.
 //!
-//! [`simulate`] produces exact time records of a known system, for learning and testing.
+//! [`quality`] screens impact records for double hits and clipped channels before they reach
+//! the spectra; [`simulate`] produces exact time records of a known system, for learning and
+//! testing.
 //!
 //! ## Conventions
 //! - **Units:** SI throughout — N, m, s, kg; `K` in N/m, `C` in N·s/m, `M` in kg.
@@ -88,6 +90,7 @@ pub mod io;
 mod linalg;
 pub mod model;
 pub mod per_frequency;
+pub mod quality;
 pub mod records;
 pub mod simulate;
 pub mod solve;
