@@ -1035,7 +1035,10 @@ mod tests {
         let active = &f[..2000];
         let rms = (active.iter().map(|v| v * v).sum::<f64>() / 2000.0).sqrt();
         let expected = a * ((1.0 - 1.25 * SWEEP_TAPER) / 2.0).sqrt();
-        assert!((rms / expected - 1.0).abs() < 0.005, "rms {rms}, expected {expected}");
+        assert!(
+            (rms / expected - 1.0).abs() < 0.005,
+            "rms {rms}, expected {expected}"
+        );
         assert!(f[2000..].iter().all(|v| v.abs() < f64::MIN_POSITIVE));
         assert!(active.iter().all(|v| v.abs() <= a));
         // Tapered ends: the first and last samples are (nearly) zero.

@@ -217,13 +217,27 @@ pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
 /// let x: Vec<f64> = (0..1000).map(|m| (w * m as f64 / 500.0 + 1.0).sin() + 0.2).collect();
 /// let f = drive_frequency(&x, 500.0)?;
 /// assert!((f - 17.77).abs() < 1e-9);
-/// assert!(drive_frequency(&vec![3.0; 1000], 500.0).is_err());
+/// assert!(drive_frequency(&vec![0.1; 1000], 500.0).is_err()); // flat
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
     check_rate(sample_rate)?;
     check_signal(signal)?;
     let len = signal.len();
+    // Flat: no swing beyond rounding of its level (a constant, or zero).
+    let flat = Error::InvalidParameter {
+        name: "signal",
+        value: 0.0,
+        expected: "a sine drive, not a flat signal",
+    };
+    let (lo, hi) = signal
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
+        return Err(flat);
+    }
     let mean = signal.iter().sum::<f64>() / len as f64;
     let mut input: Vec<f64> = signal
         .iter()
@@ -248,12 +262,8 @@ pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
         .skip(1)
         .max_by(|a, b| a.1.total_cmp(b.1))
         .unwrap_or((0, &0.0));
-    if !(top > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "signal",
-            value: 0.0,
-            expected: "a sine drive, not a flat signal",
-        });
+    if top <= 0.0 {
+        return Err(flat);
     }
     // Parabola through the log powers of the peak and its neighbours.
     let mut line = peak as f64;
@@ -403,7 +413,9 @@ pub fn stepped_sine(
             Ok(Phasors {
                 freq_hz,
                 forces: (0..n).map(|c| at(r.force(c))).collect::<Result<_>>()?,
-                displacements: (0..n).map(|c| at(r.displacement(c))).collect::<Result<_>>()?,
+                displacements: (0..n)
+                    .map(|c| at(r.displacement(c)))
+                    .collect::<Result<_>>()?,
             })
         })
         .collect::<Result<_>>()?;
