@@ -318,6 +318,19 @@ pub enum Error {
         /// Which decomposition.
         what: &'static str,
     },
+    /// A step of a stepped-sine test has no record driving one of the directions.
+    #[error(
+        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
+         every frequency step needs one record per direction"
+    )]
+    IncompleteStep {
+        /// Drive frequency of the step (Hz).
+        freq_hz: f64,
+        /// The first direction without a record.
+        direction: usize,
+        /// Number of degrees of freedom.
+        dofs: usize,
+    },
 }
 
 /// Something a user should know about an identification that did not stop it.
@@ -503,7 +516,7 @@ impl Error {
             Error::InvalidBand { .. }
             | Error::BandAboveNyquist { .. }
             | Error::TooFewLines { .. } => "bad_band",
-            Error::RankDeficient { .. } => "rank_deficient",
+            Error::RankDeficient { .. } | Error::IncompleteStep { .. } => "rank_deficient",
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",
             Error::RecordTooShort { .. } => "record_too_short",

@@ -470,6 +470,33 @@ impl Frf {
     pub fn unpaired(&self) -> &[String] {
         &self.unpaired
     }
+
+    /// An `Frf` from impedances computed elsewhere in the crate, one `(freq_hz, H, condition)`
+    /// per line in the order given (`H` column-major `n × n`, `None` for a line already found
+    /// singular); `G = H⁻¹`, and lines without an invertible `H` go to [`Frf::dropped_hz`].
+    pub(crate) fn from_impedance_lines<'a>(
+        n: usize,
+        estimator: Estimator,
+        averages: usize,
+        unpaired: Vec<String>,
+        lines: impl IntoIterator<Item = (f64, Option<&'a [c64]>, f64)>,
+    ) -> Frf {
+        let mut out = Frf::empty(n, estimator);
+        (out.averages, out.unpaired) = (averages, unpaired);
+        let (mut inverter, mut g) = (linalg::Inverter::new(n), vec![c64::new(0.0, 0.0); n * n]);
+        for (freq, h, condition) in lines {
+            let h = h.filter(|h| h.len() == n * n);
+            let inverted = h.is_some_and(|h| {
+                g.copy_from_slice(h);
+                inverter.invert(&mut g)
+            });
+            match h {
+                Some(h) if inverted => out.push_line(freq, h, &g, condition),
+                _ => out.dropped_hz.push(freq),
+            }
+        }
+        out
+    }
 }
 
 /// Multiple and ordinary coherences at one line from `S_ff`, its inverse, `S_xf` (all `n × n`

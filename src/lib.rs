@@ -38,6 +38,7 @@
 //! 1. [`records`] — validated time records ([`Record`]);
 //! 2. [`spectra`] — windows and planned FFTs ([`spectra::SpectralEstimator`]);
 //! 3. [`frf`] — impedance and flexibility per line, by paired sets or MIMO H1, H2, Hv;
+//!    [`stepped`] — the same at the drive frequencies of a stepped-sine test;
 //! 4. [`conditioning`] — condition numbers, warnings, refusal of rank-deficient excitation;
 //! 5. [`model`] — [`Coefficients`]: `H(ω)`, `G(ω)`, modes, baseline subtraction;
 //! 6. [`solve`] — the direct, least-squares and IVF fits;
@@ -95,6 +96,7 @@ pub mod records;
 pub mod simulate;
 pub mod solve;
 pub mod spectra;
+pub mod stepped;
 
 pub use conditioning::ConditionLimits;
 pub use error::{Channel, Error, Result, Warning};

@@ -4,6 +4,8 @@
 //! together at one rate, one channel per degree of freedom. Validation happens once, when the
 //! record is built: every later stage may assume equal lengths and finite samples.
 
+use std::ops::Range;
+
 use crate::error::{Channel, Error, Result};
 
 /// Smallest number of samples a record may have.
@@ -151,6 +153,45 @@ impl Record {
     /// If `i >= self.dofs()`.
     pub fn displacement(&self, i: usize) -> &[f64] {
         &self.displacements[i]
+    }
+
+    /// The samples `range` of every channel as a new record with the same label and rate: to
+    /// discard the transient before a periodic or sine response reaches its steady state, or to
+    /// cut a record to a whole number of periods.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if the range is reversed or ends beyond the record;
+    /// [`Error::RecordTooShort`] if it holds fewer than [`MIN_SAMPLES`] samples.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::records::Record;
+    /// let ramp: Vec<f64> = (0..100).map(f64::from).collect();
+    /// let r = Record::new("run-up", 100.0, vec![ramp.clone()], vec![ramp])?;
+    /// let steady = r.trimmed(40..100)?;
+    /// assert_eq!(steady.len(), 60);
+    /// assert!((steady.force(0)[0] - 40.0).abs() < 1e-12);
+    /// assert_eq!(steady.label(), "run-up");
+    /// assert!(r.trimmed(40..101).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn trimmed(&self, range: Range<usize>) -> Result<Record> {
+        if range.end > self.len() || range.start > range.end {
+            return Err(Error::InvalidParameter {
+                name: "trim range end",
+                value: range.end as f64,
+                expected: "start ≤ end ≤ record length",
+            });
+        }
+        let cut = |channels: &[Vec<f64>]| -> Vec<Vec<f64>> {
+            channels.iter().map(|c| c[range.clone()].to_vec()).collect()
+        };
+        Record::new(
+            self.label.clone(),
+            self.sample_rate,
+            cut(&self.forces),
+            cut(&self.displacements),
+        )
     }
 
     /// The force channel with the largest energy about its mean: the direction this record
@@ -307,6 +348,29 @@ mod tests {
             }
             other => panic!("unexpected {other:?}"),
         }
+    }
+
+    #[test]
+    fn trimmed_keeps_label_and_refuses_bad_ranges() {
+        let ramp: Vec<f64> = (0..16).map(f64::from).collect();
+        let r = Record::new("a", 10.0, vec![ramp.clone()], vec![ramp]).unwrap();
+        let t = r.trimmed(4..16).unwrap();
+        assert_eq!((t.len(), t.label(), t.sample_rate()), (12, "a", 10.0));
+        assert_eq!(t.displacement(0)[0], 4.0);
+        assert!(matches!(
+            r.trimmed(4..17),
+            Err(Error::InvalidParameter { .. })
+        ));
+        #[allow(clippy::reversed_empty_ranges)]
+        let reversed = 9..4;
+        assert!(matches!(
+            r.trimmed(reversed),
+            Err(Error::InvalidParameter { .. })
+        ));
+        assert!(matches!(
+            r.trimmed(10..16),
+            Err(Error::RecordTooShort { samples: 6, .. })
+        ));
     }
 
     #[test]

@@ -1,0 +1,674 @@
+//! Stage 3, for stepped-sine tests: impedance `H(ω)` and flexibility `G(ω)` at the drive
+//! frequencies, from records each driven by one sine in one direction, in steady state.
+//!
+//! A stepped-sine test drives the element at one frequency at a time, in each direction in
+//! turn, and records the steady state. Each record then holds one complex amplitude (phasor) per
+//! channel at its drive frequency, found by a least-squares fit of a sine and an offset
+//! ([`phasor`]); the drive frequency itself is estimated from the force ([`drive_frequency`]),
+//! so the records need not carry it. Per frequency step and per set of `n` records, one per
+//! direction, the seed's eq. 9 gives
+//!
+//! $$ H = [F^1 \cdots F^n]\,[X^1 \cdots X^n]^{-1}, $$
+//!
+//! averaged over the sets of the step, and `G = H⁻¹` ([`stepped_sine`]). Unlike a DFT line, the
+//! least-squares phasor needs neither a whole number of periods nor a window: only the
+//! transient must be gone (cut it off with [`Record::trimmed`]).
+//!
+//! # Phasor convention
+//! A signal `x(t) = Re(P e^{iωt}) + offset`, with `t` counted from the record's first sample,
+//! has phasor `P`. For `x = A cos(ωt + φ)`, `P = A e^{iφ}`. This is the crate's DFT convention
+//! (`X(ω) = Σ x(t) e^{−iωt}` gives `X ≈ (N/2) P`), so `F = H X` holds between the phasors of
+//! one record, and any common time shift of force and displacement cancels in `H`.
+
+use std::f64::consts::PI;
+
+use faer::c64;
+use realfft::RealFftPlanner;
+
+use crate::error::{Error, Result};
+use crate::frf::{Assignment, Estimator, Frf};
+use crate::linalg;
+use crate::records::{MIN_SAMPLES, Record};
+
+/// Smallest pivot of the Jacobi-scaled normal equations (a correlation matrix) accepted: below
+/// it (a condition number above about `10⁸`) the sine, cosine and offset are too nearly
+/// dependent over the record (frequency near DC or Nyquist, or far less than a period of data)
+/// to be told apart.
+const MIN_PIVOT: f64 = 1e-8;
+
+/// Gauss–Newton refinements of the frequency at most, in [`drive_frequency`].
+const NEWTON_STEPS: usize = 20;
+
+/// Solves the symmetric positive semi-definite `k × k` system `a x = b` (`a` row-major, both
+/// destroyed, `x` left in `b`) after scaling it to unit diagonal; `false` if a pivot of the
+/// scaled system falls below [`MIN_PIVOT`].
+fn solve_normal(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
+    let scale: Vec<f64> = (0..k).map(|i| a[i * k + i].sqrt()).collect();
+    if scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return false;
+    }
+    for i in 0..k {
+        for j in 0..k {
+            a[i * k + j] /= scale[i] * scale[j];
+        }
+        b[i] /= scale[i];
+    }
+    for c in 0..k {
+        let p = (c..k)
+            .max_by(|&i, &j| a[i * k + c].abs().total_cmp(&a[j * k + c].abs()))
+            .unwrap_or(c);
+        if a[p * k + c].abs() < MIN_PIVOT {
+            return false;
+        }
+        if p != c {
+            for j in 0..k {
+                a.swap(p * k + j, c * k + j);
+            }
+            b.swap(p, c);
+        }
+        for i in c + 1..k {
+            let factor = a[i * k + c] / a[c * k + c];
+            for j in c..k {
+                a[i * k + j] -= factor * a[c * k + j];
+            }
+            b[i] -= factor * b[c];
+        }
+    }
+    for c in (0..k).rev() {
+        let mut s = b[c];
+        for j in c + 1..k {
+            s -= a[c * k + j] * b[j];
+        }
+        b[c] = s / a[c * k + c];
+    }
+    for i in 0..k {
+        b[i] /= scale[i];
+    }
+    b.iter().all(|v| v.is_finite())
+}
+
+/// Least-squares fit of `a cos(w m) + b sin(w m) + d` to `signal` (`w` in radians per sample):
+/// `[a, b, d]` and the residual sum of squares, `None` if the three are not separable.
+fn fit_sine(signal: &[f64], w: f64) -> Option<([f64; 3], f64)> {
+    let mut gram = [0.0; 9];
+    let mut rhs = [0.0; 3];
+    for (m, &x) in signal.iter().enumerate() {
+        let (s, c) = (w * m as f64).sin_cos();
+        let u = [c, s, 1.0];
+        for i in 0..3 {
+            for j in i..3 {
+                gram[i * 3 + j] += u[i] * u[j];
+            }
+            rhs[i] += u[i] * x;
+        }
+    }
+    for i in 0..3 {
+        for j in 0..i {
+            gram[i * 3 + j] = gram[j * 3 + i];
+        }
+    }
+    if !solve_normal(&mut gram, &mut rhs, 3) {
+        return None;
+    }
+    let rss = signal
+        .iter()
+        .enumerate()
+        .map(|(m, &x)| {
+            let (s, c) = (w * m as f64).sin_cos();
+            (x - rhs[0] * c - rhs[1] * s - rhs[2]).powi(2)
+        })
+        .sum();
+    Some((rhs, rss))
+}
+
+fn check_rate(sample_rate: f64) -> Result<()> {
+    if sample_rate.is_finite() && sample_rate > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name: "sample rate",
+            value: sample_rate,
+            expected: "finite and positive (Hz)",
+        })
+    }
+}
+
+fn check_signal(signal: &[f64]) -> Result<()> {
+    if signal.len() < MIN_SAMPLES {
+        return Err(Error::InvalidParameter {
+            name: "signal length",
+            value: signal.len() as f64,
+            expected: "at least 8 samples",
+        });
+    }
+    match signal.iter().find(|v| !v.is_finite()) {
+        Some(&value) => Err(Error::InvalidParameter {
+            name: "signal sample",
+            value,
+            expected: "finite",
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The complex amplitude of `signal` at `freq_hz`: the least-squares fit
+///
+/// $$ x_m \approx a \cos\omega t_m + b \sin\omega t_m + d, \qquad t_m = m / f_s, $$
+///
+/// returned as the phasor $P = a - i b$, so that $x(t) \approx \operatorname{Re}(P e^{i\omega t}) + d$
+/// (see the [module docs](self) for the convention). The fit needs no whole number of periods
+/// and no window; the offset `d` absorbs a sensor's DC level. For a stationary sine in white
+/// noise it is the maximum-likelihood amplitude at a known frequency.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for fewer than 8 samples, a non-finite sample, a sampling rate
+/// that is not finite and positive, a frequency outside `0 < f < f_s/2`, or a record too short
+/// (or a frequency too close to DC or Nyquist) for the sine, cosine and offset to be separated.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::stepped::phasor;
+/// // 3 cos(ωt + 0.5) + 1 at 12.3 Hz, 1000 samples/s, 0.37 s (not a whole number of periods).
+/// let w = 2.0 * std::f64::consts::PI * 12.3;
+/// let x: Vec<f64> = (0..370).map(|m| 3.0 * (w * m as f64 / 1000.0 + 0.5).cos() + 1.0).collect();
+/// let p = phasor(&x, 12.3, 1000.0)?;
+/// assert!((p.norm() - 3.0).abs() < 1e-12);
+/// assert!((p.arg() - 0.5).abs() < 1e-12);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
+    check_rate(sample_rate)?;
+    check_signal(signal)?;
+    if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < sample_rate / 2.0) {
+        return Err(Error::InvalidParameter {
+            name: "phasor frequency",
+            value: freq_hz,
+            expected: "0 < frequency < sample rate / 2 (Hz)",
+        });
+    }
+    let w = 2.0 * PI * freq_hz / sample_rate;
+    let ([a, b, _], _) = fit_sine(signal, w).ok_or(Error::InvalidParameter {
+        name: "phasor frequency",
+        value: freq_hz,
+        expected: "a frequency the record resolves (about half a period or more, \
+                   away from DC and Nyquist)",
+    })?;
+    Ok(c64::new(a, -b))
+}
+
+/// The frequency (Hz) of the sine in `signal`, for records of a stepped-sine test.
+///
+/// The mean is removed and a Hann window applied; the largest line of the real FFT
+/// (realfft) is refined by a parabola through the logarithms of it and its two neighbours
+/// (exact for a Gaussian peak, within a few hundredths of a line for Hann), then by
+/// Gauss–Newton steps on the nonlinear least-squares fit of `a cos ωt + b sin ωt + d`, each
+/// accepted only if it lowers the residual. For a sine in white noise the result is the
+/// maximum-likelihood frequency, far finer than the FFT's line spacing `f_s/N`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for fewer than 8 samples, a non-finite sample, a sampling rate
+/// that is not finite and positive, or a flat signal (nothing but its mean).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::stepped::drive_frequency;
+/// // 17.77 Hz at 500 samples/s for 2 s: the FFT lines are 0.5 Hz apart.
+/// let w = 2.0 * std::f64::consts::PI * 17.77;
+/// let x: Vec<f64> = (0..1000).map(|m| (w * m as f64 / 500.0 + 1.0).sin() + 0.2).collect();
+/// let f = drive_frequency(&x, 500.0)?;
+/// assert!((f - 17.77).abs() < 1e-9);
+/// assert!(drive_frequency(&vec![0.1; 1000], 500.0).is_err()); // flat
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
+    check_rate(sample_rate)?;
+    check_signal(signal)?;
+    let len = signal.len();
+    // Flat: no swing beyond rounding of its level (a constant, or zero).
+    let flat = Error::InvalidParameter {
+        name: "signal",
+        value: 0.0,
+        expected: "a sine drive, not a flat signal",
+    };
+    let (lo, hi) = signal
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
+        return Err(flat);
+    }
+    let mean = signal.iter().sum::<f64>() / len as f64;
+    let mut input: Vec<f64> = signal
+        .iter()
+        .enumerate()
+        .map(|(m, v)| {
+            let hann = 0.5 - 0.5 * (2.0 * PI * m as f64 / len as f64).cos();
+            (v - mean) * hann
+        })
+        .collect();
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
+    let mut spectrum = fft.make_output_vec();
+    fft.process(&mut input, &mut spectrum)
+        .map_err(|_| Error::InvalidParameter {
+            name: "signal length",
+            value: len as f64,
+            expected: "a length the real FFT accepts",
+        })?;
+    let power: Vec<f64> = spectrum.iter().map(|v| v.norm_sqr()).collect();
+    let (peak, &top) = power
+        .iter()
+        .enumerate()
+        .skip(1)
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap_or((0, &0.0));
+    if top <= 0.0 {
+        return Err(flat);
+    }
+    // Parabola through the log powers of the peak and its neighbours.
+    let mut line = peak as f64;
+    if peak + 1 < power.len() {
+        let (l, c, r) = (power[peak - 1].ln(), top.ln(), power[peak + 1].ln());
+        let curvature = l - 2.0 * c + r;
+        if curvature < 0.0 && l.is_finite() && r.is_finite() {
+            line += (0.5 * (l - r) / curvature).clamp(-0.5, 0.5);
+        }
+    }
+    let nyquist_w = PI;
+    let mut w = 2.0 * PI * line / len as f64;
+    let Some((mut coef, mut rss)) = fit_sine(signal, w) else {
+        return Ok(w * sample_rate / (2.0 * PI));
+    };
+    for _ in 0..NEWTON_STEPS {
+        // Gauss–Newton on (a, b, d, w): Jacobian columns cos, sin, 1, m(−a sin + b cos).
+        let mut gram = [0.0; 16];
+        let mut rhs = [0.0; 4];
+        for (m, &x) in signal.iter().enumerate() {
+            let (s, c) = (w * m as f64).sin_cos();
+            let u = [c, s, 1.0, m as f64 * (-coef[0] * s + coef[1] * c)];
+            let r = x - coef[0] * c - coef[1] * s - coef[2];
+            for i in 0..4 {
+                for j in i..4 {
+                    gram[i * 4 + j] += u[i] * u[j];
+                }
+                rhs[i] += u[i] * r;
+            }
+        }
+        for i in 0..4 {
+            for j in 0..i {
+                gram[i * 4 + j] = gram[j * 4 + i];
+            }
+        }
+        if !solve_normal(&mut gram, &mut rhs, 4) {
+            break;
+        }
+        let mut step = rhs[3];
+        let mut accepted = false;
+        // Halve the step until the residual drops (three tries).
+        for _ in 0..3 {
+            let trial = w + step;
+            if trial > 0.0 && trial < nyquist_w {
+                if let Some((c, r)) = fit_sine(signal, trial) {
+                    if r <= rss {
+                        (w, coef, rss, accepted) = (trial, c, r, true);
+                        break;
+                    }
+                }
+            }
+            step *= 0.5;
+        }
+        if !accepted || step.abs() <= 1e-15 * w {
+            break;
+        }
+    }
+    Ok(w * sample_rate / (2.0 * PI))
+}
+
+/// Impedances and flexibilities at the drive frequencies of a stepped-sine test.
+///
+/// Every record drives **one** direction (given by `assignment`, by default the strongest force
+/// channel) at **one** frequency, in steady state. The drive frequency of each record is
+/// estimated from its strongest force channel ([`drive_frequency`]); records are sorted by it and
+/// grouped into steps, a record joining the current step when its frequency is within
+/// `tolerance_hz` of the step's lowest. Per record, the phasors of all force and displacement
+/// channels are taken at its own frequency ([`phasor`]). Per step, records are paired into sets
+/// of one per direction, in the order given (extras are listed in [`Frf::unpaired`]), and
+///
+/// $$ H = \frac{1}{S}\sum_{s=1}^{S} [F^1 \cdots F^n]_s\,[X^1 \cdots X^n]_s^{-1}, \qquad G = H^{-1}, $$
+///
+/// at the mean frequency of the step's records. [`Frf::condition_numbers`] holds, per step, the
+/// worst `cond([X¹…Xⁿ])` over its sets; a step whose displacement matrix cannot be inverted is
+/// listed in [`Frf::dropped_hz`]. [`Frf::averages`] is the smallest number of sets of any step.
+/// The lines come out sorted by frequency and carry no coherence (one phasor per record).
+///
+/// # Errors
+/// [`Error::NoRecords`]; [`Error::DofMismatch`] for a record with other than `n` degrees of
+/// freedom (`n` = `dofs`, or the first record's); [`Error::InvalidParameter`] for a tolerance
+/// that is not finite and non-negative and as [`drive_frequency`] and [`phasor`] (a record with
+/// flat forces, for instance); the errors of [`Assignment::resolve`]; [`Error::IncompleteStep`]
+/// naming the first step with no record in some direction.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Assignment;
+/// use bearing_ident::records::Record;
+/// use bearing_ident::stepped::stepped_sine;
+/// use std::f64::consts::PI;
+/// // SDOF m = 2 kg, c = 30 N·s/m, k = 2e4 N/m in steady state at 5, 10 and 15 Hz.
+/// let (m, c, k, fs) = (2.0, 30.0, 2.0e4, 1000.0);
+/// let records: Vec<Record> = [5.0, 10.0, 15.0]
+///     .iter()
+///     .map(|&f: &f64| {
+///         let w = 2.0 * PI * f;
+///         let g = num_complex::Complex64::new(k - w * w * m, w * c).inv();
+///         let t = |i: usize| i as f64 / fs;
+///         let force: Vec<f64> = (0..700).map(|i| 10.0 * (w * t(i)).cos()).collect();
+///         let disp: Vec<f64> = (0..700).map(|i| 10.0 * g.norm() * (w * t(i) + g.arg()).cos()).collect();
+///         Record::new(format!("{f} Hz"), fs, vec![force], vec![disp])
+///     })
+///     .collect::<Result<_, _>>()?;
+/// let frf = stepped_sine(&records, &Assignment::DominantForce, None, 0.01)?;
+/// assert_eq!(frf.lines(), 3);
+/// let w = 2.0 * PI * frf.freqs_hz()[1];
+/// assert!((frf.freqs_hz()[1] - 10.0).abs() < 1e-9);
+/// assert!((frf.impedance(1)[(0, 0)].re - (k - w * w * m)).abs() < 1e-6);
+/// assert!((frf.impedance(1)[(0, 0)].im / w - c).abs() < 1e-9);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn stepped_sine(
+    records: &[Record],
+    assignment: &Assignment,
+    dofs: Option<usize>,
+    tolerance_hz: f64,
+) -> Result<Frf> {
+    let first = records.first().ok_or(Error::NoRecords)?;
+    let n = dofs.unwrap_or(first.dofs());
+    if let Some(r) = records.iter().find(|r| r.dofs() != n) {
+        return Err(Error::DofMismatch {
+            record: r.label().to_owned(),
+            expected: n,
+            actual: r.dofs(),
+        });
+    }
+    if !(tolerance_hz.is_finite() && tolerance_hz >= 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "step tolerance",
+            value: tolerance_hz,
+            expected: "finite and ≥ 0 (Hz)",
+        });
+    }
+    let excitation = assignment.resolve(records, n)?;
+    // Per record: drive frequency, then the phasors of every channel at it.
+    struct Phasors {
+        freq_hz: f64,
+        forces: Vec<c64>,
+        displacements: Vec<c64>,
+    }
+    let phasors: Vec<Phasors> = records
+        .iter()
+        .map(|r| {
+            let fs = r.sample_rate();
+            let freq_hz = drive_frequency(r.force(r.dominant_force()), fs)?;
+            let at = |x: &[f64]| phasor(x, freq_hz, fs);
+            Ok(Phasors {
+                freq_hz,
+                forces: (0..n).map(|c| at(r.force(c))).collect::<Result<_>>()?,
+                displacements: (0..n)
+                    .map(|c| at(r.displacement(c)))
+                    .collect::<Result<_>>()?,
+            })
+        })
+        .collect::<Result<_>>()?;
+
+    let mut order: Vec<usize> = (0..records.len()).collect();
+    order.sort_by(|&a, &b| {
+        phasors[a]
+            .freq_hz
+            .total_cmp(&phasors[b].freq_hz)
+            .then(a.cmp(&b))
+    });
+    let mut steps: Vec<Vec<usize>> = Vec::new();
+    for r in order {
+        match steps.last_mut() {
+            Some(step) if phasors[r].freq_hz - phasors[step[0]].freq_hz <= tolerance_hz => {
+                step.push(r);
+            }
+            _ => steps.push(vec![r]),
+        }
+    }
+
+    let nn = n * n;
+    let zero = c64::new(0.0, 0.0);
+    let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+    let (mut scratch, mut sigma) = (vec![zero; nn], vec![0.0; n]);
+    let mut inverter = linalg::Inverter::new(n);
+    let mut lines: Vec<(f64, Option<Vec<c64>>, f64)> = Vec::with_capacity(steps.len());
+    let mut unpaired = Vec::new();
+    let mut averages = usize::MAX;
+    for step in &mut steps {
+        step.sort_unstable();
+        let freq_hz = step.iter().map(|&r| phasors[r].freq_hz).sum::<f64>() / step.len() as f64;
+        let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for &r in step.iter() {
+            by_direction[excitation[r]].push(r);
+        }
+        if let Some(direction) = by_direction.iter().position(Vec::is_empty) {
+            return Err(Error::IncompleteStep {
+                freq_hz,
+                direction,
+                dofs: n,
+            });
+        }
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        averages = averages.min(sets);
+        unpaired.extend(
+            by_direction
+                .iter()
+                .flat_map(|d| d[sets..].iter().map(|&r| records[r].label().to_owned())),
+        );
+        let mut h = vec![zero; nn];
+        let mut worst = 0.0_f64;
+        let mut singular = false;
+        for s in 0..sets {
+            for (j, dir) in by_direction.iter().enumerate() {
+                let p = &phasors[dir[s]];
+                x[j * n..(j + 1) * n].copy_from_slice(&p.displacements);
+                f[j * n..(j + 1) * n].copy_from_slice(&p.forces);
+            }
+            worst = worst.max(linalg::condition_number_with(
+                &x,
+                n,
+                &mut scratch,
+                &mut sigma,
+            ));
+            if !inverter.invert(&mut x) {
+                singular = true;
+                break;
+            }
+            linalg::mul_into(&f, &x, &mut hs, n);
+            for (a, b) in h.iter_mut().zip(&hs) {
+                *a += b / sets as f64;
+            }
+        }
+        lines.push((freq_hz, (!singular).then_some(h), worst));
+    }
+    Ok(Frf::from_impedance_lines(
+        n,
+        Estimator::PairedSets,
+        averages,
+        unpaired,
+        lines.iter().map(|(f, h, c)| (*f, h.as_deref(), *c)),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::{AntiAlias, Simulator, seed_rig, sine};
+
+    fn tone(freq_hz: f64, sample_rate: f64, len: usize, p: c64, offset: f64) -> Vec<f64> {
+        let w = 2.0 * PI * freq_hz / sample_rate;
+        (0..len)
+            .map(|m| (p * c64::from_polar(1.0, w * m as f64)).re + offset)
+            .collect()
+    }
+
+    #[test]
+    fn phasor_recovers_amplitude_phase_and_ignores_offset() {
+        let p = c64::new(-1.5, 2.25);
+        let x = tone(7.3, 200.0, 123, p, -4.0);
+        let got = phasor(&x, 7.3, 200.0).unwrap();
+        assert!((got - p).norm() < 1e-12 * p.norm(), "{got}");
+    }
+
+    #[test]
+    fn phasor_matches_the_dft_convention() {
+        // Whole periods: the DFT at the line is (N/2) P.
+        let p = c64::new(0.3, -0.8);
+        let x = tone(10.0, 100.0, 200, p, 0.0);
+        let w = 2.0 * PI * 10.0 / 100.0;
+        let dft: c64 = x
+            .iter()
+            .enumerate()
+            .map(|(m, v)| c64::from_polar(*v, -w * m as f64))
+            .sum();
+        assert!((dft / 100.0 - p).norm() < 1e-12);
+    }
+
+    #[test]
+    fn phasor_refuses_what_it_cannot_resolve() {
+        let x = tone(5.0, 100.0, 100, c64::new(1.0, 0.0), 0.0);
+        for (f, fs) in [(0.0, 100.0), (50.0, 100.0), (f64::NAN, 100.0), (5.0, 0.0)] {
+            assert!(matches!(
+                phasor(&x, f, fs),
+                Err(Error::InvalidParameter { .. })
+            ));
+        }
+        // A thousandth of a period in 10 samples: cosine and offset are one column.
+        assert!(matches!(
+            phasor(&x[..10], 0.01, 100.0),
+            Err(Error::InvalidParameter {
+                name: "phasor frequency",
+                ..
+            })
+        ));
+        assert!(phasor(&x[..4], 5.0, 100.0).is_err());
+        let mut bad = x.clone();
+        bad[3] = f64::NAN;
+        assert!(phasor(&bad, 5.0, 100.0).is_err());
+    }
+
+    #[test]
+    fn drive_frequency_is_found_between_lines_and_in_noise() {
+        for f in [3.3, 10.0, 27.123_456, 48.9] {
+            let x = tone(f, 400.0, 900, c64::new(0.0, 2.0), 0.7);
+            let got = drive_frequency(&x, 400.0).unwrap();
+            assert!((got - f).abs() < 1e-9 * f, "{f}: {got}");
+        }
+        // In 10 % noise, far below the 0.44 Hz line spacing (CRLB ≈ 2e-4 Hz here).
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let noise = Normal::new(0.0, 0.1).unwrap();
+        let x: Vec<f64> = tone(21.7, 400.0, 900, c64::new(1.0, 0.0), 0.0)
+            .into_iter()
+            .map(|v| v + noise.sample(&mut rng))
+            .collect();
+        let got = drive_frequency(&x, 400.0).unwrap();
+        assert!((got - 21.7).abs() < 2e-3, "{got}");
+        assert!(matches!(
+            drive_frequency(&[0.0; 64], 400.0),
+            Err(Error::InvalidParameter { name: "signal", .. })
+        ));
+        assert!(drive_frequency(&[1.0; 4], 400.0).is_err());
+        assert!(drive_frequency(&x, -1.0).is_err());
+    }
+
+    fn rig_step(sim: &mut Simulator, f: f64, dir: usize, fs: f64, len: usize) -> Record {
+        let drive = sine(f, 50.0, fs, len).unwrap();
+        let mut forces = vec![vec![0.0; len]; 2];
+        forces[dir] = drive;
+        let rec = sim.held_record(format!("{f}-{dir}"), &forces).unwrap();
+        rec.trimmed(len / 2..len).unwrap()
+    }
+
+    #[test]
+    fn stepped_sine_gives_the_rig_impedance() {
+        let (fs, len) = (1000.0, 2000);
+        let truth = seed_rig();
+        let mut sim = Simulator::new(&truth, fs, len, AntiAlias::default()).unwrap();
+        let mut records = Vec::new();
+        // Out of order, y before x at one step, and a repeat of 20 Hz in x.
+        for (f, dir) in [(20.0, 1), (20.0, 0), (12.5, 0), (12.5, 1), (20.0, 0)] {
+            records.push(rig_step(&mut sim, f, dir, fs, len));
+        }
+        let frf = stepped_sine(&records, &Assignment::DominantForce, None, 0.05).unwrap();
+        assert_eq!(frf.lines(), 2);
+        assert_eq!(frf.averages(), 1);
+        assert_eq!(frf.unpaired(), ["20-0"]);
+        assert!(frf.multiple_coherence(0).is_none());
+        for (k, f) in [12.5, 20.0].into_iter().enumerate() {
+            assert!((frf.freqs_hz()[k] - f).abs() < 1e-9);
+            let exact = truth.impedance_at(f);
+            let scale = exact.norm_l2();
+            for i in 0..2 {
+                for j in 0..2 {
+                    let err = (frf.impedance(k)[(i, j)] - exact[(i, j)]).norm() / scale;
+                    assert!(err < 1e-6, "{f} Hz ({i},{j}): {err:.3e}");
+                }
+            }
+            assert!(frf.condition_numbers()[k] >= 1.0);
+        }
+    }
+
+    #[test]
+    fn stepped_sine_errors_are_typed() {
+        let (fs, len) = (1000.0, 400);
+        let mut sim = Simulator::new(&seed_rig(), fs, len, AntiAlias::None).unwrap();
+        let records = vec![
+            rig_step(&mut sim, 15.0, 0, fs, len),
+            rig_step(&mut sim, 15.0, 1, fs, len),
+            rig_step(&mut sim, 30.0, 0, fs, len),
+        ];
+        match stepped_sine(&records, &Assignment::DominantForce, None, 0.1) {
+            Err(e @ Error::IncompleteStep { .. }) => {
+                assert_eq!(e.kind(), "rank_deficient");
+                assert!(matches!(
+                    e,
+                    Error::IncompleteStep {
+                        direction: 1,
+                        dofs: 2,
+                        ..
+                    }
+                ));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            stepped_sine(&[], &Assignment::DominantForce, None, 0.1).unwrap_err(),
+            Error::NoRecords
+        );
+        assert!(matches!(
+            stepped_sine(&records, &Assignment::DominantForce, Some(3), 0.1),
+            Err(Error::DofMismatch { .. })
+        ));
+        assert!(matches!(
+            stepped_sine(&records[..2], &Assignment::DominantForce, None, -1.0),
+            Err(Error::InvalidParameter { .. })
+        ));
+        assert!(matches!(
+            stepped_sine(&records[..2], &Assignment::Explicit(vec![0]), None, 0.1),
+            Err(Error::AssignmentLength { .. })
+        ));
+        let flat = Record::new("flat", fs, vec![vec![0.0; 64]; 2], vec![vec![0.0; 64]; 2]);
+        assert!(matches!(
+            stepped_sine(&[flat.unwrap()], &Assignment::DominantForce, None, 0.1),
+            Err(Error::InvalidParameter { name: "signal", .. })
+        ));
+        // Both records drive x: the paired matrix is singular, so the step is dropped.
+        let explicit = Assignment::Explicit(vec![0, 1]);
+        let same = vec![records[0].clone(), records[0].clone()];
+        let frf = stepped_sine(&same, &explicit, None, 0.1).unwrap();
+        assert_eq!((frf.lines(), frf.dropped_hz().len()), (0, 1));
+    }
+}
