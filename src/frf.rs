@@ -1400,7 +1400,17 @@ mod tests {
         let band = Band::new(1.0, 10.0).unwrap();
         let paired = paired_sets(&recs, &[0, 1], band, Window::Rectangular).unwrap();
         let h1 = h1(&recs, band, Segmentation::WholeRecord, Window::Rectangular).unwrap();
-        for frf in [&paired, &h1] {
+        let cross = |e: Estimator| {
+            let mut b = FrfBuilder::new(e, band, Segmentation::WholeRecord, Window::Rectangular);
+            b.push_all(&recs).unwrap();
+            b.finish(&Assignment::DominantForce).unwrap()
+        };
+        let (h2, hv) = (cross(Estimator::H2), cross(Estimator::Hv));
+        assert_eq!(
+            (h2.estimator(), hv.estimator()),
+            (Estimator::H2, Estimator::Hv)
+        );
+        for frf in [&paired, &h1, &h2, &hv] {
             assert_eq!(frf.lines(), 10);
             for k in 0..frf.lines() {
                 for (i, row) in g.iter().enumerate() {
@@ -1412,6 +1422,8 @@ mod tests {
         }
         assert_eq!(paired.averages(), 1);
         assert_eq!(h1.averages(), 2);
+        // One set, two averages for two inputs: no variance can be estimated.
+        assert!(paired.impedance_variance(0).is_none() && h1.impedance_variance(0).is_none());
     }
 
     #[test]

@@ -11,6 +11,7 @@ use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
 use crate::model::{Coefficients, Mode};
 use crate::per_frequency::PerFrequency;
+use crate::quality::ImpactChecks;
 use crate::records::Record;
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
@@ -24,6 +25,20 @@ pub enum NonConvergence {
     Warn,
     /// Return [`Error::NotConverged`].
     Fail,
+}
+
+/// Whether records are screened for impact faults ([`crate::quality::check_record`]: double
+/// hits, clipped channels) before they reach the spectra.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub enum Screening {
+    /// No screening (the default: random, periodic and sine records need none).
+    #[default]
+    Off,
+    /// Report every fault found as a [`Warning`]; keep the record.
+    Warn(ImpactChecks),
+    /// Report every fault and leave the faulty records out ([`Warning::Rejected`]).
+    Reject(ImpactChecks),
 }
 
 /// How the standard deviations of the coefficients are estimated.
@@ -130,6 +145,7 @@ pub struct Identifier {
     min_coherence: f64,
     uncertainty: Uncertainty,
     force_gate: Option<ForceGate>,
+    screening: Screening,
 }
 
 impl Identifier {
@@ -152,6 +168,7 @@ impl Identifier {
             min_coherence: 0.0,
             uncertainty: Uncertainty::default(),
             force_gate: None,
+            screening: Screening::Off,
         }
     }
 
@@ -240,6 +257,33 @@ impl Identifier {
         self
     }
 
+    /// Screens every record for double hits and clipping ([`Screening`]); default off.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::identify::{Identifier, Screening};
+    /// use bearing_ident::quality::ImpactChecks;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let mut records = ImpactTest { per_direction: 3, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // Overload the first record's force amplifier at 60 % of its peak.
+    /// let r = &records[0];
+    /// let limit = 0.6 * r.force(0).iter().cloned().fold(0.0, f64::max);
+    /// let clipped: Vec<f64> = r.force(0).iter().map(|f| f.min(limit)).collect();
+    /// records[0] = bearing_ident::Record::new(
+    ///     "clipped", r.sample_rate(), vec![clipped, r.force(1).to_vec()],
+    ///     vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])?;
+    /// let id = Identifier::new(8.0, 49.0)
+    ///     .screening(Screening::Reject(ImpactChecks::default()))
+    ///     .identify(&records)?;
+    /// assert!(id.warnings().iter().any(|w| w.to_string().contains("`clipped` rejected")));
+    /// assert!((id.coefficients().stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-6);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn screening(mut self, screening: Screening) -> Self {
+        self.screening = screening;
+        self
+    }
+
     /// What a non-converged IVF does. Default [`NonConvergence::Warn`].
     pub fn on_non_convergence(mut self, policy: NonConvergence) -> Self {
         self.non_convergence = policy;
@@ -258,8 +302,42 @@ impl Identifier {
     pub fn identify(&self, records: &[Record]) -> Result<Identification> {
         self.validate()?;
         let mut builder = self.builder();
-        builder.push_all(records)?;
-        self.finish(builder)
+        let mut screened = Vec::new();
+        if self.screening == Screening::Off {
+            builder.push_all(records)?;
+        } else {
+            let kept: Vec<&Record> = records
+                .iter()
+                .filter(|r| self.screen(r, &mut screened))
+                .collect();
+            if kept.len() == records.len() {
+                builder.push_all(records)?;
+            } else {
+                let kept: Vec<Record> = kept.into_iter().cloned().collect();
+                builder.push_all(&kept)?;
+            }
+        }
+        self.finish(builder, screened)
+    }
+
+    /// Screens `record`, adding what it finds to `warnings`; `false` if it is to be left out.
+    fn screen(&self, record: &Record, warnings: &mut Vec<Warning>) -> bool {
+        let (checks, reject) = match self.screening {
+            Screening::Off => return true,
+            Screening::Warn(c) => (c, false),
+            Screening::Reject(c) => (c, true),
+        };
+        let issues = crate::quality::check_record(record, &checks);
+        warnings.extend(crate::quality::warnings(record, &issues));
+        if reject && !issues.is_empty() {
+            let reason: Vec<String> = issues.iter().map(ToString::to_string).collect();
+            warnings.push(Warning::Rejected {
+                record: record.label().to_owned(),
+                reason: reason.join("; "),
+            });
+            return false;
+        }
+        true
     }
 
     /// [`Identifier::identify`] over records that arrive one at a time (read from files, say):
@@ -287,10 +365,14 @@ impl Identifier {
     ) -> Result<Identification> {
         self.validate()?;
         let mut builder = self.builder();
+        let mut screened = Vec::new();
         for r in records {
-            builder.push(&r?)?;
+            let r = r?;
+            if self.screen(&r, &mut screened) {
+                builder.push(&r)?;
+            }
         }
-        self.finish(builder)
+        self.finish(builder, screened)
     }
 
     /// Identifies many test conditions (operating points) with the same settings, one result
@@ -347,6 +429,9 @@ impl Identifier {
             }
         }
         self.ivf.validate()?;
+        if let Screening::Warn(c) | Screening::Reject(c) = self.screening {
+            c.validate()?;
+        }
         if !(self.limits.warn >= 1.0 && self.limits.refuse >= self.limits.warn) {
             return Err(Error::InvalidParameter {
                 name: "condition limits",
@@ -372,7 +457,7 @@ impl Identifier {
         }
     }
 
-    fn finish(&self, builder: FrfBuilder) -> Result<Identification> {
+    fn finish(&self, builder: FrfBuilder, screened: Vec<Warning>) -> Result<Identification> {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
@@ -381,7 +466,7 @@ impl Identifier {
             Estimator::PairedSets => builder.excitations(&self.assignment)?,
             _ => builder.excitations(&Assignment::DominantForce)?,
         };
-        self.conclude(frf, Some(&builder), excitations)
+        self.conclude(frf, Some(&builder), excitations, screened)
     }
 
     /// Fits an [`Frf`] measured some other way — stepped sine
@@ -410,7 +495,7 @@ impl Identifier {
         let tolerance = 1e-9 * band.high_hz();
         let inside = |f: f64| f >= band.low_hz() - tolerance && f <= band.high_hz() + tolerance;
         let frf = frf.retain_lines(|k| inside(frf.freqs_hz()[k]));
-        self.conclude(frf, None, Vec::new())
+        self.conclude(frf, None, Vec::new(), Vec::new())
     }
 
     /// The stages after the spectra: coherence selection, conditioning, fit, correction,
@@ -420,6 +505,7 @@ impl Identifier {
         mut frf: Frf,
         builder: Option<&FrfBuilder>,
         excitations: Vec<usize>,
+        mut warnings: Vec<Warning>,
     ) -> Result<Identification> {
         let band = Band::new(self.low_hz, self.high_hz)?;
         let mut low_coherence = 0;
@@ -436,7 +522,6 @@ impl Identifier {
         let conditioning = Conditioning::assess(&frf, self.limits)?;
         let fit = solve::fit(&frf, self.method, &self.ivf)?;
 
-        let mut warnings = Vec::new();
         if low_coherence > 0 {
             warnings.push(Warning::LowCoherence {
                 lines: low_coherence,
@@ -505,7 +590,13 @@ impl Identifier {
                 let std = self.jackknife(b, &frf, replicates)?;
                 (Some(std), t975(replicates - 1))
             }
-            (Uncertainty::Bootstrap { replicates: draws, seed }, Some(b)) => {
+            (
+                Uncertainty::Bootstrap {
+                    replicates: draws,
+                    seed,
+                },
+                Some(b),
+            ) => {
                 let std = self.bootstrap(b, &frf, replicates, draws, seed)?;
                 (Some(std), t975(replicates - 1))
             }
@@ -515,6 +606,12 @@ impl Identifier {
         Ok(Identification {
             band,
             window: self.window,
+            segmentation: if builder.is_some() {
+                self.segmentation
+            } else {
+                Segmentation::WholeRecord
+            },
+            force_gate: self.force_gate.filter(|_| builder.is_some()),
             uncertainty,
             std_dev,
             interval_factor,
@@ -652,6 +749,8 @@ fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
 pub struct Identification {
     band: Band,
     window: Window,
+    segmentation: Segmentation,
+    force_gate: Option<ForceGate>,
     uncertainty: Uncertainty,
     std_dev: Option<Coefficients>,
     interval_factor: f64,
@@ -670,6 +769,19 @@ impl Identification {
     /// the unwindowed system; the residual, history and `r²` are those of the windowed fit.
     pub fn window(&self) -> Window {
         self.window
+    }
+
+    /// How the records were cut into segments (paired sets always use whole records).
+    pub fn segmentation(&self) -> Segmentation {
+        match self.estimator {
+            Estimator::PairedSets => Segmentation::WholeRecord,
+            _ => self.segmentation,
+        }
+    }
+
+    /// The force gate, if one was applied.
+    pub fn force_gate(&self) -> Option<ForceGate> {
+        self.force_gate
     }
 
     /// The identified `M`, `C`, `K` of the whole test system.
@@ -927,7 +1039,8 @@ impl From<&Identification> for Baseline {
 
 /// Serializes as one flat object, in SI units and Hz:
 /// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
-/// otherwise), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
+/// otherwise), `segmentation` (`whole`, `welch`, `periods`), `segment_len`, `force_gate_s`
+/// (the gate's open time, null without), `unexcited_lines` (periodic excitation), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
 /// `M_std`, `C_std`, `K_std` (null when not available), `uncertainty`, `M_ci95`, `C_ci95`,
 /// `K_ci95` (half-widths of the 95 % intervals), `iterations`, `converged`,
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
@@ -950,6 +1063,15 @@ impl serde::Serialize for Identification {
         m.serialize_entry("estimator", self.estimator.name())?;
         m.serialize_entry("window", self.window.name())?;
         m.serialize_entry("window_decay_per_s", &self.window.decay_per_s())?;
+        let (segments, segment_len) = match self.segmentation() {
+            Segmentation::Welch { len } => ("welch", Some(len)),
+            Segmentation::Periods { len } => ("periods", Some(len)),
+            _ => ("whole", None),
+        };
+        m.serialize_entry("segmentation", segments)?;
+        m.serialize_entry("segment_len", &segment_len)?;
+        m.serialize_entry("force_gate_s", &self.force_gate.map(|g| g.open_s()))?;
+        m.serialize_entry("unexcited_lines", &self.frf.unexcited_hz().len())?;
         m.serialize_entry("n", &c.dofs())?;
         m.serialize_entry("band_hz", &[self.band.low_hz(), self.band.high_hz()])?;
         m.serialize_entry("band_used_hz", &[freqs[0], freqs[freqs.len() - 1]])?;

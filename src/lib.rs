@@ -101,7 +101,7 @@ pub mod stepped;
 pub use conditioning::ConditionLimits;
 pub use error::{Channel, Error, Result, Warning};
 pub use frf::{Assignment, Band, Estimator, Frf};
-pub use identify::{Baseline, Identification, Identifier, NonConvergence, Uncertainty};
+pub use identify::{Baseline, Identification, Identifier, NonConvergence, Screening, Uncertainty};
 pub use model::{Coefficients, Mode};
 pub use records::Record;
 pub use solve::{Convergence, Method};

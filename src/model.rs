@@ -34,9 +34,14 @@ pub struct Coefficients {
     stiffness: Mat<f64>,
 }
 
-/// The rows of a matrix, for serialization as a list of lists.
-#[cfg(feature = "serde")]
-pub(crate) fn rows(m: MatRef<'_, f64>) -> Vec<Vec<f64>> {
+/// The rows of a matrix as a list of lists (the JSON layout of every matrix this crate writes).
+///
+/// # Examples
+/// ```
+/// let m = faer::mat![[1.0, 2.0], [3.0, 4.0]];
+/// assert_eq!(bearing_ident::model::rows(m.as_ref()), vec![vec![1.0, 2.0], vec![3.0, 4.0]]);
+/// ```
+pub fn rows(m: MatRef<'_, f64>) -> Vec<Vec<f64>> {
     (0..m.nrows())
         .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
         .collect()

@@ -206,13 +206,16 @@ impl PerFrequency {
                 let half = |m: MatRef<'_, f64>, a: (usize, usize), b: (usize, usize)| {
                     0.5 * m[a].hypot(m[b])
                 };
-                let std = self.stiffness_std(l).zip(self.damping_std(l)).map(|(ks, cs)| {
-                    let kd = half(ks, (0, 0), (1, 1));
-                    let kc = half(ks, (0, 1), (1, 0));
-                    let cd = half(cs, (0, 0), (1, 1));
-                    let cc = half(cs, (0, 1), (1, 0));
-                    (kd.hypot(w * cc), cd.hypot(kc / w))
-                });
+                let std = self
+                    .stiffness_std(l)
+                    .zip(self.damping_std(l))
+                    .map(|(ks, cs)| {
+                        let kd = half(ks, (0, 0), (1, 1));
+                        let kc = half(ks, (0, 1), (1, 0));
+                        let cd = half(cs, (0, 0), (1, 1));
+                        let cc = half(cs, (0, 1), (1, 0));
+                        (kd.hypot(w * cc), cd.hypot(kc / w))
+                    });
                 Effective {
                     freq_hz: f,
                     stiffness: direct_k + w * cross_c,

@@ -1,12 +1,15 @@
 //! Monte-Carlo calibration of the 95 % intervals: 200 noise realisations of the seed's rig
-//! (fixed seeds, noise level 0.5), IVF, jackknife over the 8 paired sets with Student's
-//! t(7); the intervals of the six diagonal coefficients must cover the truth in 91–99 % of the
-//! trials.
+//! (fixed seeds, noise level 0.5), IVF; jackknife over the 8 paired sets and bootstrap (200
+//! draws of 8 sets, seed 0), both with Student's t(7). The intervals of the six diagonal
+//! coefficients must cover the truth in 91–99 % of the trials. Release mode only (CI runs it
+//! so; 14 s there, far longer in the debug test profile).
 //!
-//! Measured (seed 95): jackknife M_xx 94.0 %, M_yy 96.5 %, C_xx 94.5 %, C_yy 94.5 %,
-//! K_xx 92.0 %, K_yy 96.0 %. The first-order sandwich (normal quantile) covers a little less on
-//! the same data — 91.5, 94.5, 91.5, 91.0, 91.0, 94.0 % — so it is not the default when
-//! enough sets exist.
+//! Measured (seed 95), M_xx, M_yy, C_xx, C_yy, K_xx, K_yy:
+//! - jackknife 94.0, 96.5, 94.5, 94.5, 92.0, 96.0 %;
+//! - bootstrap 93.5, 96.5, 95.0, 94.5, 93.5, 96.0 %;
+//! - the first-order sandwich (normal quantile) covers a little less on the same data —
+//!   91.5, 94.5, 91.5, 91.0, 91.0, 94.0 % — reported, not asserted; it is the CLI's choice
+//!   only below 3 sets.
 
 mod common;
 
@@ -44,17 +47,28 @@ fn coverage(uncertainty: Uncertainty, trials: usize, level: f64) -> Vec<f64> {
 }
 
 #[test]
-fn jackknife_and_sandwich_intervals_cover_the_truth() {
+#[cfg_attr(
+    debug_assertions,
+    ignore = "Monte-Carlo: run in release (`cargo test --release --test coverage`), as CI does"
+)]
+fn jackknife_and_bootstrap_intervals_cover_the_truth() {
     let trials = std::env::var("BI_TRIALS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(200);
-    for uncertainty in [Uncertainty::Jackknife] {
+    for uncertainty in [
+        Uncertainty::Jackknife,
+        Uncertainty::BOOTSTRAP,
+        Uncertainty::Sandwich,
+    ] {
         let c = coverage(uncertainty, trials, 0.5);
         println!(
             "{}: coverage Mxx Myy Cxx Cyy Kxx Kyy = {c:?}",
             uncertainty.name()
         );
+        if uncertainty == Uncertainty::Sandwich {
+            continue; // reported, not asserted: first order, slightly narrow (see above)
+        }
         for (k, &v) in c.iter().enumerate() {
             assert!(
                 (0.91..=0.99).contains(&v),

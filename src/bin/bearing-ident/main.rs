@@ -9,10 +9,13 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use bearing_ident::io::{self, CsvLayout};
+use bearing_ident::quality::ImpactChecks;
 use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
+use bearing_ident::spectra::ForceGate;
+use bearing_ident::stepped::stepped_sine;
 use bearing_ident::{
-    Coefficients, Estimator, Identification, Identifier, Method, NonConvergence, Record,
-    Segmentation, Uncertainty, Window,
+    Assignment, Band, Baseline, Coefficients, Estimator, Identification, Identifier, Method,
+    NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
 };
 use clap::{Parser, Subcommand, ValueEnum};
 use faer::Mat;
@@ -52,19 +55,31 @@ enum ExcitationArg {
     Impact,
     /// Random: MIMO H1 with Welch segments (Hann, 50 % overlap).
     Random,
+    /// Periodic or multisine in steady state: MIMO H1 over whole periods (`--period`), no
+    /// window, the excited lines only.
+    Periodic,
+    /// Stepped sine: one drive frequency per record; amplitude and phase at that frequency.
+    SteppedSine,
+    /// Sine sweep followed by free decay: as impacts (paired sets, whole record).
+    Sweep,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum UncertaintyArg {
+    /// Jackknife with at least 3 paired sets or records, else the sandwich.
+    Auto,
     None,
     Sandwich,
     Jackknife,
+    Bootstrap,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum EstimatorArg {
     Paired,
     H1,
+    H2,
+    Hv,
 }
 
 #[derive(Debug, clap::Args)]
@@ -89,10 +104,40 @@ struct IdentifyArgs {
     /// exactly). Default: `rect` for impacts, `hann` for random excitation.
     #[arg(long)]
     window: Option<String>,
-    /// Error bars: jackknife over paired sets or records (falls back to the sandwich, with a
-    /// warning, below 3 of them), first-order sandwich, or none.
-    #[arg(long, value_enum, default_value = "jackknife")]
+    /// Error bars: `auto` is the jackknife over paired sets or records when there are at least
+    /// 3 of them, else the first-order sandwich; `bootstrap` draws `--bootstrap-draws`
+    /// resamples of the sets or records (seeded by `--seed`).
+    #[arg(long, value_enum, default_value = "auto")]
     uncertainty: UncertaintyArg,
+    /// Bootstrap resamples.
+    #[arg(long, default_value_t = 200)]
+    bootstrap_draws: usize,
+    /// Seed of the bootstrap's resampling.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Gate the force channels: open for SECONDS from each record's start, then a cosine
+    /// taper over a fifth of that; the quiet force after an impact is noise only.
+    #[arg(long)]
+    force_gate: Option<f64>,
+    /// Period of periodic excitation (s), for `--excitation periodic`.
+    #[arg(long)]
+    period: Option<f64>,
+    /// Drive frequencies closer than this (Hz) are one step of a stepped-sine test.
+    #[arg(long, default_value_t = 0.01)]
+    step_tolerance: f64,
+    /// Leave out impact records with a double hit or a clipped channel (they are always
+    /// reported as warnings under impact excitation).
+    #[arg(long)]
+    reject_bad_impacts: bool,
+    /// Subtract a dry-structure baseline: a directory of its CSV records (identified here with
+    /// the same settings) or the JSON result of an earlier `identify --json`. The JSON output
+    /// then carries `bearing` (`M`, `C`, `K` and their `*_std`: system − baseline).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
+    /// Add per-line `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω` with error bars (and, for n = 2, the
+    /// isotropic effective coefficients) to the output (JSON `per_frequency`).
+    #[arg(long)]
+    per_frequency: bool,
     /// Drop lines where the multiple coherence of any output is below X (0 ≤ X < 1).
     #[arg(long, default_value_t = 0.0)]
     min_coherence: f64,
@@ -139,6 +184,16 @@ enum KindArg {
     Impact,
     /// White Gaussian forces on every degree of freedom at once, `--records` records.
     Random,
+    /// Random-phase multisine on one direction per record, lines in `--freqs LO,HI`, period
+    /// `--period`, `--records` records per direction of `--periods` periods after 2 s of
+    /// settling.
+    Multisine,
+    /// One sine per record and direction at `--freqs LO,HI,COUNT` (evenly spaced), recorded
+    /// for `--duration` (default 1 s) after 1 s of settling.
+    SteppedSine,
+    /// Linear sweep over `--freqs LO,HI` in `--sweep-time`, then free decay, on one direction
+    /// per record, `--records` records per direction.
+    Sweep,
 }
 
 #[derive(Debug, clap::Args)]
@@ -180,6 +235,19 @@ struct SimulateArgs {
     /// Half-sine pulse duration (s).
     #[arg(long, default_value_t = 0.002)]
     pulse: f64,
+    /// Frequencies (Hz): `LO,HI` for multisine lines and sweeps, `LO,HI,COUNT` for stepped
+    /// sines (defaults 8,49 / 5,60 / 10,48,15).
+    #[arg(long)]
+    freqs: Option<String>,
+    /// Multisine period (s).
+    #[arg(long, default_value_t = 1.0)]
+    period: f64,
+    /// Multisine periods recorded per record.
+    #[arg(long, default_value_t = 8)]
+    periods: usize,
+    /// Sweep duration (s), before the free decay.
+    #[arg(long, default_value_t = 1.0)]
+    sweep_time: f64,
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
@@ -295,51 +363,70 @@ fn layout(args: &IdentifyArgs) -> Result<CsvLayout, Failure> {
     })
 }
 
-/// Reads the record files one at a time and streams them into the identification, so memory
-/// holds one record (plus band-line spectra) however many files there are. The excitation kind
-/// is decided from the first record.
-fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+/// The identifier and its processing for `excitation`, from the first record and the options;
+/// also the Welch segment length, if any.
+fn settings(
+    args: &IdentifyArgs,
+    excitation: ExcitationArg,
+    first: &Record,
+) -> Result<(Identifier, Option<usize>), Failure> {
     let (lo, hi) = parse_band(&args.band)?;
-    let layout = layout(args)?;
-    let start = Instant::now();
-    let first = io::read_record(&args.files[0], &layout)?;
-    let mut reading = start.elapsed();
-    let crest = crest_factor(&first);
-    let excitation = match args.excitation {
-        ExcitationArg::Auto if crest >= IMPACT_CREST => ExcitationArg::Impact,
-        ExcitationArg::Auto => ExcitationArg::Random,
-        chosen => chosen,
-    };
     let eighth = (first.len() / 8).max(8);
     let nperseg = args.nperseg.unwrap_or(if eighth.is_power_of_two() {
         eighth
     } else {
         eighth.next_power_of_two() / 2
     });
-    let (estimator, segmentation, default_window) = match (excitation, args.estimator) {
-        (ExcitationArg::Random, Some(EstimatorArg::Paired)) => (
-            Estimator::PairedSets,
-            Segmentation::WholeRecord,
-            Window::Hann,
-        ),
-        (ExcitationArg::Random, _) => (
-            Estimator::H1,
-            Segmentation::Welch { len: nperseg },
-            Window::Hann,
-        ),
-        (_, Some(EstimatorArg::H1)) => (
-            Estimator::H1,
-            Segmentation::WholeRecord,
-            Window::Rectangular,
-        ),
+    let chosen = args.estimator.map(|e| match e {
+        EstimatorArg::Paired => Estimator::PairedSets,
+        EstimatorArg::H1 => Estimator::H1,
+        EstimatorArg::H2 => Estimator::H2,
+        EstimatorArg::Hv => Estimator::Hv,
+    });
+    let (estimator, segmentation, default_window) = match excitation {
+        ExcitationArg::Random => match chosen {
+            Some(Estimator::PairedSets) => (
+                Estimator::PairedSets,
+                Segmentation::WholeRecord,
+                Window::Hann,
+            ),
+            e => (
+                e.unwrap_or(Estimator::H1),
+                Segmentation::Welch { len: nperseg },
+                Window::Hann,
+            ),
+        },
+        ExcitationArg::Periodic => {
+            let period = args.period.ok_or_else(|| {
+                invalid("--excitation periodic needs --period SECONDS".to_string())
+            })?;
+            let len = (period * first.sample_rate()).round();
+            if !(len >= 8.0 && len <= first.len() as f64) {
+                return Err(invalid(format!(
+                    "--period {period}: {len} samples; expected 8 samples up to the record length"
+                )));
+            }
+            let estimator = match chosen {
+                None | Some(Estimator::PairedSets) => Estimator::H1,
+                Some(e) => e,
+            };
+            let len = len as usize;
+            (
+                estimator,
+                Segmentation::Periods { len },
+                Window::Rectangular,
+            )
+        }
         _ => (
-            Estimator::PairedSets,
+            chosen.unwrap_or(Estimator::PairedSets),
             Segmentation::WholeRecord,
             Window::Rectangular,
         ),
     };
     let segment_s = match segmentation {
-        Segmentation::Welch { len } => len as f64 / first.sample_rate(),
+        Segmentation::Welch { len } | Segmentation::Periods { len } => {
+            len as f64 / first.sample_rate()
+        }
         _ => first.duration(),
     };
     let window = match args.window.as_deref() {
@@ -351,7 +438,7 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         MethodArg::Ls => Method::LeastSquares,
         MethodArg::Ivf => Method::Ivf,
     };
-    let identifier = Identifier::new(lo, hi)
+    let mut identifier = Identifier::new(lo, hi)
         .method(method)
         .estimator(estimator)
         .segmentation(segmentation)
@@ -360,48 +447,232 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .max_iterations(args.max_iterations)
         .min_coherence(args.min_coherence)
         .uncertainty(match args.uncertainty {
+            UncertaintyArg::Auto => Uncertainty::Auto,
             UncertaintyArg::None => Uncertainty::None,
             UncertaintyArg::Sandwich => Uncertainty::Sandwich,
             UncertaintyArg::Jackknife => Uncertainty::Jackknife,
+            UncertaintyArg::Bootstrap => Uncertainty::Bootstrap {
+                replicates: args.bootstrap_draws,
+                seed: args.seed,
+            },
         })
         .on_non_convergence(if args.allow_unconverged {
             NonConvergence::Warn
         } else {
             NonConvergence::Fail
         });
-    let sample_rate = first.sample_rate();
+    if let Some(open) = args.force_gate {
+        identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
+    }
+    if excitation == ExcitationArg::Impact || args.reject_bad_impacts {
+        let checks = ImpactChecks::default();
+        identifier = identifier.screening(if args.reject_bad_impacts {
+            Screening::Reject(checks)
+        } else {
+            Screening::Warn(checks)
+        });
+    }
+    let segment_len = match segmentation {
+        Segmentation::Welch { len } | Segmentation::Periods { len } => Some(len),
+        _ => None,
+    };
+    Ok((identifier, segment_len))
+}
+
+/// Identifies the records of `files`, the first already read: streamed one at a time (memory
+/// holds one record plus band-line spectra, however many files), or all together for a
+/// stepped-sine test.
+fn run(
+    args: &IdentifyArgs,
+    identifier: &Identifier,
+    excitation: ExcitationArg,
+    first: Record,
+    files: &[PathBuf],
+    reading: &mut std::time::Duration,
+) -> Result<Identification, Failure> {
+    let layout = layout(args)?;
     let bar = indicatif::ProgressBar::with_draw_target(
-        Some(args.files.len() as u64),
+        Some(files.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    let rest = args.files[1..].iter().map(|path| {
+    let rest = files[1..].iter().map(|path| {
         let t = Instant::now();
         bar.set_message(path.display().to_string());
         let record = io::read_record(path, &layout);
         bar.inc(1);
-        reading += t.elapsed();
+        *reading += t.elapsed();
         record
     });
-    let id = identifier.identify_stream(std::iter::once(Ok(first)).chain(rest))?;
+    let records = std::iter::once(Ok(first)).chain(rest);
+    let id = if excitation == ExcitationArg::SteppedSine {
+        let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
+        let dofs = Some(records[0].dofs());
+        let frf = stepped_sine(
+            &records,
+            &Assignment::DominantForce,
+            dofs,
+            args.step_tolerance,
+        )?;
+        identifier.identify_frf(frf)?
+    } else {
+        identifier.identify_stream(records)?
+    };
     bar.finish_and_clear();
-    let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
-    let context = report::Context {
-        excitation: match excitation {
-            ExcitationArg::Random => "random",
-            _ => "impact",
+    Ok(id)
+}
+
+/// The dry-structure baseline: identified from a directory of CSV records with the same
+/// settings, or read back from an earlier `identify --json` result.
+fn baseline(
+    args: &IdentifyArgs,
+    identifier: &Identifier,
+    excitation: ExcitationArg,
+    path: &std::path::Path,
+) -> Result<Baseline, Failure> {
+    let io_failure = |e: std::io::Error| Failure {
+        kind: "io_error",
+        message: format!("{}: {e}", path.display()),
+    };
+    if path.is_dir() {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+            .map_err(io_failure)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            return Err(invalid(format!(
+                "--baseline {}: no .csv records in the directory",
+                path.display()
+            )));
+        }
+        let first = io::read_record(&files[0], &layout(args)?)?;
+        let mut reading = std::time::Duration::ZERO;
+        let id = run(args, identifier, excitation, first, &files, &mut reading)?;
+        return Ok(Baseline::from(&id));
+    }
+    let text = std::fs::read_to_string(path).map_err(io_failure)?;
+    baseline_from_json(&text).map_err(|what| Failure {
+        kind: "bad_baseline",
+        message: format!("--baseline {}: {what}", path.display()),
+    })
+}
+
+/// A [`Baseline`] from the JSON of `identify --json`.
+fn baseline_from_json(text: &str) -> Result<Baseline, String> {
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    let matrix = |key: &str| -> Result<Option<Mat<f64>>, String> {
+        let Some(rows) = v.get(key).filter(|r| !r.is_null()) else {
+            return Ok(None);
+        };
+        let rows: Vec<Vec<f64>> =
+            serde_json::from_value(rows.clone()).map_err(|e| format!("`{key}`: {e}"))?;
+        let n = rows.len();
+        if n == 0 || rows.iter().any(|r| r.len() != n) {
+            return Err(format!("`{key}`: expected a square matrix (list of rows)"));
+        }
+        Ok(Some(Mat::from_fn(n, n, |i, j| rows[i][j])))
+    };
+    let need = |key: &str| matrix(key)?.ok_or_else(|| format!("no `{key}`"));
+    let coefficients =
+        Coefficients::new(need("M")?, need("C")?, need("K")?).map_err(|e| e.to_string())?;
+    let std = match (matrix("M_std")?, matrix("C_std")?, matrix("K_std")?) {
+        (Some(m), Some(c), Some(k)) => Some(Coefficients::new(m, c, k).map_err(|e| e.to_string())?),
+        _ => None,
+    };
+    let band: Vec<f64> = v
+        .get("band_hz")
+        .and_then(|b| serde_json::from_value(b.clone()).ok())
+        .filter(|b: &Vec<f64>| b.len() == 2)
+        .ok_or("no `band_hz` [LO, HI]")?;
+    let band = Band::new(band[0], band[1]).map_err(|e| e.to_string())?;
+    let freqs: Vec<f64> = v
+        .get("freqs_hz")
+        .and_then(|b| serde_json::from_value(b.clone()).ok())
+        .ok_or("no `freqs_hz`")?;
+    let estimator = match v.get("estimator").and_then(|e| e.as_str()) {
+        Some("paired") => Estimator::PairedSets,
+        Some("h1") => Estimator::H1,
+        Some("h2") => Estimator::H2,
+        Some("hv") => Estimator::Hv,
+        other => return Err(format!("unknown `estimator` {other:?}")),
+    };
+    let window = match v.get("window").and_then(|e| e.as_str()) {
+        Some("rect") => Window::Rectangular,
+        Some("hann") => Window::Hann,
+        Some("exp") => Window::Exponential {
+            decay_per_s: v
+                .get("window_decay_per_s")
+                .and_then(serde_json::Value::as_f64)
+                .ok_or("no `window_decay_per_s` for the exponential window")?,
         },
+        other => return Err(format!("unknown `window` {other:?}")),
+    };
+    Ok(Baseline::new(
+        coefficients,
+        std,
+        band,
+        freqs,
+        estimator,
+        window,
+    ))
+}
+
+/// Reads the record files and identifies them; the excitation kind is decided from the first
+/// record.
+fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+    let layout = layout(args)?;
+    let start = Instant::now();
+    let first = io::read_record(&args.files[0], &layout)?;
+    let mut reading = start.elapsed();
+    let crest = crest_factor(&first);
+    let excitation = match args.excitation {
+        ExcitationArg::Auto if crest >= IMPACT_CREST => ExcitationArg::Impact,
+        ExcitationArg::Auto => ExcitationArg::Random,
+        chosen => chosen,
+    };
+    let (identifier, segment_len) = settings(args, excitation, &first)?;
+    let sample_rate = first.sample_rate();
+    let id = run(
+        args,
+        &identifier,
+        excitation,
+        first,
+        &args.files,
+        &mut reading,
+    )?;
+    let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
+    let bearing = match &args.baseline {
+        Some(path) => {
+            let dry = baseline(args, &identifier, excitation, path)?;
+            let (b, std) = id.subtract_baseline(dry)?;
+            Some((b, std, path.display().to_string()))
+        }
+        None => None,
+    };
+    let context = report::Context {
+        excitation: excitation_name(excitation),
         excitation_auto: args.excitation == ExcitationArg::Auto,
         crest_factor: crest,
-        segment_len: match segmentation {
-            Segmentation::Welch { len } => Some(len),
-            _ => None,
-        },
+        segment_len,
         sample_rate,
         files: args.files.iter().map(|p| p.display().to_string()).collect(),
         compute_ms,
         axes: args.disp.clone(),
+        bearing,
+        per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
     };
     emit(&id, &context, None, args.json)
+}
+
+fn excitation_name(excitation: ExcitationArg) -> &'static str {
+    match excitation {
+        ExcitationArg::Random => "random",
+        ExcitationArg::Periodic => "periodic",
+        ExcitationArg::SteppedSine => "stepped-sine",
+        ExcitationArg::Sweep => "sweep",
+        _ => "impact",
+    }
 }
 
 fn emit(
@@ -440,6 +711,8 @@ fn demo(args: &DemoArgs) -> Result<(), Failure> {
         files: records.iter().map(|r| r.label().to_owned()).collect(),
         compute_ms: start.elapsed().as_secs_f64() * 1e3,
         axes: vec!["x".into(), "y".into()],
+        bearing: None,
+        per_frequency: None,
     };
     if !args.json {
         println!(
@@ -469,6 +742,130 @@ fn parse_matrix(name: &str, s: &str) -> Result<Mat<f64>, Failure> {
     Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
 }
 
+/// Records of a shaker driving one direction at a time: multisine, stepped sine or sweep
+/// (see [`KindArg`]), with `--noise`.
+fn driven_records(
+    args: &SimulateArgs,
+    system: &Coefficients,
+    decay_s: f64,
+) -> Result<Vec<Record>, Failure> {
+    let n = system.dofs();
+    let rate = args.rate;
+    let freqs: Vec<f64> = match &args.freqs {
+        Some(s) => s
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| invalid(format!("--freqs `{s}`: {e}")))?,
+        None => match args.kind {
+            KindArg::Multisine => vec![8.0, 49.0],
+            KindArg::SteppedSine => vec![10.0, 48.0, 15.0],
+            _ => vec![5.0, 60.0],
+        },
+    };
+    let expected = if args.kind == KindArg::SteppedSine {
+        3
+    } else {
+        2
+    };
+    if freqs.len() != expected || !(freqs[0] > 0.0 && freqs[1] > freqs[0]) {
+        return Err(invalid(format!(
+            "--freqs: expected {} with 0 < LO < HI",
+            if expected == 3 {
+                "LO,HI,COUNT"
+            } else {
+                "LO,HI"
+            }
+        )));
+    }
+    let samples = |s: f64| (s * rate).round() as usize;
+    let amplitude = args.force_rms * std::f64::consts::SQRT_2;
+    // (label, direction, drive samples, samples kept from the end)
+    let mut drives: Vec<(String, usize, Vec<f64>, usize)> = Vec::new();
+    match args.kind {
+        KindArg::Multisine => {
+            let period = samples(args.period);
+            let (settle, kept) = (samples(2.0), period * args.periods);
+            let lines =
+                (freqs[0] * args.period).ceil() as usize..=(freqs[1] * args.period) as usize;
+            for d in 0..n {
+                for r in 0..args.records {
+                    let seed = args.seed.wrapping_add((d * args.records + r) as u64);
+                    let drive = bearing_ident::simulate::multisine(
+                        period,
+                        lines.clone(),
+                        args.force_rms,
+                        settle + kept,
+                        seed,
+                    )?;
+                    drives.push((format!("multisine-d{d}-{r}"), d, drive, kept));
+                }
+            }
+        }
+        KindArg::SteppedSine => {
+            let count = freqs[2] as usize;
+            if count < 1 || freqs[2].fract() != 0.0 {
+                return Err(invalid("--freqs: COUNT must be a whole number ≥ 1".into()));
+            }
+            let kept = samples(args.duration.unwrap_or(1.0));
+            let total = samples(1.0) + kept;
+            for s in 0..count {
+                let f = if count == 1 {
+                    freqs[0]
+                } else {
+                    freqs[0] + (freqs[1] - freqs[0]) * s as f64 / (count - 1) as f64
+                };
+                for d in 0..n {
+                    let drive = bearing_ident::simulate::sine(f, amplitude, rate, total)?;
+                    drives.push((format!("sine-{f:.3}Hz-d{d}"), d, drive, kept));
+                }
+            }
+        }
+        _ => {
+            let total = samples(args.duration.unwrap_or(args.sweep_time + decay_s));
+            for d in 0..n {
+                for r in 0..args.records {
+                    let drive = bearing_ident::simulate::sweep(
+                        freqs[0],
+                        freqs[1],
+                        args.sweep_time,
+                        amplitude,
+                        rate,
+                        total,
+                    )?;
+                    drives.push((format!("sweep-d{d}-{r}"), d, drive, total));
+                }
+            }
+        }
+    }
+    let mut rng = StdRng::seed_from_u64(args.seed ^ NOISE_STREAM);
+    let mut sims: Vec<(usize, Simulator)> = Vec::new();
+    drives
+        .into_iter()
+        .map(|(label, d, drive, kept)| {
+            let total = drive.len();
+            let at = match sims.iter().position(|(len, _)| *len == total) {
+                Some(p) => p,
+                None => {
+                    sims.push((
+                        total,
+                        Simulator::new(system, rate, total, AntiAlias::default())?,
+                    ));
+                    sims.len() - 1
+                }
+            };
+            let mut forces = vec![vec![0.0; total]; n];
+            forces[d] = drive;
+            let clean = sims[at]
+                .1
+                .held_record(label, &forces)?
+                .trimmed(total - kept..total)?;
+            add_noise(&clean, args.noise, &mut rng)
+        })
+        .collect::<bearing_ident::Result<Vec<_>>>()
+        .map_err(Failure::from)
+}
+
 /// Mixed into `--seed` for the measurement-noise generator of random records, so that noise
 /// and forcing come from unrelated streams.
 const NOISE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -483,16 +880,21 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         _ => seed_rig(),
     };
     let base = ImpactTest::seed_rig();
+    // Time for the slowest mode to decay to 1e-7 (e^{-16.1}).
+    let slowest = system
+        .eigenvalues()?
+        .iter()
+        .map(|l| -l.re)
+        .fold(f64::INFINITY, f64::min);
+    let decay_s = 16.2 / slowest;
     let duration_s = match (args.duration, args.kind) {
         (Some(d), _) => d,
         (None, KindArg::Random) => 60.0,
+        (None, KindArg::SteppedSine) => 1.0,
+        (None, KindArg::Multisine) => args.period * args.periods as f64,
+        (None, KindArg::Sweep) => ((args.sweep_time + decay_s) * 10.0).ceil() / 10.0,
         (None, KindArg::Impact) => {
-            let slowest = system
-                .eigenvalues()?
-                .iter()
-                .map(|l| -l.re)
-                .fold(f64::INFINITY, f64::min);
-            let needed = base.pretrigger_s + args.pulse + 16.2 / slowest;
+            let needed = base.pretrigger_s + args.pulse + decay_s;
             (needed * 10.0).ceil() / 10.0
         }
     };
@@ -507,6 +909,9 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     };
     let records = match args.kind {
         KindArg::Impact => test.run(&system)?,
+        KindArg::Multisine | KindArg::SteppedSine | KindArg::Sweep => {
+            driven_records(args, &system, decay_s)?
+        }
         KindArg::Random => {
             let mut sim = Simulator::new(&system, args.rate, test.samples(), AntiAlias::default())?;
             // The noise stream must not be the forcing stream (seeded by `seed + r`).
@@ -534,7 +939,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     println!(
         "wrote {} records of {} samples ({} s at {} samples/s) to {}, columns {},{},{}",
         records.len(),
-        test.samples(),
+        records.first().map_or(0, Record::len),
         duration_s,
         args.rate,
         args.out.display(),

@@ -2,12 +2,14 @@
 
 use std::fmt::Write as _;
 
+use bearing_ident::model::rows;
+use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::{Coefficients, Identification};
 use faer::MatRef;
 
 /// Facts about the run that the identification itself does not hold.
 pub struct Context {
-    /// `"impact"` or `"random"`.
+    /// `"impact"`, `"random"`, `"periodic"`, `"stepped-sine"` or `"sweep"`.
     pub excitation: &'static str,
     /// Whether the excitation was detected rather than given.
     pub excitation_auto: bool,
@@ -23,6 +25,11 @@ pub struct Context {
     pub compute_ms: f64,
     /// Names of the degrees of freedom (the displacement columns).
     pub axes: Vec<String>,
+    /// System minus baseline (coefficients, standard deviations) and where the baseline came
+    /// from.
+    pub bearing: Option<(Coefficients, Option<Coefficients>, String)>,
+    /// Per-line coefficients, when asked for.
+    pub per_frequency: Option<PerFrequency>,
 }
 
 /// The library's serialization of `id` plus the run's own fields.
@@ -37,8 +44,53 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         map.insert("n_records".into(), c.files.len().into());
         map.insert("files".into(), c.files.clone().into());
         map.insert("compute_ms".into(), c.compute_ms.into());
+        if let Some((b, std, source)) = &c.bearing {
+            let block = |m: MatRef<'_, f64>| serde_json::Value::from(rows(m));
+            let std_block = |get: Block| std.as_ref().map(|s| block(get(s)));
+            let bearing = serde_json::json!({
+                "baseline": source,
+                "M": block(b.mass()),
+                "C": block(b.damping()),
+                "K": block(b.stiffness()),
+                "M_std": std_block(Coefficients::mass),
+                "C_std": std_block(Coefficients::damping),
+                "K_std": std_block(Coefficients::stiffness),
+            });
+            map.insert("bearing".into(), bearing);
+        }
+        if let Some(pf) = &c.per_frequency {
+            map.insert("per_frequency".into(), per_frequency_json(pf));
+        }
     }
     Ok(v)
+}
+
+/// One object per line: `freq_hz`, `K`, `C` (rows), `K_std`, `C_std` (null without an FRF
+/// variance), and for n = 2 `K_eff`, `C_eff`, `K_eff_std`, `C_eff_std`.
+fn per_frequency_json(pf: &PerFrequency) -> serde_json::Value {
+    let effective = pf.effective();
+    let lines: Vec<serde_json::Value> = pf
+        .freqs_hz()
+        .iter()
+        .enumerate()
+        .map(|(k, &f)| {
+            let mut line = serde_json::json!({
+                "freq_hz": f,
+                "K": rows(pf.stiffness(k)),
+                "C": rows(pf.damping(k)),
+                "K_std": pf.stiffness_std(k).map(rows),
+                "C_std": pf.damping_std(k).map(rows),
+            });
+            if let (Some(e), Some(map)) = (effective.as_ref().map(|e| e[k]), line.as_object_mut()) {
+                map.insert("K_eff".into(), e.stiffness.into());
+                map.insert("C_eff".into(), e.damping.into());
+                map.insert("K_eff_std".into(), e.stiffness_std.into());
+                map.insert("C_eff_std".into(), e.damping_std.into());
+            }
+            line
+        })
+        .collect();
+    lines.into()
 }
 
 /// `v` with `digits` significant digits, fixed-point for ordinary magnitudes, scientific
@@ -63,7 +115,8 @@ type Block = fn(&Coefficients) -> MatRef<'_, f64>;
 fn coefficient_lines(
     out: &mut String,
     axes: &[String],
-    id: &Identification,
+    values: &Coefficients,
+    std: Option<&Coefficients>,
     truth: Option<&Coefficients>,
 ) {
     let blocks: [(&str, &str, Block); 3] = [
@@ -71,14 +124,13 @@ fn coefficient_lines(
         ("C", "N·s/m", Coefficients::damping),
         ("K", "N/m", Coefficients::stiffness),
     ];
-    let std = id.std_dev();
     let _ = write!(out, "  {:<16} {:>15} {:>11}", "coefficient", "value", "±1σ");
     if truth.is_some() {
         let _ = write!(out, " {:>15} {:>10}", "true", "error");
     }
     let _ = writeln!(out);
     for (name, unit, get) in blocks {
-        let value = get(id.coefficients());
+        let value = get(values);
         for (i, ai) in axes.iter().enumerate() {
             for (j, aj) in axes.iter().enumerate() {
                 let label = format!("{name} {ai}{aj} ({unit})");
@@ -119,8 +171,11 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         if c.excitation_auto { ", detected" } else { "" },
         c.crest_factor,
         id.estimator().name(),
-        c.segment_len
-            .map_or(String::new(), |l| format!(" (Welch, {l} samples)")),
+        match id.segmentation() {
+            bearing_ident::Segmentation::Welch { len } => format!(" (Welch, {len} samples)"),
+            bearing_ident::Segmentation::Periods { len } => format!(" (periods of {len} samples)"),
+            _ => String::new(),
+        },
         id.method().name(),
     );
     let _ = writeln!(
@@ -135,15 +190,29 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         match id.window().decay_per_s() {
             Some(a) => format!("exponential, a = {a:.4}/s, coefficients corrected"),
             None => id.window().name().to_string(),
-        }
+        } + &id.force_gate().map_or(String::new(), |g| {
+            format!("; force gate {} s + {} s taper", g.open_s(), g.taper_s())
+        })
     );
+    if !id.frf().unexcited_hz().is_empty() {
+        let _ = writeln!(
+            out,
+            "{} band lines not excited (periodic excitation), left out\n",
+            id.frf().unexcited_hz().len()
+        );
+    }
     let _ = writeln!(
         out,
         "Coefficients (± one standard deviation, {})",
         id.uncertainty().name()
     );
-    coefficient_lines(&mut out, &axes, id, truth);
+    coefficient_lines(&mut out, &axes, co, id.std_dev(), truth);
     let _ = writeln!(out);
+    if let Some((b, std, source)) = &c.bearing {
+        let _ = writeln!(out, "Bearing: system − baseline ({source})");
+        coefficient_lines(&mut out, &axes, b, std.as_ref(), None);
+        let _ = writeln!(out);
+    }
     let _ = writeln!(out, "Modes");
     for (k, m) in id.modes().unwrap_or_default().iter().enumerate() {
         let _ = writeln!(
@@ -185,5 +254,41 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     for w in id.warnings() {
         let _ = writeln!(out, "  warning: {w}");
     }
+    if let Some(pf) = &c.per_frequency {
+        per_frequency_lines(&mut out, &axes, pf);
+    }
     out
+}
+
+/// The per-line diagonal coefficients as a table (the JSON has every element).
+fn per_frequency_lines(out: &mut String, axes: &[String], pf: &PerFrequency) {
+    let _ = writeln!(out, "\nPer frequency (diagonal; ± one standard deviation)");
+    let _ = write!(out, "  {:>9}", "f (Hz)");
+    for a in axes {
+        let _ = write!(
+            out,
+            " {:>24} {:>22}",
+            format!("K {a}{a} (N/m)"),
+            format!("C {a}{a} (N·s/m)")
+        );
+    }
+    let _ = writeln!(out);
+    for (k, f) in pf.freqs_hz().iter().enumerate() {
+        let _ = write!(out, "  {f:>9.3}");
+        for i in 0..axes.len() {
+            let pm = |v: f64, s: Option<f64>| match s {
+                Some(s) => format!("{} ± {}", sig(v, 6), sig(s, 2)),
+                None => sig(v, 6),
+            };
+            let ks = pf.stiffness_std(k).map(|s| s[(i, i)]);
+            let cs = pf.damping_std(k).map(|s| s[(i, i)]);
+            let _ = write!(
+                out,
+                " {:>24} {:>22}",
+                pm(pf.stiffness(k)[(i, i)], ks),
+                pm(pf.damping(k)[(i, i)], cs)
+            );
+        }
+        let _ = writeln!(out);
+    }
 }
