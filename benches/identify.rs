@@ -61,6 +61,8 @@ fn frf(c: &mut Criterion) {
     for (name, estimator, window) in [
         ("paired", Estimator::PairedSets, Window::Rectangular),
         ("h1", Estimator::H1, Window::Rectangular),
+        ("h2", Estimator::H2, Window::Rectangular),
+        ("hv", Estimator::Hv, Window::Rectangular),
     ] {
         let new = || FrfBuilder::new(estimator, band, Segmentation::WholeRecord, window);
         group.bench_function(format!("{name}_from_records"), |b| {
