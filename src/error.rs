@@ -247,6 +247,12 @@ pub enum Error {
         /// What differs.
         what: &'static str,
     },
+    /// Maximum likelihood needs the noise covariances of the spectra, which only repeated
+    /// periods give here.
+    #[error(
+        "method ml needs the noise covariances that repeated periods give: periodic records with `Segmentation::Periods` (CLI `--excitation periodic --period S`), at least 3 periods per record"
+    )]
+    MlNeedsRepeats,
     /// A numeric parameter is outside its valid range.
     #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
     InvalidParameter {
@@ -419,6 +425,11 @@ pub enum Warning {
         /// Why, in words (for example the issues found).
         reason: String,
     },
+    /// Maximum likelihood kept its IVF start.
+    MlFellBack {
+        /// Why.
+        reason: String,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -482,6 +493,9 @@ impl fmt::Display for Warning {
             Warning::Rejected { record, reason } => {
                 write!(f, "record `{record}` rejected: {reason}")
             }
+            Warning::MlFellBack { reason } => {
+                write!(f, "maximum likelihood kept the IVF result: {reason}")
+            }
         }
     }
 }
@@ -525,6 +539,7 @@ impl Error {
                 "singular"
             }
             Error::BaselineMismatch { .. } => "baseline_mismatch",
+            Error::MlNeedsRepeats => "ml_needs_repeats",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",

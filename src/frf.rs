@@ -533,11 +533,14 @@ enum Contribution {
         forces: Vec<c64>,
         displacements: Vec<c64>,
     },
-    /// This record's sums over its segments of `F Fᴴ`, `X Fᴴ` and `X Xᴴ`, `[line][n × n]`.
+    /// This record's sums over its segments of `F Fᴴ`, `X Fᴴ` and `X Xᴴ`, `[line][n × n]`,
+    /// and of `F` and `X`, `[line][n]` (the first moments maximum likelihood needs).
     Cross {
         sff: Vec<c64>,
         sxf: Vec<c64>,
         sxx: Vec<c64>,
+        sf: Vec<c64>,
+        sx: Vec<c64>,
     },
 }
 
@@ -676,6 +679,80 @@ impl FrfBuilder {
         }
     }
 
+    /// Mean spectra of every record over its periods and the pooled noise covariances of
+    /// those means, on the lines of `frf` (see [`crate::solve::ml`]). Each record is one
+    /// column (one independent excitation). Needs [`Segmentation::Periods`], at least 3
+    /// periods per record, and [`FrfBuilder::keeping_partials`].
+    ///
+    /// With `P` periods, record `r`'s sample covariance of one period's spectra is
+    /// `(Σ_p x_p x_pᴴ − P x̄ x̄ᴴ)/(P − 1)`; that of the mean is `1/P` of it; the records' are
+    /// averaged (the noise is the same in every record).
+    pub(crate) fn ml_data(&self, frf: &Frf) -> Result<crate::solve::ml::MlData> {
+        let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
+        let periods = self.segmentation.starts(plan.len).count();
+        if !matches!(self.segmentation, Segmentation::Periods { .. })
+            || periods < 3
+            || !self.keep_partials
+        {
+            return Err(Error::MlNeedsRepeats);
+        }
+        let (n, nn) = (plan.n, plan.n * plan.n);
+        let p = periods as f64;
+        let records = self.gathered.len();
+        let (mut x, mut f) = (Vec::new(), Vec::new());
+        let (mut cx, mut cf, mut cxf) = (Vec::new(), Vec::new(), Vec::new());
+        let mut freqs = Vec::new();
+        for (l, &k) in plan.lines.iter().enumerate() {
+            let freq = k as f64 * plan.resolution_hz;
+            // The FRF's lines are these very values (same computation): exact lookup.
+            if frf
+                .freqs_hz()
+                .binary_search_by(|u| u.total_cmp(&freq))
+                .is_err()
+            {
+                continue;
+            }
+            freqs.push(freq);
+            let mut xm = Mat::<c64>::zeros(n, records);
+            let mut fm = Mat::<c64>::zeros(n, records);
+            let mut covs = [Mat::<c64>::zeros(n, n), Mat::zeros(n, n), Mat::zeros(n, n)];
+            for (r, g) in self.gathered.iter().enumerate() {
+                let Contribution::Cross {
+                    sff,
+                    sxf,
+                    sxx,
+                    sf,
+                    sx,
+                } = &g.contribution
+                else {
+                    return Err(Error::MlNeedsRepeats);
+                };
+                let (mx, mf) = (&sx[l * n..(l + 1) * n], &sf[l * n..(l + 1) * n]);
+                for i in 0..n {
+                    xm[(i, r)] = mx[i] / p;
+                    fm[(i, r)] = mf[i] / p;
+                }
+                let second = [&sxx, &sff, &sxf];
+                let firsts = [(mx, mx), (mf, mf), (mx, mf)];
+                for ((cov, s2), (a, b)) in covs.iter_mut().zip(second).zip(firsts) {
+                    for j in 0..n {
+                        for i in 0..n {
+                            let centred = s2[l * nn + i + j * n] - a[i] * b[j].conj() / p;
+                            cov[(i, j)] += centred / ((p - 1.0) * p * records as f64);
+                        }
+                    }
+                }
+            }
+            x.push(xm);
+            f.push(fm);
+            let [a, b, c] = covs;
+            cx.push(a);
+            cf.push(b);
+            cxf.push(c);
+        }
+        crate::solve::ml::MlData::new(freqs, &x, &f, &cx, &cf, &cxf)
+    }
+
     /// Number of records pushed.
     pub fn records(&self) -> usize {
         self.gathered.len()
@@ -770,7 +847,13 @@ impl FrfBuilder {
 
     fn merge(&mut self, record: &Record, contribution: Contribution) {
         let contribution = match contribution {
-            Contribution::Cross { sff, sxf, sxx } => {
+            Contribution::Cross {
+                sff,
+                sxf,
+                sxx,
+                sf,
+                sx,
+            } => {
                 for (total, part) in self.sff.iter_mut().zip(&sff) {
                     *total += part;
                 }
@@ -782,13 +865,21 @@ impl FrfBuilder {
                 }
                 self.averages += self.segmentation.starts(record.len()).count();
                 if self.keep_partials {
-                    Contribution::Cross { sff, sxf, sxx }
+                    Contribution::Cross {
+                        sff,
+                        sxf,
+                        sxx,
+                        sf,
+                        sx,
+                    }
                 } else {
                     // Only the totals are kept.
                     Contribution::Cross {
                         sff: Vec::new(),
                         sxf: Vec::new(),
                         sxx: Vec::new(),
+                        sf: Vec::new(),
+                        sx: Vec::new(),
                     }
                 }
             }
@@ -967,7 +1058,7 @@ impl FrfBuilder {
         };
         let mut averages = 0.0;
         for (g, &w) in self.gathered.iter().zip(weights) {
-            if let Contribution::Cross { sff, sxf, sxx } = &g.contribution {
+            if let Contribution::Cross { sff, sxf, sxx, .. } = &g.contribution {
                 if w == 0.0 || sff.is_empty() {
                     continue;
                 }
@@ -1203,8 +1294,16 @@ fn contribute(
             let mut sff = vec![zero; lines.len() * nn];
             let mut sxf = vec![zero; lines.len() * nn];
             let mut sxx = vec![zero; lines.len() * nn];
+            let mut sf = vec![zero; lines.len() * n];
+            let mut sx = vec![zero; lines.len() * n];
             for start in segmentation.starts(record.len()) {
                 transform(start, &mut forces, &mut displacements);
+                for (t, v) in sf.iter_mut().zip(&forces) {
+                    *t += v;
+                }
+                for (t, v) in sx.iter_mut().zip(&displacements) {
+                    *t += v;
+                }
                 for l in 0..lines.len() {
                     let (fl, xl) = (
                         &forces[l * n..(l + 1) * n],
@@ -1225,7 +1324,13 @@ fn contribute(
                     }
                 }
             }
-            Contribution::Cross { sff, sxf, sxx }
+            Contribution::Cross {
+                sff,
+                sxf,
+                sxx,
+                sf,
+                sx,
+            }
         }
     }
 }

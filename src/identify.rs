@@ -13,6 +13,7 @@ use crate::model::{Coefficients, Mode};
 use crate::per_frequency::PerFrequency;
 use crate::quality::ImpactChecks;
 use crate::records::Record;
+use crate::solve::ml::{MlOptions, MlReport};
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
@@ -47,8 +48,9 @@ pub enum Screening {
 pub enum Uncertainty {
     /// No error bars.
     None,
-    /// First-order sandwich covariance from the fit's own residuals (least squares and IVF;
-    /// see [`Fit::std_dev`]). 95 % intervals use the normal quantile 1.96.
+    /// First-order covariance: the sandwich from the fit's own residuals (least squares and IVF;
+    /// see [`Fit::std_dev`]), the inverse Fisher information for [`Method::Ml`] (JSON
+    /// `"fisher"`). 95 % intervals use the normal quantile 1.96.
     #[default]
     Sandwich,
     /// Jackknife over records: the fit is repeated with each paired set (paired sets) or each
@@ -403,6 +405,18 @@ impl Identifier {
 
     fn validate(&self) -> Result<()> {
         Band::new(self.low_hz, self.high_hz)?;
+        if self.method == Method::Ml
+            && matches!(
+                self.uncertainty,
+                Uncertainty::Jackknife | Uncertainty::Bootstrap { .. }
+            )
+        {
+            return Err(Error::InvalidParameter {
+                name: "uncertainty with method ml",
+                value: f64::NAN,
+                expected: "none, sandwich or auto: ml's covariance is the inverse Fisher information",
+            });
+        }
         if let Uncertainty::Bootstrap { replicates, .. } = self.uncertainty {
             if replicates < 20 {
                 return Err(Error::InvalidParameter {
@@ -445,7 +459,7 @@ impl Identifier {
     fn builder(&self) -> FrfBuilder {
         let band = Band::new(self.low_hz, self.high_hz).expect("validated");
         let mut builder = FrfBuilder::new(self.estimator, band, self.segmentation, self.window);
-        if self.uncertainty.resamples() {
+        if self.uncertainty.resamples() || self.method == Method::Ml {
             builder = builder.keeping_partials();
         }
         if let Some(gate) = self.force_gate {
@@ -520,7 +534,40 @@ impl Identifier {
             }
         }
         let conditioning = Conditioning::assess(&frf, self.limits)?;
-        let fit = solve::fit(&frf, self.method, &self.ivf)?;
+        let (fit, ml) = match self.method {
+            Method::Ml => {
+                let data = builder.ok_or(Error::MlNeedsRepeats)?.ml_data(&frf)?;
+                let start = solve::fit(&frf, Method::Ivf, &self.ivf)?;
+                let options = MlOptions {
+                    tolerance: self.ivf.tolerance.min(1e-10),
+                    max_iterations: self.ivf.max_iterations.max(100),
+                };
+                let refined = solve::ml::fit(&data, start.coefficients(), &options)?;
+                let fit = match (&refined.report.fell_back, refined.covariance) {
+                    (None, Some(cov)) => {
+                        let convergence = if refined.report.converged {
+                            Convergence::Converged {
+                                iterations: refined.report.iterations,
+                            }
+                        } else {
+                            Convergence::IterationLimit {
+                                iterations: refined.report.iterations,
+                                change: f64::NAN,
+                            }
+                        };
+                        Fit::refined_by_ml(&start, refined.coefficients, cov, convergence)?
+                    }
+                    (reason, _) => {
+                        warnings.push(Warning::MlFellBack {
+                            reason: reason.clone().unwrap_or_default(),
+                        });
+                        start
+                    }
+                };
+                (fit, Some(refined.report))
+            }
+            method => (solve::fit(&frf, method, &self.ivf)?, None),
+        };
 
         if low_coherence > 0 {
             warnings.push(Warning::LowCoherence {
@@ -577,6 +624,7 @@ impl Identifier {
             _ => 0,
         };
         let uncertainty = match self.uncertainty {
+            Uncertainty::Auto if self.method == Method::Ml => Uncertainty::Sandwich,
             Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
             Uncertainty::Auto => Uncertainty::Sandwich,
             Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } if replicates < 3 => {
@@ -604,6 +652,7 @@ impl Identifier {
             _ => (fit.std_dev().cloned(), t975(0)),
         };
         Ok(Identification {
+            ml,
             band,
             window: self.window,
             segmentation: if builder.is_some() {
@@ -747,6 +796,7 @@ fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
 /// The result of an identification: coefficients and the evidence to defend them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Identification {
+    ml: Option<MlReport>,
     band: Band,
     window: Window,
     segmentation: Segmentation,
@@ -819,6 +869,12 @@ impl Identification {
     /// As [`Coefficients::modes`].
     pub fn modes(&self) -> Result<Vec<Mode>> {
         self.coefficients().modes()
+    }
+
+    /// What the maximum-likelihood loop did (method ml only): iterations, the cost and its
+    /// ratio to the expected value (a goodness-of-fit test), and whether it fell back to IVF.
+    pub fn ml(&self) -> Option<&MlReport> {
+        self.ml.as_ref()
     }
 
     /// The fitting method used.
@@ -1083,7 +1139,12 @@ impl serde::Serialize for Identification {
         m.serialize_entry("M_std", &std.map(|s| rows(s.mass())))?;
         m.serialize_entry("C_std", &std.map(|s| rows(s.damping())))?;
         m.serialize_entry("K_std", &std.map(|s| rows(s.stiffness())))?;
-        m.serialize_entry("uncertainty", self.uncertainty.name())?;
+        let uncertainty = match (self.uncertainty, self.method()) {
+            (Uncertainty::Sandwich, Method::Ml) => "fisher",
+            (u, _) => u.name(),
+        };
+        m.serialize_entry("uncertainty", uncertainty)?;
+        m.serialize_entry("ml", &self.ml)?;
         m.serialize_entry("M_ci95", &ci.as_ref().map(|s| rows(s.mass())))?;
         m.serialize_entry("C_ci95", &ci.as_ref().map(|s| rows(s.damping())))?;
         m.serialize_entry("K_ci95", &ci.as_ref().map(|s| rows(s.stiffness())))?;

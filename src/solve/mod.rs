@@ -20,6 +20,7 @@
 mod direct;
 mod ivf;
 mod ls;
+pub mod ml;
 mod system;
 
 use faer::Mat;
@@ -42,15 +43,19 @@ pub enum Method {
     /// Instrumental-variable filter (seed eqs. 20–21), started from least squares.
     #[default]
     Ivf,
+    /// Maximum likelihood (errors in variables), started from IVF ([`ml`]): needs the noise
+    /// covariances that repeated periods give ([`crate::Segmentation::Periods`]).
+    Ml,
 }
 
 impl Method {
-    /// Short name: `"direct"`, `"ls"` or `"ivf"`.
+    /// Short name: `"direct"`, `"ls"`, `"ivf"` or `"ml"`.
     pub fn name(self) -> &'static str {
         match self {
             Method::Direct => "direct",
             Method::LeastSquares => "ls",
             Method::Ivf => "ivf",
+            Method::Ml => "ml",
         }
     }
 }
@@ -240,6 +245,26 @@ impl Fit {
         self.std_dev.as_ref()
     }
 
+    /// The maximum-likelihood refinement of an IVF `start`: its coefficients and covariances,
+    /// IVF's history and residual, and `convergence` of the likelihood loop.
+    pub(crate) fn refined_by_ml(
+        start: &Fit,
+        coefficients: Coefficients,
+        covariance: Vec<Mat<f64>>,
+        convergence: Convergence,
+    ) -> Result<Fit> {
+        Ok(Fit {
+            method: Method::Ml,
+            coefficients,
+            residual_norm: start.residual_norm,
+            convergence,
+            history: start.history.clone(),
+            std_dev: Some(std_from(&covariance)?),
+            covariance: Some(covariance),
+            direct: None,
+        })
+    }
+
     /// The per-element `r²` of a direct fit.
     pub fn direct(&self) -> Option<&DirectFit> {
         self.direct.as_ref()
@@ -257,6 +282,7 @@ pub fn fit(frf: &Frf, method: Method, options: &IvfOptions) -> Result<Fit> {
         Method::Direct => direct::fit(frf),
         Method::LeastSquares => ls::fit(frf),
         Method::Ivf => ivf::fit(frf, options),
+        Method::Ml => Err(crate::Error::MlNeedsRepeats),
     }
 }
 

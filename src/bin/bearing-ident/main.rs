@@ -45,6 +45,8 @@ enum MethodArg {
     Direct,
     Ls,
     Ivf,
+    /// Maximum likelihood from IVF; needs `--excitation periodic` (noise from the periods).
+    Ml,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
@@ -437,6 +439,7 @@ fn settings(
         MethodArg::Direct => Method::Direct,
         MethodArg::Ls => Method::LeastSquares,
         MethodArg::Ivf => Method::Ivf,
+        MethodArg::Ml => Method::Ml,
     };
     let mut identifier = Identifier::new(lo, hi)
         .method(method)

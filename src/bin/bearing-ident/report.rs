@@ -204,7 +204,10 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     let _ = writeln!(
         out,
         "Coefficients (± one standard deviation, {})",
-        id.uncertainty().name()
+        match (id.uncertainty(), id.method()) {
+            (bearing_ident::Uncertainty::Sandwich, bearing_ident::Method::Ml) => "inverse Fisher",
+            (u, _) => u.name(),
+        }
     );
     coefficient_lines(&mut out, &axes, co, id.std_dev(), truth);
     let _ = writeln!(out);
@@ -240,6 +243,19 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         id.residual_norm(),
         c.compute_ms
     );
+    if let Some(ml) = id.ml() {
+        let _ = writeln!(
+            out,
+            "  maximum likelihood: {} steps, cost {:.4e} (IVF start {:.4e}), cost / expected {:.3}{}",
+            ml.iterations,
+            ml.cost,
+            ml.start_cost,
+            ml.cost_ratio,
+            ml.fell_back
+                .as_ref()
+                .map_or(String::new(), |r| format!("; kept IVF: {r}"))
+        );
+    }
     if let Some(c) = id.coherence_min() {
         let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
     }

@@ -1,0 +1,695 @@
+//! Maximum likelihood (errors in variables), started from IVF, and the Cramér–Rao bound.
+//!
+//! Per line `k` and independent excitation (column) `j` the data are the mean spectra
+//! `x̄_kj`, `f̄_kj` (`n`-vectors) with the noise covariances of those means, `C_X`, `C_F` and
+//! `C_XF = E[δx δfᴴ]` (`n × n`, the same for every column of a line). The equation error
+//! `e_kj = H(ω_k; Θ) x̄_kj − f̄_kj` then has covariance
+//!
+//! $$\Sigma_k(\Theta) = H C_X H^H + C_F - H C_{XF} - C_{XF}^H H^H,$$
+//!
+//! and the negative log-likelihood (up to constants) is the cost
+//!
+//! $$V(\Theta) = \sum_k \sum_j e_{kj}^H \,\Sigma_k^{-1} e_{kj}.$$
+//!
+//! With `u = Σ⁻¹e`, `w = C_X Hᴴu − C_XF u` and `∂H/∂θ = c E_ab` (`c = −ω², iω, 1` for an element
+//! `ab` of `M`, `C`, `K`), its gradient is exact and cheap,
+//! $\partial V/\partial\theta = 2\,\mathrm{Re}\big(\bar c\, u_a\, \overline{(x_b - w_b)}\big)$
+//! summed over lines and columns, and its Gauss–Newton Hessian is the Fisher information
+//! $F_{pq} = 2\,\mathrm{Re}\sum (\partial e/\partial\theta_p)^H \Sigma^{-1} (\partial e/\partial\theta_q)$.
+//! Levenberg–Marquardt steps `(F + λ diag F) δ = −∇V` (Marquardt's scaling makes the step
+//! independent of the units of `M`, `C`, `K`, as the column scaling of ls and IVF does) are
+//! accepted only when they lower `V`, so the result never costs more than the IVF start. The
+//! covariance of the estimate is `F⁻¹` at the solution; evaluated at the true system with
+//! noise-free spectra, `F⁻¹` is the Cramér–Rao lower bound ([`crlb`]).
+//!
+//! A small loop written out here, rather than a general optimisation crate: the problem has
+//! 3n² parameters, an exact gradient and a Fisher matrix assembled line by line from `n × n`
+//! blocks, and the one 3n² × 3n² solve per step goes through faer's LU — nothing to copy in or
+//! out of another crate's matrix types.
+
+use faer::linalg::solvers::Solve;
+use faer::{Mat, c64};
+
+use crate::error::{Error, Result};
+use crate::linalg::Inverter;
+use crate::model::Coefficients;
+
+/// Mean spectra and their noise covariances per line: what the maximum-likelihood fit and the
+/// Cramér–Rao bound need. Build with [`MlData::new`] (your own), [`MlData::planned`] (for test
+/// planning) or from periodic records through [`crate::Identifier`] with
+/// [`crate::Segmentation::Periods`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct MlData {
+    n: usize,
+    columns: usize,
+    freqs_hz: Vec<f64>,
+    /// `[line][column][i]`.
+    x: Vec<c64>,
+    f: Vec<c64>,
+    /// `[line][n × n]`, column-major.
+    cx: Vec<c64>,
+    cf: Vec<c64>,
+    cxf: Vec<c64>,
+}
+
+impl MlData {
+    /// From per-line data: `x[k]`, `f[k]` are `n × J` (column `j` = excitation `j`'s mean
+    /// displacement and force spectra), `cx[k]`, `cf[k]`, `cxf[k]` the `n × n` noise
+    /// covariances of one column's means.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for empty data, mismatched sizes, fewer columns than
+    /// degrees of freedom, a frequency that is not finite and positive, or non-finite entries.
+    pub fn new(
+        freqs_hz: Vec<f64>,
+        x: &[Mat<c64>],
+        f: &[Mat<c64>],
+        cx: &[Mat<c64>],
+        cf: &[Mat<c64>],
+        cxf: &[Mat<c64>],
+    ) -> Result<Self> {
+        let bad = |name, value: f64, expected| Error::InvalidParameter {
+            name,
+            value,
+            expected,
+        };
+        let lines = freqs_hz.len();
+        if lines == 0 || [x.len(), f.len(), cx.len(), cf.len(), cxf.len()] != [lines; 5] {
+            return Err(bad(
+                "ml data lines",
+                lines as f64,
+                "one x, f, C_X, C_F, C_XF per frequency, at least one line",
+            ));
+        }
+        let (n, columns) = (x[0].nrows(), x[0].ncols());
+        if n == 0 || columns < n {
+            return Err(bad(
+                "ml data columns",
+                columns as f64,
+                "at least as many excitations as degrees of freedom",
+            ));
+        }
+        let mut data = Self {
+            n,
+            columns,
+            freqs_hz,
+            x: Vec::with_capacity(lines * columns * n),
+            f: Vec::with_capacity(lines * columns * n),
+            cx: Vec::with_capacity(lines * n * n),
+            cf: Vec::with_capacity(lines * n * n),
+            cxf: Vec::with_capacity(lines * n * n),
+        };
+        for k in 0..lines {
+            let w = data.freqs_hz[k];
+            if !(w.is_finite() && w > 0.0) {
+                return Err(bad("frequency", w, "finite and positive (Hz)"));
+            }
+            let shapes_ok = [&x[k], &f[k]]
+                .iter()
+                .all(|m| m.nrows() == n && m.ncols() == columns)
+                && [&cx[k], &cf[k], &cxf[k]]
+                    .iter()
+                    .all(|m| m.nrows() == n && m.ncols() == n);
+            if !shapes_ok {
+                return Err(bad(
+                    "ml data shape",
+                    k as f64,
+                    "x, f n × J and covariances n × n on every line",
+                ));
+            }
+            for (dst, m) in [(&mut data.x, &x[k]), (&mut data.f, &f[k])] {
+                for j in 0..columns {
+                    dst.extend((0..n).map(|i| m[(i, j)]));
+                }
+            }
+            for (dst, m) in [
+                (&mut data.cx, &cx[k]),
+                (&mut data.cf, &cf[k]),
+                (&mut data.cxf, &cxf[k]),
+            ] {
+                for j in 0..n {
+                    dst.extend((0..n).map(|i| m[(i, j)]));
+                }
+            }
+        }
+        let finite = |v: &[c64]| v.iter().all(|z| z.re.is_finite() && z.im.is_finite());
+        if ![&data.x, &data.f, &data.cx, &data.cf, &data.cxf]
+            .iter()
+            .all(|v| finite(v))
+        {
+            return Err(bad("ml data", f64::NAN, "finite entries"));
+        }
+        Ok(data)
+    }
+
+    /// Data for planning a test: the displacements `x = G(ω) f` of `system` under the force
+    /// spectra `forces[k]` (`n × J`, one column per excitation), with white noise of spectral
+    /// variance `force_var` on every force line and `disp_var` on every displacement line (the
+    /// variance of a mean over `P` periods of `N` samples of white noise with standard deviation
+    /// `σ`, sampled `Δt` apart, is `σ² N Δt² / P` in this crate's DFT scaling).
+    ///
+    /// # Errors
+    /// As [`MlData::new`]; [`Error::Singular`] if `H(ω)` is singular at a line.
+    pub fn planned(
+        system: &Coefficients,
+        freqs_hz: Vec<f64>,
+        forces: &[Mat<c64>],
+        force_var: f64,
+        disp_var: f64,
+    ) -> Result<Self> {
+        let n = system.dofs();
+        let x = freqs_hz
+            .iter()
+            .zip(forces)
+            .map(|(&f, force)| Ok(system.flexibility_at(f)? * force))
+            .collect::<Result<Vec<_>>>()?;
+        let lines = freqs_hz.len();
+        let diag = |v: f64| Mat::from_fn(n, n, |i, j| c64::new(if i == j { v } else { 0.0 }, 0.0));
+        Self::new(
+            freqs_hz,
+            &x,
+            forces,
+            &vec![diag(disp_var); lines],
+            &vec![diag(force_var); lines],
+            &vec![Mat::zeros(n, n); lines],
+        )
+    }
+
+    /// Number of degrees of freedom.
+    pub fn dofs(&self) -> usize {
+        self.n
+    }
+
+    /// Frequencies of the lines (Hz).
+    pub fn freqs_hz(&self) -> &[f64] {
+        &self.freqs_hz
+    }
+
+    /// Independent excitations (columns) per line.
+    pub fn columns(&self) -> usize {
+        self.columns
+    }
+
+    /// The cost expected at the minimum if the model and the noise covariances are right:
+    /// one per complex residual less half a parameter each, `L·J·n − 3n²/2`.
+    pub fn expected_cost(&self) -> f64 {
+        let n = self.n as f64;
+        (self.freqs_hz.len() * self.columns * self.n) as f64 - 1.5 * n * n
+    }
+}
+
+/// Settings of the Levenberg–Marquardt loop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MlOptions {
+    /// Stop when a step changes every block `M`, `C`, `K` by less than this (relative,
+    /// Frobenius), as IVF does. Default `1e-10`.
+    pub tolerance: f64,
+    /// Most steps tried (accepted or not). Default 100.
+    pub max_iterations: usize,
+}
+
+impl Default for MlOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            max_iterations: 100,
+        }
+    }
+}
+
+/// What the maximum-likelihood loop did.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct MlReport {
+    /// Steps tried.
+    pub iterations: usize,
+    /// Whether the tolerance was met.
+    pub converged: bool,
+    /// Cost `V` at the IVF start.
+    pub start_cost: f64,
+    /// Cost `V` at the result.
+    pub cost: f64,
+    /// `cost / expected cost` ([`MlData::expected_cost`]): about 1 when the model and the
+    /// noise covariances fit the data, whatever the size of the coefficients — a
+    /// goodness-of-fit test that, unlike `r²`, works for near-zero elements too. Sample
+    /// covariances from few repeats inflate it somewhat.
+    pub cost_ratio: f64,
+    /// Why the IVF start was kept, if it was (the result then is IVF's).
+    pub fell_back: Option<String>,
+}
+
+/// Per-parameter factors `c` of `∂H/∂θ = c E_ab`: `−ω²` (M), `iω` (C), `1` (K).
+fn factors(w: f64) -> [c64; 3] {
+    [c64::new(-w * w, 0.0), c64::new(0.0, w), c64::new(1.0, 0.0)]
+}
+
+/// Parameter `p = t·n² + a·n + b`: block `t` (M, C, K), element `(a, b)`.
+fn to_params(c: &Coefficients) -> Vec<f64> {
+    let n = c.dofs();
+    let mut out = Vec::with_capacity(3 * n * n);
+    for block in [c.mass(), c.damping(), c.stiffness()] {
+        for a in 0..n {
+            out.extend((0..n).map(|b| block[(a, b)]));
+        }
+    }
+    out
+}
+
+fn from_params(theta: &[f64], n: usize) -> Result<Coefficients> {
+    let block = |t: usize| Mat::from_fn(n, n, |a, b| theta[t * n * n + a * n + b]);
+    Coefficients::new(block(0), block(1), block(2))
+}
+
+/// Cost, gradient and Fisher information at `theta`; `None` if some `Σ_k` is singular or a
+/// value is not finite.
+struct Evaluation {
+    cost: f64,
+    gradient: Vec<f64>,
+    fisher: Mat<f64>,
+}
+
+// Index loops over the n × n blocks read as the formulas in the module docs.
+#[allow(clippy::needless_range_loop)]
+fn evaluate(data: &MlData, theta: &[f64], x_override: Option<&[c64]>) -> Option<Evaluation> {
+    let n = data.n;
+    let nn = n * n;
+    let p = 3 * nn;
+    let xs = x_override.unwrap_or(&data.x);
+    let zero = c64::new(0.0, 0.0);
+    let mut cost = 0.0;
+    let mut gradient = vec![0.0; p];
+    let mut fisher = Mat::<f64>::zeros(p, p);
+    let mut inverter = Inverter::new(n);
+    let (mut h, mut sigma, mut tmp) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+    let (mut e, mut u, mut v, mut wv) =
+        (vec![zero; n], vec![zero; n], vec![zero; n], vec![zero; n]);
+    for (k, &f_hz) in data.freqs_hz.iter().enumerate() {
+        let w = 2.0 * std::f64::consts::PI * f_hz;
+        let c = factors(w);
+        for b in 0..n {
+            for a in 0..n {
+                h[a + b * n] = c[0] * theta[a * n + b]
+                    + c[1] * theta[nn + a * n + b]
+                    + c[2] * theta[2 * nn + a * n + b];
+            }
+        }
+        let (cx, cf, cxf) = (
+            &data.cx[k * nn..(k + 1) * nn],
+            &data.cf[k * nn..(k + 1) * nn],
+            &data.cxf[k * nn..(k + 1) * nn],
+        );
+        // Σ = H C_X Hᴴ + C_F − H C_XF − C_XFᴴ Hᴴ.
+        for j in 0..n {
+            for i in 0..n {
+                let mut s = cf[i + j * n];
+                for a in 0..n {
+                    let mut hcx = zero;
+                    for b in 0..n {
+                        hcx += h[i + b * n] * cx[b + a * n];
+                    }
+                    s += hcx * h[j + a * n].conj();
+                    s -= h[i + a * n] * cxf[a + j * n];
+                    s -= cxf[a + i * n].conj() * h[j + a * n].conj();
+                }
+                sigma[i + j * n] = s;
+            }
+        }
+        tmp.copy_from_slice(&sigma);
+        if !inverter.invert(&mut tmp) {
+            return None;
+        }
+        let s_inv = &tmp;
+        for col in 0..data.columns {
+            let base = (k * data.columns + col) * n;
+            let (x, f) = (&xs[base..base + n], &data.f[base..base + n]);
+            for i in 0..n {
+                e[i] = (0..n).map(|b| h[i + b * n] * x[b]).sum::<c64>() - f[i];
+            }
+            for i in 0..n {
+                u[i] = (0..n).map(|b| s_inv[i + b * n] * e[b]).sum();
+            }
+            cost += (0..n).map(|i| (e[i].conj() * u[i]).re).sum::<f64>();
+            // v = Hᴴ u; w = C_X v − C_XF u.
+            for i in 0..n {
+                v[i] = (0..n).map(|a| h[a + i * n].conj() * u[a]).sum();
+            }
+            for i in 0..n {
+                wv[i] = (0..n)
+                    .map(|b| cx[i + b * n] * v[b] - cxf[i + b * n] * u[b])
+                    .sum();
+            }
+            for (t, ct) in c.iter().enumerate() {
+                for a in 0..n {
+                    for b in 0..n {
+                        let q = t * nn + a * n + b;
+                        gradient[q] += 2.0 * (ct.conj() * u[a] * (x[b] - wv[b]).conj()).re;
+                    }
+                }
+            }
+            // F_pq = 2 Re(conj(c_t x_b) S_{a a'} c_t' x_b').
+            for (t, ct) in c.iter().enumerate() {
+                for a in 0..n {
+                    for b in 0..n {
+                        let row = t * nn + a * n + b;
+                        let left = (*ct * x[b]).conj();
+                        for (t2, ct2) in c.iter().enumerate() {
+                            for a2 in 0..n {
+                                let ls = left * s_inv[a + a2 * n];
+                                for b2 in 0..n {
+                                    let col2 = t2 * nn + a2 * n + b2;
+                                    fisher[(row, col2)] += 2.0 * (ls * *ct2 * x[b2]).re;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (cost.is_finite() && gradient.iter().all(|g| g.is_finite())).then_some(Evaluation {
+        cost,
+        gradient,
+        fisher,
+    })
+}
+
+/// `F⁻¹` as per-column covariances of the stacked `Θ = [M; C; K]` (`3n × 3n` each), as
+/// [`super::Fit::covariance`] holds them; `None` if `F` is singular.
+fn column_covariances(fisher: &Mat<f64>, n: usize) -> Option<Vec<Mat<f64>>> {
+    let p = fisher.nrows();
+    let inv = fisher.partial_piv_lu().solve(Mat::<f64>::identity(p, p));
+    if !(0..p).all(|i| inv[(i, i)].is_finite() && inv[(i, i)] >= 0.0) {
+        return None;
+    }
+    let nn = n * n;
+    // Stacked row r = t·n + a of column b ↔ parameter t·n² + a·n + b.
+    let param = |r: usize, b: usize| (r / n) * nn + (r % n) * n + b;
+    Some(
+        (0..n)
+            .map(|b| Mat::from_fn(3 * n, 3 * n, |r, s| inv[(param(r, b), param(s, b))]))
+            .collect(),
+    )
+}
+
+/// Standard deviations from per-column covariances.
+fn std_dev(cov: &[Mat<f64>]) -> Result<Coefficients> {
+    let n = cov.len();
+    let stacked = Mat::from_fn(3 * n, n, |r, b| cov[b][(r, r)].max(0.0).sqrt());
+    Coefficients::from_stacked(stacked.as_ref())
+}
+
+/// The Cramér–Rao lower bound on the standard deviations of every coefficient of `system`
+/// measured with `data`'s excitation and noise: `√diag(F⁻¹)` with the Fisher information
+/// evaluated at the true system on noise-free displacements `x = G f̄`. No unbiased estimator
+/// does better; [`fit`] reaches it.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] if `system` and `data` differ in size; [`Error::Singular`] if
+/// the Fisher information or some `Σ_k` is singular (the data cannot determine every
+/// coefficient, or carry no noise).
+///
+/// # Examples
+/// How many impacts for ±1 % on `C_xx`? The bound falls as one over the square root of the
+/// repeats: plan with one set, scale.
+/// ```
+/// use bearing_ident::simulate::seed_rig;
+/// use bearing_ident::solve::ml::{MlData, crlb};
+/// use faer::{Mat, c64};
+/// let rig = seed_rig();
+/// let freqs: Vec<f64> = (10..=48).map(f64::from).collect();
+/// // One hit per direction, 0.64 N·s per line (a 500 N, 2 ms half-sine); noise spectral
+/// // variances of 1e-4 (N·s)² and 1e-16 (m·s)².
+/// let hits = vec![Mat::from_fn(2, 2, |i, j| c64::new(if i == j { 0.64 } else { 0.0 }, 0.0)); freqs.len()];
+/// let one = crlb(&rig, &MlData::planned(&rig, freqs.clone(), &hits, 1e-4, 1e-16)?)?;
+/// let sigma_c = one.damping()[(0, 0)];
+/// let sets_needed = (sigma_c / (0.01 * 131.98)).powi(2).ceil();
+/// assert!(sets_needed >= 1.0);
+/// // Four sets: half the bound.
+/// let four = crlb(&rig, &MlData::planned(&rig, freqs, &hits, 1e-4 / 4.0, 1e-16 / 4.0)?)?;
+/// assert!((four.damping()[(0, 0)] / sigma_c - 0.5).abs() < 1e-9);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn crlb(system: &Coefficients, data: &MlData) -> Result<Coefficients> {
+    let n = data.n;
+    if system.dofs() != n {
+        return Err(Error::InvalidParameter {
+            name: "system size",
+            value: system.dofs() as f64,
+            expected: "the data's degrees of freedom",
+        });
+    }
+    let mut x0 = vec![c64::new(0.0, 0.0); data.x.len()];
+    for (k, &f) in data.freqs_hz.iter().enumerate() {
+        let g = system.flexibility_at(f)?;
+        for col in 0..data.columns {
+            let base = (k * data.columns + col) * n;
+            for i in 0..n {
+                x0[base + i] = (0..n).map(|b| g[(i, b)] * data.f[base + b]).sum();
+            }
+        }
+    }
+    let eval = evaluate(data, &to_params(system), Some(&x0)).ok_or(Error::Singular {
+        what: "noise covariance Σ (noise-free data?)",
+    })?;
+    let cov = column_covariances(&eval.fisher, n).ok_or(Error::Singular {
+        what: "Fisher information",
+    })?;
+    std_dev(&cov)
+}
+
+/// The outcome of [`fit`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct MlFit {
+    /// The coefficients (the start's if the loop fell back).
+    pub coefficients: Coefficients,
+    /// Per-column covariances of `Θ = [M; C; K]` from `F⁻¹` (`None` after a fall-back).
+    pub covariance: Option<Vec<Mat<f64>>>,
+    /// What the loop did.
+    pub report: MlReport,
+}
+
+/// Maximum-likelihood coefficients from `data`, by Levenberg–Marquardt from `start` (IVF's
+/// result). Never returns a cost above the start's: if the start cannot be evaluated (a
+/// singular `Σ_k`, e.g. noise-free data) or no step lowers the cost, the start is returned
+/// with [`MlReport::fell_back`] saying why.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] if `start` and `data` differ in size.
+pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<MlFit> {
+    let n = data.n;
+    if start.dofs() != n {
+        return Err(Error::InvalidParameter {
+            name: "start size",
+            value: start.dofs() as f64,
+            expected: "the data's degrees of freedom",
+        });
+    }
+    let fall_back = |reason: &str, start_cost: f64, iterations: usize| MlFit {
+        coefficients: start.clone(),
+        covariance: None,
+        report: MlReport {
+            iterations,
+            converged: false,
+            start_cost,
+            cost: start_cost,
+            cost_ratio: start_cost / data.expected_cost(),
+            fell_back: Some(reason.to_owned()),
+        },
+    };
+    let mut theta = to_params(start);
+    let Some(mut current) = evaluate(data, &theta, None) else {
+        return Ok(fall_back(
+            "the noise covariance Σ is singular at the start (noise-free or too few repeats)",
+            f64::NAN,
+            0,
+        ));
+    };
+    let start_cost = current.cost;
+    let p = theta.len();
+    let mut lambda = 1e-3;
+    let (mut iterations, mut converged) = (0, false);
+    while iterations < options.max_iterations {
+        iterations += 1;
+        let mut a = current.fisher.clone();
+        for i in 0..p {
+            a[(i, i)] += lambda * current.fisher[(i, i)].max(f64::MIN_POSITIVE);
+        }
+        let rhs = Mat::from_fn(p, 1, |i, _| -current.gradient[i]);
+        let step = a.partial_piv_lu().solve(rhs);
+        let trial: Vec<f64> = (0..p).map(|i| theta[i] + step[(i, 0)]).collect();
+        match evaluate(data, &trial, None) {
+            Some(next) if next.cost <= current.cost => {
+                let change = block_change(&trial, &theta, n);
+                theta = trial;
+                current = next;
+                lambda = (lambda / 10.0).max(1e-12);
+                if change < options.tolerance {
+                    converged = true;
+                    break;
+                }
+            }
+            _ => {
+                lambda *= 10.0;
+                if lambda > 1e12 {
+                    // No step lowers the cost: the current point is a minimum to rounding.
+                    converged = true;
+                    break;
+                }
+            }
+        }
+    }
+    let coefficients = from_params(&theta, n)?;
+    let covariance = column_covariances(&current.fisher, n);
+    if covariance.is_none() {
+        return Ok(fall_back(
+            "the Fisher information is singular at the result",
+            start_cost,
+            iterations,
+        ));
+    }
+    Ok(MlFit {
+        coefficients,
+        covariance,
+        report: MlReport {
+            iterations,
+            converged,
+            start_cost,
+            cost: current.cost,
+            cost_ratio: current.cost / data.expected_cost(),
+            fell_back: None,
+        },
+    })
+}
+
+/// Largest block-wise relative change `‖ΔB‖/‖B‖` over `M`, `C`, `K`.
+fn block_change(new: &[f64], old: &[f64], n: usize) -> f64 {
+    let nn = n * n;
+    (0..3)
+        .map(|t| {
+            let r = t * nn..(t + 1) * nn;
+            let d: f64 = new[r.clone()]
+                .iter()
+                .zip(&old[r.clone()])
+                .map(|(a, b)| (a - b).powi(2))
+                .sum();
+            let s: f64 = new[r].iter().map(|a| a * a).sum();
+            (d / s.max(f64::MIN_POSITIVE)).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::seed_rig;
+
+    /// The analytic gradient against central differences of the cost.
+    #[test]
+    fn gradient_matches_finite_differences() {
+        let rig = seed_rig();
+        let freqs: Vec<f64> = vec![12.0, 25.0, 31.0, 44.0];
+        let forces: Vec<Mat<c64>> = freqs
+            .iter()
+            .map(|&f| {
+                Mat::from_fn(2, 3, |i, j| {
+                    c64::new(1.0 + (i + 2 * j) as f64 * 0.3, f * 0.01 * j as f64)
+                })
+            })
+            .collect();
+        let mut data = MlData::planned(&rig, freqs, &forces, 1e-3, 1e-13).unwrap();
+        // A correlated C_XF and unequal variances, to exercise every term.
+        for k in 0..data.freqs_hz.len() {
+            data.cxf[k * 4] = c64::new(2e-9, 1e-9);
+            data.cx[k * 4 + 3] = c64::new(3e-13, 0.0);
+        }
+        let mut theta = to_params(&rig);
+        for (i, t) in theta.iter_mut().enumerate() {
+            *t *= 1.0 + 0.01 * (i as f64 - 5.0);
+        }
+        let e = evaluate(&data, &theta, None).unwrap();
+        for q in 0..theta.len() {
+            let h = 1e-6 * theta[q].abs().max(1e-3);
+            let (mut up, mut down) = (theta.clone(), theta.clone());
+            up[q] += h;
+            down[q] -= h;
+            let fd = (evaluate(&data, &up, None).unwrap().cost
+                - evaluate(&data, &down, None).unwrap().cost)
+                / (2.0 * h);
+            let scale = e.gradient.iter().map(|g| g.abs()).fold(0.0, f64::max);
+            assert!(
+                (fd - e.gradient[q]).abs() < 1e-6 * scale,
+                "param {q}: {fd} vs {}",
+                e.gradient[q]
+            );
+        }
+    }
+
+    /// At the truth with exact displacements the residuals vanish, so the Hessian of the cost
+    /// is exactly the Fisher matrix: check it against differences of the analytic gradient.
+    #[test]
+    fn fisher_is_the_hessian_at_the_truth() {
+        let rig = seed_rig();
+        let freqs: Vec<f64> = vec![9.0, 22.0, 30.0, 47.0];
+        let forces = vec![Mat::<c64>::identity(2, 2); freqs.len()];
+        let data = MlData::planned(&rig, freqs, &forces, 1e-3, 1e-13).unwrap();
+        let theta = to_params(&rig);
+        let e = evaluate(&data, &theta, None).unwrap();
+        assert!(e.cost < 1e-20);
+        for q in 0..theta.len() {
+            let h = 1e-6 * theta[q].abs().max(1e-3);
+            let (mut up, mut down) = (theta.clone(), theta.clone());
+            up[q] += h;
+            down[q] -= h;
+            let (gu, gd) = (
+                evaluate(&data, &up, None).unwrap().gradient,
+                evaluate(&data, &down, None).unwrap().gradient,
+            );
+            for p in 0..theta.len() {
+                let fd = (gu[p] - gd[p]) / (2.0 * h);
+                let scale = (e.fisher[(p, p)] * e.fisher[(q, q)]).sqrt();
+                assert!((fd - e.fisher[(p, q)]).abs() < 1e-5 * scale, "({p}, {q})");
+            }
+        }
+    }
+
+    /// From a start far off (M × 1.5, C × 0.5, K × 1.2) the loop finds the truth, and the
+    /// cost never rises; with no steps allowed it returns the start.
+    #[test]
+    fn far_start_converges_and_cost_never_rises() {
+        let rig = seed_rig();
+        let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+        let forces = vec![Mat::<c64>::identity(2, 2); freqs.len()];
+        let data = MlData::planned(&rig, freqs, &forces, 1e-3, 1e-13).unwrap();
+        let start = Coefficients::new(
+            rig.mass() * faer::Scale(1.5),
+            rig.damping() * faer::Scale(0.5),
+            rig.stiffness() * faer::Scale(1.2),
+        )
+        .unwrap();
+        let out = fit(&data, &start, &MlOptions::default()).unwrap();
+        assert!(out.report.converged && out.report.fell_back.is_none());
+        assert!(out.report.cost <= out.report.start_cost);
+        let err =
+            (out.coefficients.stiffness() - rig.stiffness()).norm_l2() / rig.stiffness().norm_l2();
+        assert!(err < 1e-8, "{err}");
+        let none = MlOptions {
+            max_iterations: 0,
+            ..MlOptions::default()
+        };
+        let kept = fit(&data, &start, &none).unwrap();
+        assert_eq!(kept.coefficients, start);
+        assert!(kept.report.cost.to_bits() == kept.report.start_cost.to_bits());
+    }
+
+    #[test]
+    fn noise_free_data_fall_back_cleanly() {
+        let rig = seed_rig();
+        let freqs: Vec<f64> = (10..=20).map(f64::from).collect();
+        let forces = vec![Mat::<c64>::identity(2, 2); freqs.len()];
+        let data = MlData::planned(&rig, freqs, &forces, 0.0, 0.0).unwrap();
+        let out = fit(&data, &rig, &MlOptions::default()).unwrap();
+        assert!(out.report.fell_back.is_some());
+        assert_eq!(out.coefficients, rig);
+        assert!(crlb(&rig, &data).is_err());
+    }
+}
