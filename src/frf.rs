@@ -417,6 +417,19 @@ impl Frf {
     ///   (`h_j` column `j` of `H`); needs more averages `n_d` than degrees of freedom. Welch
     ///   segments overlap and are not independent, so with Hann and 50 % overlap this is
     ///   somewhat optimistic.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 4, noise: 0.1, ..ImpactTest::seed_rig() };
+    /// let id = Identifier::new(8.0, 49.0).identify(&test.run(&seed_rig())?)?;
+    /// // Four sets: the scatter of their impedances gives a variance on every line.
+    /// let v = id.frf().impedance_variance(20).unwrap();
+    /// let h = id.frf().impedance(20)[(0, 0)].norm();
+    /// assert!(v[(0, 0)] > 0.0 && v[(0, 0)].sqrt() < 0.1 * h);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
     pub fn impedance_variance(&self, k: usize) -> Option<MatRef<'_, f64>> {
         let nn = self.dofs * self.dofs;
         self.impedance_variance

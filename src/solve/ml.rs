@@ -475,6 +475,25 @@ pub struct MlFit {
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] if `start` and `data` differ in size.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::simulate::seed_rig;
+/// use bearing_ident::solve::ml::{MlData, MlOptions, fit};
+/// use bearing_ident::Coefficients;
+/// use faer::{Mat, Scale, c64};
+/// let rig = seed_rig();
+/// let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+/// let forces = vec![Mat::<c64>::identity(2, 2); freqs.len()];
+/// let data = MlData::planned(&rig, freqs, &forces, 1e-3, 1e-13)?;
+/// // Start 10 % off in K: the likelihood pulls it back to the system that produced the data.
+/// let start = Coefficients::new(rig.mass().to_owned(), rig.damping().to_owned(),
+///     rig.stiffness() * Scale(1.1))?;
+/// let out = fit(&data, &start, &MlOptions::default())?;
+/// assert!(out.report.cost < 1e-12 * out.report.start_cost);
+/// assert!((out.coefficients.stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-9);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
 pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<MlFit> {
     let n = data.n;
     if start.dofs() != n {
