@@ -312,6 +312,15 @@ pub enum Error {
         /// Grid step (s).
         step_s: f64,
     },
+    /// A figure could not be drawn (feature `plot`).
+    #[error("figure `{figure}`: {message}")]
+    Plot {
+        /// The figure: `"flexibility"`, `"impedance"`, `"coherence"`, `"per_frequency"`,
+        /// `"records"` or `"convergence"`.
+        figure: &'static str,
+        /// What the drawing library said.
+        message: String,
+    },
     /// A matrix decomposition from faer did not converge.
     #[error("the {what} decomposition did not converge")]
     Decomposition {
@@ -525,6 +534,7 @@ impl Error {
                 "singular"
             }
             Error::BaselineMismatch { .. } => "baseline_mismatch",
+            Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
@@ -606,6 +616,16 @@ mod tests {
             w.to_string(),
             "record `hit-y-3` rejected: force channel 1 clipped"
         );
+    }
+
+    #[test]
+    fn plot_errors_name_the_figure() {
+        let e = Error::Plot {
+            figure: "impedance",
+            message: "disk full".into(),
+        };
+        assert_eq!(e.kind(), "plot_error");
+        assert_eq!(e.to_string(), "figure `impedance`: disk full");
     }
 
     #[test]
