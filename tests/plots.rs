@@ -59,7 +59,10 @@ fn series(svg: &str) -> Vec<String> {
     root.descendants()
         .filter(|n| n.tag_name().name() == "g" && n.attribute("class") == Some("series"))
         .map(|g| {
-            let name = g.attribute("data-series").expect("named series").to_string();
+            let name = g
+                .attribute("data-series")
+                .expect("named series")
+                .to_string();
             let drawn = g.children().filter(|c| c.is_element()).any(|c| {
                 matches!(
                     c.tag_name().name(),
@@ -212,7 +215,8 @@ fn record_figure_marks_impacts_gate_window_and_issues() {
         .window(Window::exponential_to(0.05, 1.2))
         .identify(&records)
         .unwrap();
-    let found = series(&plot::records(&records, Some(&id), None, &FigureOptions::default()).unwrap());
+    let found =
+        series(&plot::records(&records, Some(&id), None, &FigureOptions::default()).unwrap());
     assert_eq!(found.len(), records.len() * (2 * 2 + 1 + 1 + 2));
     assert!(found.contains(&format!("{} force gate", records[0].label())));
     // A bounce 30 ms after the hit is marked as a double hit.
@@ -281,8 +285,14 @@ fn report_embeds_and_links_every_figure() {
         let file = dir.path().join(format!("{stem}.svg"));
         let svg = std::fs::read_to_string(&file).unwrap();
         assert!(!series(&svg).is_empty() || stem == "convergence");
-        assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem} not linked");
-        assert!(html.contains(&format!("id=\"fig-{stem}\"")), "{stem} no anchor");
+        assert!(
+            html.contains(&format!("href=\"{stem}.svg\"")),
+            "{stem} not linked"
+        );
+        assert!(
+            html.contains(&format!("id=\"fig-{stem}\"")),
+            "{stem} no anchor"
+        );
         // Embedded as it is in the file.
         assert!(html.contains(svg.trim_end()), "{stem} not embedded");
     }

@@ -6,8 +6,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{
-    ALERT, Area, Boxed, Drawn, FigureOptions, GREY, Key, MEASURED, MODEL, colour, font, freq_range,
-    header, log_span, log_tick, message, model_freqs, render, series, si_unit, span, tick,
+    ALERT, Area, Boxed, DARK, Drawn, FigureOptions, GREY, Key, MEASURED, MODEL, colour, font,
+    freq_range, header, log_span, log_tick, message, model_freqs, render, series, si_unit, span,
+    tick,
 };
 use crate::error::Result;
 use crate::identify::Identification;
@@ -510,7 +511,7 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
         .filter(|_| has_coherence)
         .map(|i| (Key::Line(colour(i)), format!("γ² of {}", names[i])))
         .collect();
-    legend.push((Key::Line(MEASURED), "condition number".into()));
+    legend.push((Key::Line(DARK), "condition number".into()));
     legend.push((Key::Dashed(RGBColor(230, 159, 0)), "warn".into()));
     legend.push((Key::Dashed(ALERT), "refuse".into()));
     legend.push((Key::Band(RGBColor(0, 114, 178)), "band used".into()));
@@ -530,8 +531,9 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
         )?;
         let (top, bottom) = body.split_vertically(body.dim_in_pixel().1 / 2);
         let shade = RGBColor(0, 114, 178).mix(0.08).filled();
-        // Coherence.
-        let y = 0.0..1.05;
+        // Coherence, on 0–1 or zoomed to 0.9–1 (0.8–1, …) when it is all high.
+        let lowest = coherence.iter().flatten().map(|p| p.1).fold(1.0, f64::min);
+        let y = (((10.0 * lowest - 0.5).floor() / 10.0).clamp(0.0, 0.9))..1.02;
         let mut chart = linear_chart(&top, x.clone(), y.clone(), None, "multiple coherence γ²")?;
         series(&top, "band", || {
             chart.draw_series(std::iter::once(Rectangle::new(
@@ -597,9 +599,9 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
         series(&bottom, "condition number", || {
             chart.draw_series(LineSeries::new(
                 points.iter().copied(),
-                MEASURED.stroke_width(2),
+                DARK.stroke_width(2),
             ))?;
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, MEASURED.filled())))?;
+            chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, DARK.filled())))?;
             Ok(())
         })?;
         for (name, level, c) in [
@@ -860,9 +862,9 @@ pub fn records(
                         })?;
                     }
                 }
-                for c in 0..n {
+                for (c, name) in names.iter().enumerate() {
                     let points = min_max(channel(c), fs, scale, buckets);
-                    series(&area, &format!("{label} {kind} {}", names[c]), || {
+                    series(&area, &format!("{label} {kind} {name}"), || {
                         chart.draw_series(LineSeries::new(points, colour(c).stroke_width(1)))?;
                         Ok(())
                     })?;
@@ -940,13 +942,28 @@ pub fn records(
                                 | (Channel::Displacement(_), "displacement")
                         ) =>
                         {
-                            let (at_s, end) =
-                                (at_s.min(x.end), (at_s + run as f64 / fs).min(x.end));
+                            // At least 4 % of the axis wide, so a short run shows past the
+                            // impact marker.
+                            let end = (at_s + (run as f64 / fs).max(0.04 * x.end)).min(x.end);
+                            let at_s = at_s.min(x.end);
+                            let level = (at_s, value / scale);
                             series(&area, &format!("{label} clipped"), || {
                                 chart.draw_series(LineSeries::new(
-                                    [(at_s, value / scale), (end, value / scale)],
-                                    ALERT.stroke_width(4),
+                                    [level, (end, value / scale)],
+                                    ALERT.stroke_width(5),
                                 ))?;
+                                chart.draw_series([EmptyElement::at(level)
+                                    + Text::new(
+                                        format!(
+                                            "clipped: {run} samples at {} {unit}",
+                                            tick(&level.1)
+                                        ),
+                                        (10, 12),
+                                        ("sans-serif", font::NOTE)
+                                            .into_font()
+                                            .color(&ALERT)
+                                            .pos(Pos::new(HPos::Left, VPos::Top)),
+                                    )])?;
                                 Ok(())
                             })?;
                         }

@@ -303,8 +303,8 @@ fn page(
     let _ = writeln!(
         h,
         "<li>band {}–{} Hz: {} lines used ({:.3}–{:.3} Hz), {} dropped; {} averages</li>",
-        sig(id.band().low_hz(), 4),
-        sig(id.band().high_hz(), 4),
+        super::tick(&id.band().low_hz()),
+        super::tick(&id.band().high_hz()),
         freqs.len(),
         freqs.first().copied().unwrap_or(f64::NAN),
         freqs.last().copied().unwrap_or(f64::NAN),

@@ -12,7 +12,7 @@
 //! | [`impedance`] | `Re H_ij` with the fitted `K − ω²M` and `Im H_ij` with the fitted `ωC` (N/m), error bars `±σ` with `σ² = E|δH_ij|²/2` when the FRF carries a variance |
 //! | [`coherence`] | the multiple coherence of every output and the condition number per line, the thresholds of [`ConditionLimits`](crate::ConditionLimits), the band shaded and the lines dropped marked |
 //! | [`per_frequency`] | `K_ij(ω)` and `C_ij(ω)` line by line ([`PerFrequency`](crate::per_frequency::PerFrequency)) with error bars, and the constant fit |
-//! | [`records`] | force (N) and displacement per record against time, the impact (peak of the dominant force) marked, double hits and clipping from [`quality::check_record`] marked, the force gate shaded and an exponential window drawn |
+//! | [`records`] | force (N) and displacement per record against time, the impact (peak of the dominant force) marked, double hits and clipping from [`check_record`](crate::quality::check_record) marked, the force gate shaded and an exponential window drawn |
 //! | [`convergence`] | the IVF history: the block-wise relative changes of `M`, `C`, `K` per iteration (log scale) |
 //!
 //! [`report`] writes all of them as `.svg` files into a directory together with an `index.html`
@@ -234,6 +234,7 @@ fn colour(i: usize) -> RGBColor {
 const MEASURED: RGBColor = RGBColor(0, 90, 160);
 const MODEL: RGBColor = RGBColor(213, 60, 0);
 const GREY: RGBColor = RGBColor(120, 120, 120);
+const DARK: RGBColor = RGBColor(40, 40, 40);
 const ALERT: RGBColor = RGBColor(200, 0, 0);
 
 /// A title across the top of `area` and a legend under it; returns the area below.
