@@ -8,7 +8,7 @@
 //!
 //! | function | shows |
 //! | --- | --- |
-//! | [`flexibility`] | `|G_ij|` (log scale, m/N) and `∠G_ij` (°) against frequency: the measured lines as points, the fitted model `G(ω) = (K − ω²M + iωC)⁻¹` as a line |
+//! | [`flexibility`] | `\|G_ij\|` (log scale, m/N) and `∠G_ij` (°) against frequency: the measured lines as points, the fitted model `G(ω) = (K − ω²M + iωC)⁻¹` as a line |
 //! | [`impedance`] | `Re H_ij` with the fitted `K − ω²M` and `Im H_ij` with the fitted `ωC` (N/m), error bars `±σ` with `σ² = E|δH_ij|²/2` when the FRF carries a variance |
 //! | [`coherence`] | the multiple coherence of every output and the condition number per line, the thresholds of [`ConditionLimits`](crate::ConditionLimits), the band shaded and the lines dropped marked |
 //! | [`per_frequency`] | `K_ij(ω)` and `C_ij(ω)` line by line ([`PerFrequency`](crate::per_frequency::PerFrequency)) with error bars, and the constant fit |
