@@ -95,6 +95,11 @@ impl Conditioning {
         })
     }
 
+    /// The thresholds the lines were judged against.
+    pub fn limits(&self) -> ConditionLimits {
+        self.limits
+    }
+
     /// Largest condition number over the band.
     pub fn worst(&self) -> f64 {
         self.worst

@@ -318,6 +318,15 @@ pub enum Error {
         /// Grid step (s).
         step_s: f64,
     },
+    /// A figure could not be drawn (feature `plot`).
+    #[error("figure `{figure}`: {message}")]
+    Plot {
+        /// The figure: `"flexibility"`, `"impedance"`, `"coherence"`, `"per_frequency"`,
+        /// `"records"` or `"convergence"`.
+        figure: &'static str,
+        /// What the drawing library said.
+        message: String,
+    },
     /// A matrix decomposition from faer did not converge.
     #[error("the {what} decomposition did not converge")]
     Decomposition {
@@ -540,6 +549,7 @@ impl Error {
             }
             Error::BaselineMismatch { .. } => "baseline_mismatch",
             Error::MlNeedsRepeats => "ml_needs_repeats",
+            Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
@@ -621,6 +631,16 @@ mod tests {
             w.to_string(),
             "record `hit-y-3` rejected: force channel 1 clipped"
         );
+    }
+
+    #[test]
+    fn plot_errors_name_the_figure() {
+        let e = Error::Plot {
+            figure: "impedance",
+            message: "disk full".into(),
+        };
+        assert_eq!(e.kind(), "plot_error");
+        assert_eq!(e.to_string(), "figure `impedance`: disk full");
     }
 
     #[test]

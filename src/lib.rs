@@ -64,7 +64,10 @@
 //! The core depends only on faer, num-complex, realfft, thiserror and rand. Edges are opt-in:
 //! - `csv` — [`io`]: read and write records as CSV files;
 //! - `serde` — `Serialize` for [`Identification`], [`Coefficients`] and [`Mode`];
-//! - `cli` — the `bearing-ident` command-line tool (implies `csv` and `serde`);
+//! - `plot` — [`plot`]: SVG figures of an identification (flexibility, impedance, coherence
+//!   and conditioning, per-frequency coefficients, time records, IVF convergence) and a static
+//!   HTML report, drawn by plotters' SVG backend (no system libraries);
+//! - `cli` — the `bearing-ident` command-line tool (implies `csv`, `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build.
 //!
@@ -91,6 +94,8 @@ pub mod io;
 mod linalg;
 pub mod model;
 pub mod per_frequency;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod quality;
 pub mod records;
 pub mod simulate;

@@ -677,3 +677,45 @@ fn maximum_likelihood_from_the_command_line() {
         "ml_needs_repeats",
     );
 }
+
+#[test]
+fn identify_plot_writes_figures_and_a_static_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let records = dir.path().join("records");
+    let files = simulate(&records, &["--impacts", "2", "--noise", "0.02"]);
+    let report = dir.path().join("report");
+    let file_refs: Vec<&str> = files.iter().map(String::as_str).collect();
+    let out = run(&[
+        &[
+            "identify",
+            "--band",
+            "8,49",
+            "--plot",
+            report.to_str().unwrap(),
+        ],
+        &file_refs[..],
+    ]
+    .concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    for stem in [
+        "flexibility",
+        "impedance",
+        "coherence",
+        "per_frequency",
+        "records",
+        "convergence",
+    ] {
+        assert!(report.join(format!("{stem}.svg")).is_file(), "{stem}");
+        assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem}");
+    }
+    // The axis names come from --disp; the text table is folded in.
+    assert!(html.contains("<td>K xy (N/m)</td>") && html.contains("<summary>Text report"));
+    assert!(!html.contains("<script"));
+    // The plain-text table still goes to stdout.
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Coefficients"));
+}

@@ -165,6 +165,10 @@ struct IdentifyArgs {
     /// Report a non-converged IVF with a warning instead of failing with `not_converged`.
     #[arg(long)]
     allow_unconverged: bool,
+    /// Write figures (SVG) and a static `index.html` report into DIR. The record figure
+    /// draws a few of the first 32 files (read again for it).
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
     /// Record files (CSV).
     #[arg(required = true)]
     files: Vec<PathBuf>,
@@ -178,6 +182,9 @@ struct DemoArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     json: bool,
+    /// Write figures (SVG) and a static `index.html` report into DIR.
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
@@ -665,7 +672,71 @@ fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         bearing,
         per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
     };
+    if let Some(dir) = &args.plot {
+        // The records were streamed; read a few again for the record figure.
+        let records = args
+            .files
+            .iter()
+            .take(PLOTTED_FILES)
+            .map(|path| io::read_record(path, &layout))
+            .collect::<bearing_ident::Result<Vec<_>>>()?;
+        let checks = (excitation == ExcitationArg::Impact).then(ImpactChecks::default);
+        write_report(dir, &id, &records, &context, None, checks)?;
+    }
     emit(&id, &context, None, args.json)
+}
+
+/// Files read again for the record figure of `identify --plot`.
+const PLOTTED_FILES: usize = 32;
+
+/// Writes the figures and `index.html` of `--plot DIR`; says where on stderr.
+fn write_report(
+    dir: &std::path::Path,
+    id: &Identification,
+    records: &[Record],
+    context: &report::Context,
+    truth: Option<&Coefficients>,
+    checks: Option<ImpactChecks>,
+) -> Result<(), Failure> {
+    let options = bearing_ident::plot::ReportOptions {
+        context: vec![format!(
+            "{} records ({}), {} samples/s; excitation {}{}.",
+            context.files.len(),
+            summarize_files(&context.files),
+            context.sample_rate,
+            context.excitation,
+            if context.excitation_auto {
+                ", detected"
+            } else {
+                ""
+            },
+        )],
+        text: Some(report::table(id, context, truth)),
+        truth: truth.cloned(),
+        checks,
+        figure: bearing_ident::plot::FigureOptions {
+            axes: context.axes.clone(),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let written = bearing_ident::plot::report(id, records, dir, &options)?;
+    eprintln!(
+        "bearing-ident: wrote {} figures and {}",
+        written.len().saturating_sub(1),
+        dir.join("index.html").display()
+    );
+    Ok(())
+}
+
+/// The first few file names and how many more.
+fn summarize_files(files: &[String]) -> String {
+    let shown: Vec<&str> = files.iter().take(3).map(String::as_str).collect();
+    if files.len() > shown.len() {
+        format!("{}, … {} more", shown.join(", "), files.len() - shown.len())
+    } else {
+        shown.join(", ")
+    }
 }
 
 fn excitation_name(excitation: ExcitationArg) -> &'static str {
@@ -717,6 +788,16 @@ fn demo(args: &DemoArgs) -> Result<(), Failure> {
         bearing: None,
         per_frequency: None,
     };
+    if let Some(dir) = &args.plot {
+        write_report(
+            dir,
+            &id,
+            &records,
+            &context,
+            Some(&truth),
+            Some(ImpactChecks::default()),
+        )?;
+    }
     if !args.json {
         println!(
             "Demo: the seed's rig (Diaz & San Andrés 1999), {} impacts per direction, {} samples/s \

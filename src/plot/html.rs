@@ -1,0 +1,401 @@
+//! The static HTML report.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use faer::MatRef;
+
+use super::{FigureOptions, pick_records, write_file};
+use crate::error::{Error, Result};
+use crate::identify::Identification;
+use crate::model::Coefficients;
+use crate::quality::ImpactChecks;
+use crate::records::Record;
+
+/// What a report shows besides the identification itself.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportOptions {
+    /// Heading of the page. Default `"bearing-ident report"`.
+    pub title: String,
+    /// Lines about the run shown under the heading (files, excitation, …), as plain text.
+    pub context: Vec<String>,
+    /// A preformatted text report (the command-line tool's table), shown folded at the end.
+    pub text: Option<String>,
+    /// The true coefficients, when known (simulations): the table adds them and the error.
+    pub truth: Option<Coefficients>,
+    /// Screening of impact records: issues are marked on the record figure. Default
+    /// `Some(ImpactChecks::default())`; `None` for records that are not impacts.
+    pub checks: Option<ImpactChecks>,
+    /// Records drawn at most (see [`report`]). Default 6.
+    pub max_records: usize,
+    /// Figure size and axis names.
+    pub figure: FigureOptions,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        Self {
+            title: "bearing-ident report".into(),
+            context: Vec::new(),
+            text: None,
+            truth: None,
+            checks: Some(ImpactChecks::default()),
+            max_records: 6,
+            figure: FigureOptions::default(),
+        }
+    }
+}
+
+/// The figures of a report: file stem, heading, caption.
+const FIGURES: [(&str, &str, &str); 6] = [
+    (
+        "flexibility",
+        "Flexibility",
+        "Measured flexibility G = H⁻¹ per element (points) and the fitted model (line): \
+         magnitude on a log scale above phase.",
+    ),
+    (
+        "impedance",
+        "Impedance",
+        "Real part against the fitted K − ω²M, imaginary part against the fitted ωC; error \
+         bars ±σ where the FRF carries a variance.",
+    ),
+    (
+        "coherence",
+        "Coherence and conditioning",
+        "Multiple coherence per output and the condition number per line, with the warning \
+         and refusal thresholds; the band used is shaded.",
+    ),
+    (
+        "per_frequency",
+        "Per-frequency coefficients",
+        "K(ω) = Re H + ω²M and C(ω) = Im H/ω line by line with ±σ, against the constant fit: \
+         a trend says the coefficients depend on frequency.",
+    ),
+    (
+        "records",
+        "Time records",
+        "Force and displacement of some records (the first two per excitation direction and \
+         any with an issue); the impact is marked at the dominant force's peak.",
+    ),
+    (
+        "convergence",
+        "IVF convergence",
+        "Block-wise relative change of M, C and K per iteration.",
+    ),
+];
+
+/// Writes every figure of `id` as an SVG file into `dir` (created if missing) and an
+/// `index.html` that shows them inline with the coefficient table, the diagnostics and the
+/// warnings; returns the paths written, `index.html` last.
+///
+/// The page is static: no scripts, no style sheets or fonts from elsewhere; each figure's SVG
+/// is embedded (and linked to its file). The files are `flexibility.svg`, `impedance.svg`,
+/// `coherence.svg`, `per_frequency.svg`, `records.svg` (only with `records`) and
+/// `convergence.svg`.
+///
+/// The record figure draws at most [`ReportOptions::max_records`] of `records`: the first two
+/// of each excitation direction (by [`Record::dominant_force`]), then those with an issue under
+/// [`ReportOptions::checks`].
+///
+/// # Errors
+/// [`Error::Io`] if the directory or a file cannot be written; as the figure functions.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Identifier;
+/// use bearing_ident::plot::{self, ReportOptions};
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+/// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+/// let dir = std::env::temp_dir().join("bearing-ident-doc-report");
+/// let written = plot::report(&id, &records, &dir, &ReportOptions::default())?;
+/// assert_eq!(written.len(), 7);
+/// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+/// assert!(html.contains("href=\"impedance.svg\"") && html.contains("<svg"));
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn report(
+    id: &Identification,
+    records: &[Record],
+    dir: &Path,
+    options: &ReportOptions,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let fig = &options.figure;
+    let chosen: Vec<Record> = pick_records(records, options.checks.as_ref(), options.max_records)
+        .into_iter()
+        .map(|r| records[r].clone())
+        .collect();
+    let mut svgs: Vec<(&str, String)> = vec![
+        ("flexibility", super::flexibility(id, fig)?),
+        ("impedance", super::impedance(id, fig)?),
+        ("coherence", super::coherence(id, fig)?),
+        ("per_frequency", super::per_frequency(id, fig)?),
+    ];
+    if !chosen.is_empty() {
+        svgs.push((
+            "records",
+            super::records(&chosen, Some(id), options.checks.as_ref(), fig)?,
+        ));
+    }
+    svgs.push(("convergence", super::convergence(id, fig)?));
+    let mut written = Vec::with_capacity(svgs.len() + 1);
+    for (stem, svg) in &svgs {
+        written.push(write_file(&dir.join(format!("{stem}.svg")), svg)?);
+    }
+    let html = page(id, options, &svgs, records.len(), chosen.len());
+    written.push(write_file(&dir.join("index.html"), &html)?);
+    Ok(written)
+}
+
+/// Escapes text for HTML.
+fn esc(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// `v` with `digits` significant digits, fixed-point for ordinary magnitudes.
+fn sig(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let exp = v.abs().log10().floor() as i32;
+    if (-3..6).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.prec$e}", prec = digits - 1)
+    }
+}
+
+type Block = fn(&Coefficients) -> MatRef<'_, f64>;
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
+color:#222}table{border-collapse:collapse;margin:.5em 0}td,th{padding:.2em .7em;\
+border-bottom:1px solid #ddd;text-align:right}th{background:#f3f3f3}td:first-child,\
+th:first-child{text-align:left}figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}\
+figcaption{color:#555;max-width:60em}.warn{color:#a00}pre{background:#f6f6f6;padding:1em;\
+overflow-x:auto}";
+
+fn page(
+    id: &Identification,
+    options: &ReportOptions,
+    svgs: &[(&str, String)],
+    total_records: usize,
+    drawn_records: usize,
+) -> String {
+    let mut h = String::new();
+    let co = id.coefficients();
+    let n = co.dofs();
+    let names = options.figure.axis_names(n);
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+        esc(&options.title),
+        esc(&options.title)
+    );
+    for line in &options.context {
+        let _ = writeln!(h, "<p>{}</p>", esc(line));
+    }
+    // Contents.
+    let _ = writeln!(
+        h,
+        "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#diagnostics\">Diagnostics</a>"
+    );
+    for (stem, _) in svgs {
+        if let Some((_, heading, _)) = FIGURES.iter().find(|f| f.0 == *stem) {
+            let _ = write!(h, " · <a href=\"#fig-{stem}\">{heading}</a>");
+        }
+    }
+    let _ = writeln!(h, "</p>");
+    // Coefficients.
+    let _ = writeln!(
+        h,
+        "<h2 id=\"coefficients\">Coefficients</h2>\n<p>Method {}, estimator {}, window {}; \
+         uncertainty: {}.</p>",
+        id.method().name(),
+        id.estimator().name(),
+        esc(&match id.window().decay_per_s() {
+            Some(a) => format!("exponential (a = {a:.4}/s, coefficients corrected)"),
+            None => id.window().name().to_string(),
+        }),
+        id.uncertainty().name()
+    );
+    let _ = write!(
+        h,
+        "<table>\n<tr><th>coefficient</th><th>value</th><th>±1σ</th><th>95 % interval</th>"
+    );
+    if options.truth.is_some() {
+        let _ = write!(h, "<th>true</th><th>error</th>");
+    }
+    let _ = writeln!(h, "</tr>");
+    let blocks: [(&str, &str, Block); 3] = [
+        ("M", "kg", Coefficients::mass),
+        ("C", "N·s/m", Coefficients::damping),
+        ("K", "N/m", Coefficients::stiffness),
+    ];
+    let interval = id.interval_95();
+    for (name, unit, get) in blocks {
+        for i in 0..n {
+            for j in 0..n {
+                let v = get(co)[(i, j)];
+                let sd = id.std_dev().map_or("—".into(), |s| sig(get(s)[(i, j)], 3));
+                let ci = interval.as_ref().map_or("—".into(), |s| {
+                    let q = get(s)[(i, j)];
+                    format!("{} … {}", sig(v - q, 5), sig(v + q, 5))
+                });
+                let _ = write!(
+                    h,
+                    "<tr><td>{name} {}{} ({unit})</td><td>{}</td><td>{sd}</td><td>{ci}</td>",
+                    esc(&names[i]),
+                    esc(&names[j]),
+                    sig(v, 7)
+                );
+                if let Some(t) = options.truth.as_ref().map(get) {
+                    let err = if t[(i, j)] == 0.0 {
+                        "—".to_string()
+                    } else {
+                        format!("{:+.3} %", 100.0 * (v / t[(i, j)] - 1.0))
+                    };
+                    let _ = write!(h, "<td>{}</td><td>{err}</td>", sig(t[(i, j)], 7));
+                }
+                let _ = writeln!(h, "</tr>");
+            }
+        }
+    }
+    let _ = writeln!(h, "</table>");
+    // Modes.
+    if let Ok(modes) = id.modes() {
+        let _ = writeln!(
+            h,
+            "<table>\n<tr><th>mode</th><th>natural frequency (Hz)</th><th>damping ratio</th></tr>"
+        );
+        for (k, m) in modes.iter().enumerate() {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{:.3}</td><td>{:.4}</td></tr>",
+                k + 1,
+                m.natural_frequency_hz,
+                m.damping_ratio
+            );
+        }
+        let _ = writeln!(h, "</table>");
+    }
+    // Diagnostics.
+    let freqs = id.freqs_hz();
+    let cond = id.conditioning();
+    let limits = cond.limits();
+    let _ = writeln!(h, "<h2 id=\"diagnostics\">Diagnostics</h2>\n<ul>");
+    let _ = writeln!(
+        h,
+        "<li>band {}–{} Hz: {} lines used ({:.3}–{:.3} Hz), {} dropped; {} averages</li>",
+        super::tick(&id.band().low_hz()),
+        super::tick(&id.band().high_hz()),
+        freqs.len(),
+        freqs.first().copied().unwrap_or(f64::NAN),
+        freqs.last().copied().unwrap_or(f64::NAN),
+        id.frf().dropped_hz().len(),
+        id.frf().averages()
+    );
+    let _ = writeln!(
+        h,
+        "<li>condition number: best {:.3}, median {:.3}, worst {:.3} (warn above {}, refuse \
+         above {}); {} lines above the warning</li>",
+        cond.best(),
+        cond.median(),
+        cond.worst(),
+        sig(limits.warn, 3),
+        sig(limits.refuse, 3),
+        cond.lines_above_warning()
+    );
+    if let Some(c) = id.coherence_min() {
+        let _ = writeln!(
+            h,
+            "<li>multiple coherence: min {c:.4} over the lines used</li>"
+        );
+    }
+    let _ = writeln!(
+        h,
+        "<li>{} iterations, {}; residual ‖AΘ − Ī‖ = {:.4e}</li>",
+        id.iterations(),
+        id.convergence().name().replace('_', " "),
+        id.residual_norm()
+    );
+    let r2 = id.fit_r2();
+    let mut r2_text = String::new();
+    for i in 0..n {
+        for j in 0..n {
+            let _ = write!(r2_text, " {}{} {:.4}", names[i], names[j], r2[(i, j)]);
+        }
+    }
+    let _ = writeln!(h, "<li>flexibility fit r²:{}</li>", esc(&r2_text));
+    if drawn_records < total_records {
+        let _ = writeln!(
+            h,
+            "<li>records drawn: {drawn_records} of {total_records}</li>"
+        );
+    }
+    let _ = writeln!(h, "</ul>");
+    if id.warnings().is_empty() {
+        let _ = writeln!(h, "<p>No warnings.</p>");
+    } else {
+        let _ = writeln!(h, "<h3>Warnings</h3>\n<ul class=\"warn\">");
+        for w in id.warnings() {
+            let _ = writeln!(h, "<li>{}</li>", esc(&w.to_string()));
+        }
+        let _ = writeln!(h, "</ul>");
+    }
+    // Figures.
+    for (stem, svg) in svgs {
+        let (heading, caption) = FIGURES
+            .iter()
+            .find(|f| f.0 == *stem)
+            .map_or((*stem, ""), |f| (f.1, f.2));
+        let _ = writeln!(
+            h,
+            "<figure id=\"fig-{stem}\">\n<h2>{heading}</h2>\n{svg}\n<figcaption>{} \
+             (<a href=\"{stem}.svg\">{stem}.svg</a>)</figcaption>\n</figure>",
+            esc(caption)
+        );
+    }
+    if let Some(text) = &options.text {
+        let _ = writeln!(
+            h,
+            "<details>\n<summary>Text report</summary>\n<pre>{}</pre>\n</details>",
+            esc(text)
+        );
+    }
+    let _ = writeln!(h, "</body>\n</html>");
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(esc("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+    }
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(sig(146300.0, 4), "146300");
+        assert_eq!(sig(4.6997, 3), "4.70");
+        assert_eq!(sig(1.5e-7, 2), "1.5e-7");
+    }
+}
