@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use faer::MatRef;
 
+use super::significant as sig;
 use super::{FigureOptions, pick_records, write_file};
 use crate::error::{Error, Result};
 use crate::identify::Identification;
@@ -165,20 +166,6 @@ fn esc(s: &str) -> String {
         }
     }
     out
-}
-
-/// `v` with `digits` significant digits, fixed-point for ordinary magnitudes.
-fn sig(v: f64, digits: usize) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let exp = v.abs().log10().floor() as i32;
-    if (-3..6).contains(&exp) {
-        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.prec$e}", prec = digits - 1)
-    }
 }
 
 type Block = fn(&Coefficients) -> MatRef<'_, f64>;

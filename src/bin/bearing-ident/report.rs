@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use bearing_ident::model::rows;
 use bearing_ident::per_frequency::PerFrequency;
+use bearing_ident::plot::significant as sig;
 use bearing_ident::{Coefficients, Identification};
 use faer::MatRef;
 
@@ -91,21 +92,6 @@ fn per_frequency_json(pf: &PerFrequency) -> serde_json::Value {
         })
         .collect();
     lines.into()
-}
-
-/// `v` with `digits` significant digits, fixed-point for ordinary magnitudes, scientific
-/// otherwise.
-fn sig(v: f64, digits: usize) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let exp = v.abs().log10().floor() as i32;
-    if (-3..6).contains(&exp) {
-        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.prec$e}", prec = digits - 1)
-    }
 }
 
 /// Picks one block (M, C or K) out of a coefficient set.
