@@ -867,14 +867,12 @@ impl FrfBuilder {
                 sf,
                 sx,
             } => {
-                for (total, part) in self.sff.iter_mut().zip(&sff) {
-                    *total += part;
-                }
-                for (total, part) in self.sxf.iter_mut().zip(&sxf) {
-                    *total += part;
-                }
-                for (total, part) in self.sxx.iter_mut().zip(&sxx) {
-                    *total += part;
+                for (totals, part) in [
+                    (&mut self.sff, &sff),
+                    (&mut self.sxf, &sxf),
+                    (&mut self.sxx, &sxx),
+                ] {
+                    totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
                 }
                 self.averages += self.segmentation.starts(record.len()).count();
                 if self.keep_partials {

@@ -39,6 +39,27 @@ const MIN_PIVOT: f64 = 1e-8;
 /// Gauss–Newton refinements of the frequency at most, in [`drive_frequency`].
 const NEWTON_STEPS: usize = 20;
 
+/// Adds one row `u` (target `r`) to the normal equations: the upper triangle of the row-major
+/// `k × k` Gram matrix gets `u uᵀ`, the right-hand side `u r`.
+fn accumulate(gram: &mut [f64], rhs: &mut [f64], u: &[f64], r: f64) {
+    let k = u.len();
+    for i in 0..k {
+        for j in i..k {
+            gram[i * k + j] += u[i] * u[j];
+        }
+        rhs[i] += u[i] * r;
+    }
+}
+
+/// Copies the upper triangle of the row-major `k × k` matrix `a` into its lower triangle.
+fn symmetrise(a: &mut [f64], k: usize) {
+    for i in 0..k {
+        for j in 0..i {
+            a[i * k + j] = a[j * k + i];
+        }
+    }
+}
+
 /// Solves the symmetric positive semi-definite `k × k` system `a x = b` (`a` row-major, both
 /// destroyed, `x` left in `b`) after scaling it to unit diagonal; `false` if a pivot of the
 /// scaled system falls below [`MIN_PIVOT`].
@@ -94,19 +115,9 @@ fn fit_sine(signal: &[f64], w: f64) -> Option<([f64; 3], f64)> {
     let mut rhs = [0.0; 3];
     for (m, &x) in signal.iter().enumerate() {
         let (s, c) = (w * m as f64).sin_cos();
-        let u = [c, s, 1.0];
-        for i in 0..3 {
-            for j in i..3 {
-                gram[i * 3 + j] += u[i] * u[j];
-            }
-            rhs[i] += u[i] * x;
-        }
+        accumulate(&mut gram, &mut rhs, &[c, s, 1.0], x);
     }
-    for i in 0..3 {
-        for j in 0..i {
-            gram[i * 3 + j] = gram[j * 3 + i];
-        }
-    }
+    symmetrise(&mut gram, 3);
     if !solve_normal(&mut gram, &mut rhs, 3) {
         return None;
     }
@@ -287,18 +298,9 @@ pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
             let (s, c) = (w * m as f64).sin_cos();
             let u = [c, s, 1.0, m as f64 * (-coef[0] * s + coef[1] * c)];
             let r = x - coef[0] * c - coef[1] * s - coef[2];
-            for i in 0..4 {
-                for j in i..4 {
-                    gram[i * 4 + j] += u[i] * u[j];
-                }
-                rhs[i] += u[i] * r;
-            }
+            accumulate(&mut gram, &mut rhs, &u, r);
         }
-        for i in 0..4 {
-            for j in 0..i {
-                gram[i * 4 + j] = gram[j * 4 + i];
-            }
-        }
+        symmetrise(&mut gram, 4);
         if !solve_normal(&mut gram, &mut rhs, 4) {
             break;
         }
