@@ -509,6 +509,32 @@ impl fmt::Display for Warning {
     }
 }
 
+impl Warning {
+    /// A stable snake_case name of the kind of warning, for scripts and logs (the CLI's JSON
+    /// lists them as `warning_kinds`, in the order of `warnings`).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Warning;
+    /// assert_eq!(Warning::FewReplicates { replicates: 2 }.kind(), "few_replicates");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Warning::IllConditioned { .. } => "ill_conditioned",
+            Warning::LowCoherence { .. } => "low_coherence",
+            Warning::FewReplicates { .. } => "few_replicates",
+            Warning::DroppedLines { .. } => "dropped_lines",
+            Warning::UnpairedRecords { .. } => "unpaired_records",
+            Warning::NotConverged { .. } => "not_converged",
+            Warning::Diverged { .. } => "diverged",
+            Warning::DoubleHit { .. } => "double_hit",
+            Warning::Clipped { .. } => "clipped",
+            Warning::Rejected { .. } => "rejected",
+            Warning::MlFellBack { .. } => "ml_fell_back",
+        }
+    }
+}
+
 impl Error {
     /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,

@@ -1101,7 +1101,8 @@ impl From<&Identification> for Baseline {
 /// `K_ci95` (half-widths of the 95 % intervals), `iterations`, `converged`,
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
-/// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences) and `history`
+/// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
+/// [`Warning::kind`] names, in the same order) and `history`
 /// (IVF iterations).
 #[cfg(feature = "serde")]
 impl serde::Serialize for Identification {
@@ -1169,6 +1170,8 @@ impl serde::Serialize for Identification {
         m.serialize_entry("coherence_min", &self.coherence_min())?;
         let warnings: Vec<String> = self.warnings.iter().map(ToString::to_string).collect();
         m.serialize_entry("warnings", &warnings)?;
+        let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
+        m.serialize_entry("warning_kinds", &kinds)?;
         m.serialize_entry("history", self.history())?;
         m.end()
     }
