@@ -28,6 +28,27 @@ impl fmt::Display for Channel {
     }
 }
 
+/// A block of the coefficient matrices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Block {
+    /// The mass matrix `M` (kg).
+    Mass,
+    /// The damping matrix `C` (N·s/m).
+    Damping,
+    /// The stiffness matrix `K` (N/m).
+    Stiffness,
+}
+
+impl fmt::Display for Block {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Block::Mass => "M",
+            Block::Damping => "C",
+            Block::Stiffness => "K",
+        })
+    }
+}
+
 /// Everything that can go wrong in `bearing-ident`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -439,6 +460,85 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    // The fit gate (see `crate::gate`).
+    /// The fitted model does not explain an element of the measured flexibility that carries
+    /// signal (see [`gate::FitGate`](crate::gate::FitGate)).
+    PoorFit {
+        /// Row of the element.
+        row: usize,
+        /// Column of the element.
+        col: usize,
+        /// Its flexibility `r²`.
+        r2: f64,
+        /// The threshold.
+        threshold: f64,
+    },
+    /// A diagonal entry of `M`, `C` or `K` is negative: not physical for a test system.
+    NegativeDiagonal {
+        /// The matrix.
+        block: Block,
+        /// The degree of freedom.
+        dof: usize,
+        /// The entry.
+        value: f64,
+    },
+    /// The fitted model has a mode with negative damping.
+    UnstableMode {
+        /// Its natural frequency (Hz).
+        frequency_hz: f64,
+        /// Its damping ratio (negative).
+        damping_ratio: f64,
+    },
+    /// Jackknife replicates gave the same fit: they carry the same data (records passed more
+    /// than once?) and the error bars understate the error.
+    DependentReplicates {
+        /// Replicates (paired sets or records).
+        replicates: usize,
+        /// Distinct fits among them.
+        distinct: usize,
+    },
+    /// Resampled standard deviations of diagonal entries are zero.
+    ZeroSpread {
+        /// Diagonal entries with zero spread.
+        entries: usize,
+        /// Diagonal entries in all.
+        of: usize,
+    },
+    /// The exponential window decays faster than the lowest band frequency (see
+    /// [`gate::window`](crate::gate::window)).
+    WindowTooShort {
+        /// The window's decay rate (1/s).
+        decay_per_s: f64,
+        /// $2\pi f_{low}$ (1/s).
+        limit_per_s: f64,
+    },
+    /// The force gate closes before the force pulse has ended.
+    ForceGateShort {
+        /// Records whose pulse outlasts the gate.
+        records: usize,
+        /// Time the gate stays open (s).
+        gate_s: f64,
+        /// Latest end of a pulse (s from the record's start).
+        pulse_end_s: f64,
+    },
+    /// Welch segments too short for a mode's half-power bandwidth (leakage bias at the peak).
+    CoarseResolution {
+        /// Line spacing (Hz).
+        spacing_hz: f64,
+        /// The mode's natural frequency (Hz).
+        mode_hz: f64,
+        /// Its half-power bandwidth `2ζ f_n` (Hz).
+        half_power_hz: f64,
+        /// Predicted relative peak bias `(Δf/B_r)²/3`.
+        peak_bias: f64,
+    },
+    /// Few lines for the unknowns: little redundancy to average noise or show a misfit.
+    FewLines {
+        /// Lines fitted.
+        lines: usize,
+        /// Lines wanted.
+        needed: usize,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -505,6 +605,69 @@ impl fmt::Display for Warning {
             Warning::MlFellBack { reason } => {
                 write!(f, "maximum likelihood kept the IVF result: {reason}")
             }
+            Warning::PoorFit {
+                row,
+                col,
+                r2,
+                threshold,
+            } => write!(
+                f,
+                "poor fit of flexibility element ({row},{col}): r² = {r2:.3} below {threshold}"
+            ),
+            Warning::NegativeDiagonal { block, dof, value } => write!(
+                f,
+                "{block}[{dof}][{dof}] = {value:.4e} is negative: not physical for a test system"
+            ),
+            Warning::UnstableMode {
+                frequency_hz,
+                damping_ratio,
+            } => write!(
+                f,
+                "the fitted model is unstable: mode at {frequency_hz:.3} Hz with damping ratio {damping_ratio:.3}"
+            ),
+            Warning::DependentReplicates {
+                replicates,
+                distinct,
+            } => write!(
+                f,
+                "only {distinct} of {replicates} replicates give distinct fits: records passed more than once? \
+                 error bars understate the error"
+            ),
+            Warning::ZeroSpread { entries, of } => write!(
+                f,
+                "{entries} of {of} diagonal coefficients have zero resampled spread: the replicates are identical"
+            ),
+            Warning::WindowTooShort {
+                decay_per_s,
+                limit_per_s,
+            } => write!(
+                f,
+                "exponential window decays at {decay_per_s:.4e} 1/s, faster than the lowest band frequency \
+                 ({limit_per_s:.4e} rad/s): it leaves too little of the record"
+            ),
+            Warning::ForceGateShort {
+                records,
+                gate_s,
+                pulse_end_s,
+            } => write!(
+                f,
+                "force gate open {gate_s:.4e} s closes before the pulse ends (up to {pulse_end_s:.4} s) in {records} records"
+            ),
+            Warning::CoarseResolution {
+                spacing_hz,
+                mode_hz,
+                half_power_hz,
+                peak_bias,
+            } => write!(
+                f,
+                "line spacing {spacing_hz:.4} Hz is coarse for the mode at {mode_hz:.3} Hz \
+                 (half-power bandwidth {half_power_hz:.3} Hz): predicted peak bias {:.1} %",
+                100.0 * peak_bias
+            ),
+            Warning::FewLines { lines, needed } => write!(
+                f,
+                "only {lines} lines in the band ({needed} wanted): little redundancy in the fit"
+            ),
         }
     }
 }
@@ -531,6 +694,15 @@ impl Warning {
             Warning::Clipped { .. } => "clipped",
             Warning::Rejected { .. } => "rejected",
             Warning::MlFellBack { .. } => "ml_fell_back",
+            Warning::PoorFit { .. } => "poor_fit",
+            Warning::NegativeDiagonal { .. } => "negative_diagonal",
+            Warning::UnstableMode { .. } => "unstable_mode",
+            Warning::DependentReplicates { .. } => "dependent_replicates",
+            Warning::ZeroSpread { .. } => "zero_spread",
+            Warning::WindowTooShort { .. } => "window_too_short",
+            Warning::ForceGateShort { .. } => "force_gate_short",
+            Warning::CoarseResolution { .. } => "coarse_resolution",
+            Warning::FewLines { .. } => "few_lines",
         }
     }
 }

@@ -9,6 +9,7 @@ use faer::{Mat, c64};
 use crate::conditioning::{ConditionLimits, Conditioning};
 use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
+use crate::gate::{self, FitGate, ForceGateCheck};
 use crate::model::{Coefficients, Mode};
 use crate::per_frequency::PerFrequency;
 use crate::quality::ImpactChecks;
@@ -148,6 +149,7 @@ pub struct Identifier {
     uncertainty: Uncertainty,
     force_gate: Option<ForceGate>,
     screening: Screening,
+    gate: FitGate,
 }
 
 impl Identifier {
@@ -171,6 +173,7 @@ impl Identifier {
             uncertainty: Uncertainty::default(),
             force_gate: None,
             screening: Screening::Off,
+            gate: FitGate::default(),
         }
     }
 
@@ -286,6 +289,27 @@ impl Identifier {
         self
     }
 
+    /// The fit gate ([`FitGate`], default `r² ≥ 0.9`): the checks of the finished fit and of the
+    /// settings against the records, each finding a [`Warning`] (see [`crate::gate`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Identifier, Window, gate::FitGate};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, noise: 0.05, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // A window that falls to 1e-300 over the record leaves a few milliseconds of it.
+    /// let id = Identifier::new(8.0, 49.0)
+    ///     .window(Window::exponential_to(1e-300, 1.2))
+    ///     .fit_gate(FitGate { min_r2: 0.95 })
+    ///     .identify(&records)?;
+    /// assert!(id.warnings().iter().any(|w| w.kind() == "window_too_short"));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn fit_gate(mut self, gate: FitGate) -> Self {
+        self.gate = gate;
+        self
+    }
+
     /// What a non-converged IVF does. Default [`NonConvergence::Warn`].
     pub fn on_non_convergence(mut self, policy: NonConvergence) -> Self {
         self.non_convergence = policy;
@@ -305,6 +329,10 @@ impl Identifier {
         self.validate()?;
         let mut builder = self.builder();
         let mut screened = Vec::new();
+        let mut pulses = self.pulse_check();
+        for r in records {
+            self.observe(r, &mut pulses);
+        }
         if self.screening == Screening::Off {
             builder.push_all(records)?;
         } else {
@@ -319,7 +347,24 @@ impl Identifier {
                 builder.push_all(&kept)?;
             }
         }
+        screened.extend(pulses.and_then(|p| p.warning()));
         self.finish(builder, screened)
+    }
+
+    /// A check of the force gate against the pulses, when a gate is set on whole records.
+    fn pulse_check(&self) -> Option<ForceGateCheck> {
+        match (self.force_gate, self.segmentation) {
+            (Some(g), Segmentation::WholeRecord) => Some(ForceGateCheck::new(g)),
+            _ => None,
+        }
+    }
+
+    /// Notes what the settings' checks need of `record`.
+    fn observe(&self, record: &Record, pulses: &mut Option<ForceGateCheck>) {
+        if let Some(p) = pulses {
+            let forces = (0..record.dofs()).map(|i| record.force(i));
+            p.record(forces, 1.0 / record.sample_rate());
+        }
     }
 
     /// Screens `record`, adding what it finds to `warnings`; `false` if it is to be left out.
@@ -368,12 +413,15 @@ impl Identifier {
         self.validate()?;
         let mut builder = self.builder();
         let mut screened = Vec::new();
+        let mut pulses = self.pulse_check();
         for r in records {
             let r = r?;
+            self.observe(&r, &mut pulses);
             if self.screen(&r, &mut screened) {
                 builder.push(&r)?;
             }
         }
+        screened.extend(pulses.and_then(|p| p.warning()));
         self.finish(builder, screened)
     }
 
@@ -443,6 +491,7 @@ impl Identifier {
             }
         }
         self.ivf.validate()?;
+        self.gate.check()?;
         if let Screening::Warn(c) | Screening::Reject(c) = self.screening {
             c.validate()?;
         }
@@ -619,6 +668,7 @@ impl Identifier {
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         let fit = self.corrected(fit)?;
+        warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         let replicates = match builder {
             Some(b) if self.uncertainty.resamples() => b.replicates(&self.assignment)?,
             _ => 0,
@@ -635,7 +685,15 @@ impl Identifier {
         };
         let (std_dev, interval_factor) = match (uncertainty, builder) {
             (Uncertainty::Jackknife, Some(b)) => {
-                let std = self.jackknife(b, &frf, replicates)?;
+                let (std, distinct) = self.jackknife(b, &frf, replicates)?;
+                if distinct < replicates {
+                    warnings.push(Warning::DependentReplicates {
+                        replicates,
+                        distinct,
+                    });
+                } else {
+                    warnings.extend(gate::zero_spread(&std, fit.coefficients()));
+                }
                 (Some(std), t975(replicates - 1))
             }
             (
@@ -646,6 +704,7 @@ impl Identifier {
                 Some(b),
             ) => {
                 let std = self.bootstrap(b, &frf, replicates, draws, seed)?;
+                warnings.extend(gate::zero_spread(&std, fit.coefficients()));
                 (Some(std), t975(replicates - 1))
             }
             (Uncertainty::None, _) => (None, 0.0),
@@ -685,13 +744,14 @@ impl Identifier {
     }
 
     /// Jackknife standard deviations over `replicates` leave-one-out refits, each on the same
-    /// lines as `frf` (the full data's, after any coherence selection).
+    /// lines as `frf` (the full data's, after any coherence selection), and the number of
+    /// distinct refits ([`gate::distinct_fits`]).
     fn jackknife(
         &self,
         builder: &FrfBuilder,
         frf: &Frf,
         replicates: usize,
-    ) -> Result<Coefficients> {
+    ) -> Result<(Coefficients, usize)> {
         let mut weights = vec![1.0; replicates];
         let mut thetas = Vec::with_capacity(replicates);
         for r in 0..replicates {
@@ -700,7 +760,29 @@ impl Identifier {
             weights[r] = 1.0;
         }
         let r = replicates as f64;
-        spread(&thetas, r - 1.0)
+        Ok((spread(&thetas, r - 1.0)?, gate::distinct_fits(&thetas)))
+    }
+
+    /// The fit gate's findings on a fit of `frf` (window-corrected `model`, `r2` of the
+    /// windowed data); the resolution check only for spectra made here (`builder`).
+    fn gate_warnings(
+        &self,
+        frf: &Frf,
+        r2: faer::MatRef<'_, f64>,
+        model: &Coefficients,
+        builder: Option<&FrfBuilder>,
+    ) -> Vec<Warning> {
+        let band = Band::new(self.low_hz, self.high_hz).expect("validated");
+        let mut out = self.gate.poor_fit(frf, r2);
+        out.extend(gate::physics(model));
+        out.extend(gate::window(self.window, band));
+        if builder.is_some() {
+            if let Some(spacing) = line_spacing(frf.freqs_hz()) {
+                out.extend(gate::resolution(self.segmentation, spacing, band, model));
+            }
+        }
+        out.extend(gate::few_lines(frf.lines(), frf.dofs()));
+        out
     }
 
     /// Bootstrap standard deviations over `draws` refits, each on `replicates` replicates
@@ -746,6 +828,15 @@ impl Identifier {
         let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
         Ok(fit.coefficients().stacked())
     }
+}
+
+/// The smallest spacing of consecutive lines (Hz), if there are two.
+fn line_spacing(freqs_hz: &[f64]) -> Option<f64> {
+    freqs_hz
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .min_by(f64::total_cmp)
 }
 
 /// Element-wise $\sqrt{s \cdot \mathrm{var}}$ over refits, with `var` the population variance

@@ -88,6 +88,7 @@
 pub mod conditioning;
 pub mod error;
 pub mod frf;
+pub mod gate;
 pub mod identify;
 #[cfg(feature = "csv")]
 pub mod io;
@@ -104,7 +105,7 @@ pub mod spectra;
 pub mod stepped;
 
 pub use conditioning::ConditionLimits;
-pub use error::{Channel, Error, Result, Warning};
+pub use error::{Block, Channel, Error, Result, Warning};
 pub use frf::{Assignment, Band, Estimator, Frf};
 pub use identify::{Baseline, Identification, Identifier, NonConvergence, Screening, Uncertainty};
 pub use model::{Coefficients, Mode};

@@ -719,3 +719,28 @@ fn identify_plot_writes_figures_and_a_static_report() {
     // The plain-text table still goes to stdout.
     assert!(String::from_utf8_lossy(&out.stdout).contains("Coefficients"));
 }
+
+#[test]
+fn identify_reports_the_fit_gate_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "3", "--noise", "0.05"]);
+    // A force gate of 1 ns closes before the 2 ms pulse: the fit explains nothing.
+    let v = identify_json(&["--band", "8,49", "--force-gate=1e-9", "--allow-unconverged"], &files);
+    let kinds: Vec<&str> = v["warning_kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    assert!(kinds.contains(&"force_gate_short"), "{kinds:?}");
+    assert!(kinds.contains(&"poor_fit"), "{kinds:?}");
+    assert_eq!(kinds.len(), v["warnings"].as_array().unwrap().len());
+    // The threshold is a setting; sound records pass it.
+    let v = identify_json(&["--band", "8,49", "--min-r2", "0.5"], &files);
+    assert_eq!(
+        v["warning_kinds"],
+        serde_json::json!([]),
+        "{}",
+        v["warnings"]
+    );
+}

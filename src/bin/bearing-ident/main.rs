@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use bearing_ident::gate::FitGate;
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
@@ -143,6 +144,10 @@ struct IdentifyArgs {
     /// Drop lines where the multiple coherence of any output is below X (0 ≤ X < 1).
     #[arg(long, default_value_t = 0.0)]
     min_coherence: f64,
+    /// Warn (`poor_fit`) when the flexibility r² of an element that carries signal is below X
+    /// (X ≤ 1; `-inf` turns the check off).
+    #[arg(long, default_value_t = 0.9, allow_negative_numbers = true)]
+    min_r2: f64,
     /// Welch segment length for random excitation (default: the largest power of two not above
     /// an eighth of the record).
     #[arg(long)]
@@ -456,6 +461,9 @@ fn settings(
         .tolerance(args.tolerance)
         .max_iterations(args.max_iterations)
         .min_coherence(args.min_coherence)
+        .fit_gate(FitGate {
+            min_r2: args.min_r2,
+        })
         .uncertainty(match args.uncertainty {
             UncertaintyArg::Auto => Uncertainty::Auto,
             UncertaintyArg::None => Uncertainty::None,
