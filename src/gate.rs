@@ -100,7 +100,7 @@ impl FitGate {
         for i in 0..n {
             for j in 0..n {
                 let r = r2[(i, j)];
-                if significant[(i, j)] && !(r >= self.min_r2) {
+                if significant[(i, j)] && (r.is_nan() || r < self.min_r2) {
                     out.push(Warning::PoorFit {
                         row: i,
                         col: j,
@@ -232,7 +232,7 @@ pub fn pulse_end_s(force: &[f64], dt: f64) -> Option<f64> {
         .map(|v| (v - median).abs())
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    if !(peak > 0.0) {
+    if peak.is_nan() || peak <= 0.0 {
         return None;
     }
     let end = force[peak_at..]
