@@ -41,7 +41,9 @@
 //!    [`stepped`] — the same at the drive frequencies of a stepped-sine test;
 //! 4. [`conditioning`] — condition numbers, warnings, refusal of rank-deficient excitation;
 //! 5. [`model`] — [`Coefficients`]: `H(ω)`, `G(ω)`, modes, baseline subtraction;
-//! 6. [`solve`] — the direct, least-squares and IVF fits;
+//! 6. [`solve`] — the direct, least-squares and IVF fits; [`gate`] — the checks of a finished
+//!    fit and of its settings (poor `r²`, unphysical or unstable models, dependent replicates,
+//!    degenerate windows, gates and resolutions), each a [`Warning`];
 //! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result;
 //! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
 //!    coefficients.
