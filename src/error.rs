@@ -595,6 +595,10 @@ impl fmt::Display for Warning {
                  median {median_rms:.3e} of its sibling records ({sigmas:.1} robust σ)",
                 rms / median_rms
             ),
+            Warning::DuplicateRecord { record, of } if record == of => write!(
+                f,
+                "record `{record}` passed again: the same samples as its first copy"
+            ),
             Warning::DuplicateRecord { record, of } => write!(
                 f,
                 "record `{record}` holds the same samples as record `{of}` (the same data twice)"

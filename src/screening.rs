@@ -26,12 +26,15 @@
 //!   sample of every channel (not the label) equal to an earlier record's.
 //!
 //! Across records, once all have arrived ([`Screener::across`]), each record against its
-//! **siblings**: the records whose dominant force ([`Record::dominant_force`]) is the same
-//! channel — for impacts, the hits in the same direction; for a one-shaker-at-a-time test, the
-//! records driven the same way; for a multi-input random test, records grouped by their
-//! strongest input, all of them excited alike. Groups of fewer than [`MIN_SIBLINGS`] records
-//! are not judged (a median of two says nothing). Per channel `c` with sibling median RMS
-//! `m_c > 0` (RMS of the mean-removed samples):
+//! **siblings**, the records excited the same way: a record whose dominant force
+//! ([`Record::dominant_force`]) has at least [`DOMINANCE`] times the RMS of every other force
+//! channel is excited in that one direction (impacts, a shaker per direction) and its siblings
+//! are the records excited in the same direction; the others (multi-input random) are
+//! siblings of one another. A record with fewer than [`MIN_SIBLINGS`] siblings (itself
+//! included) is judged against all records, for dead channels only (levels legitimately differ
+//! between directions); with fewer than [`MIN_SIBLINGS`] records in all nothing is judged (a
+//! median of two says nothing). Per channel `c` with sibling median RMS `m_c > 0` (RMS of the
+//! mean-removed samples):
 //! - **dead channel** ([`Warning::DeadChannel`]): `rms < `[`Checks::dead_ratio`]` · m_c`;
 //! - **level outlier** ([`Warning::LevelOutlier`]): with `ℓ = ln rms` over the live siblings,
 //!   `|ℓ − median ℓ| > max(`[`Checks::level_sigmas`]` · σ̂, ln `[`Checks::level_factor`]`)`,
@@ -75,7 +78,7 @@
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::hash::{DefaultHasher, Hash, Hasher};
 
 use faer::{Mat, c64};
@@ -90,6 +93,10 @@ pub const FLAT_TOLERANCE: f64 = 1e-12;
 
 /// Sibling groups smaller than this are not judged across records.
 pub const MIN_SIBLINGS: usize = 3;
+
+/// A record is excited in one direction when its dominant force's RMS is at least this many
+/// times every other force channel's.
+pub const DOMINANCE: f64 = 3.0;
 
 /// `1/Φ⁻¹(3/4)`: the MAD of Gaussian data times this is its standard deviation.
 const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
@@ -229,6 +236,8 @@ pub struct Summary {
     force_rms: Vec<f64>,
     displacement_rms: Vec<f64>,
     hash: u64,
+    /// Channels reported flat on arrival.
+    flat: Vec<Channel>,
 }
 
 impl Summary {
@@ -260,7 +269,22 @@ impl Summary {
             force_rms: (0..n).map(|c| rms(record.force(c))).collect(),
             displacement_rms: (0..n).map(|c| rms(record.displacement(c))).collect(),
             hash: hasher.finish(),
+            flat: Vec::new(),
         }
+    }
+
+    /// How the record was excited: the dominant force channel when its RMS is at least
+    /// [`DOMINANCE`] times every other force channel's (one direction at a time: impacts, a
+    /// shaker per direction), else `n` (all inputs alike: multi-input random).
+    fn pattern(&self) -> usize {
+        let d = self.dominant;
+        let top = self.force_rms[d];
+        let alone = self
+            .force_rms
+            .iter()
+            .enumerate()
+            .all(|(c, &v)| c == d || top >= DOMINANCE * v);
+        if alone { d } else { self.force_rms.len() }
     }
 
     /// The record's label.
@@ -387,7 +411,14 @@ impl Screener {
         };
         let issues = quality::check_record(record, &impact);
         found.extend(quality::warnings(record, &issues));
-        let summary = Summary::new(record);
+        let mut summary = Summary::new(record);
+        summary.flat = found
+            .iter()
+            .filter_map(|w| match w {
+                Warning::FlatChannel { channel, .. } => Some(*channel),
+                _ => None,
+            })
+            .collect();
         match self.first_with.get(&summary.hash) {
             Some(&first) => found.push(Warning::DuplicateRecord {
                 record: label.to_owned(),
@@ -404,72 +435,101 @@ impl Screener {
     /// Screens every record pushed against its siblings (see the [module docs](self)): dead
     /// channels and level outliers, as `(record index, warning)` in record order. Records
     /// with `excluded[r]` (left out already) are neither judged nor counted among siblings;
-    /// `excluded` shorter than the records pushed excludes nothing beyond its end.
+    /// `excluded` shorter than the records pushed excludes nothing beyond its end. Channels
+    /// already reported flat are not judged again.
     pub fn across(&self, excluded: &[bool]) -> Vec<(usize, Warning)> {
-        let included = |r: usize| !excluded.get(r).copied().unwrap_or(false);
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for (r, s) in self.summaries.iter().enumerate() {
-            if included(r) {
-                if groups.len() <= s.dominant {
-                    groups.resize(s.dominant + 1, Vec::new());
-                }
-                groups[s.dominant].push(r);
-            }
+        let included: Vec<usize> = (0..self.summaries.len())
+            .filter(|&r| !excluded.get(r).copied().unwrap_or(false))
+            .collect();
+        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for &r in &included {
+            groups.entry(self.summaries[r].pattern()).or_default().push(r);
         }
         let mut found = Vec::new();
         let log_floor = self.checks.level_factor.ln();
-        for group in groups.iter().filter(|g| g.len() >= MIN_SIBLINGS) {
-            for channel in self.summaries[group[0]].channels() {
-                let values: Vec<f64> = group
-                    .iter()
-                    .map(|&r| self.summaries[r].rms(channel))
-                    .collect();
-                let median_rms = median(&mut values.clone());
-                if median_rms <= 0.0 {
+        let mut cache: HashMap<(Option<usize>, Channel), Siblings> = HashMap::new();
+        for &r in &included {
+            let summary = &self.summaries[r];
+            let key = summary.pattern();
+            let (key, siblings, with_level) = match &groups[&key] {
+                g if g.len() >= MIN_SIBLINGS => (Some(key), g, true),
+                _ if included.len() >= MIN_SIBLINGS => (None, &included, false),
+                _ => continue,
+            };
+            for channel in summary.channels() {
+                if summary.flat.contains(&channel) {
                     continue;
                 }
-                let dead = |v: f64| v < self.checks.dead_ratio * median_rms;
-                let mut logs: Vec<f64> = values
-                    .iter()
-                    .filter(|&&v| !dead(v))
-                    .map(|v| v.ln())
-                    .collect();
-                let centre = median(&mut logs);
-                logs.iter_mut().for_each(|l| *l = (*l - centre).abs());
-                let sigma = MAD_TO_SIGMA * median(&mut logs);
-                for (&r, &rms) in group.iter().zip(&values) {
-                    let record = self.summaries[r].label.clone();
-                    if dead(rms) {
-                        found.push((
-                            r,
-                            Warning::DeadChannel {
-                                record,
-                                channel,
-                                rms,
-                                median_rms,
-                            },
-                        ));
-                        continue;
-                    }
-                    let off = (rms.ln() - centre).abs();
-                    if off > log_floor && off > self.checks.level_sigmas * sigma {
-                        found.push((
-                            r,
-                            Warning::LevelOutlier {
-                                record,
-                                channel,
-                                rms,
-                                median_rms,
-                                sigmas: off / sigma,
-                            },
-                        ));
-                    }
+                let s = cache
+                    .entry((key, channel))
+                    .or_insert_with(|| self.siblings(siblings, channel));
+                if s.median_rms <= 0.0 {
+                    continue;
+                }
+                let rms = summary.rms(channel);
+                let record = summary.label.clone();
+                let median_rms = s.median_rms;
+                if rms < self.checks.dead_ratio * median_rms {
+                    found.push((
+                        r,
+                        Warning::DeadChannel {
+                            record,
+                            channel,
+                            rms,
+                            median_rms,
+                        },
+                    ));
+                    continue;
+                }
+                let off = (rms.ln() - s.centre).abs();
+                if with_level && off > log_floor && off > self.checks.level_sigmas * s.sigma {
+                    found.push((
+                        r,
+                        Warning::LevelOutlier {
+                            record,
+                            channel,
+                            rms,
+                            median_rms,
+                            sigmas: off / s.sigma,
+                        },
+                    ));
                 }
             }
         }
-        found.sort_by_key(|(r, _)| *r);
         found
     }
+
+    /// The statistics of `channel` over the records `siblings`.
+    fn siblings(&self, siblings: &[usize], channel: Channel) -> Siblings {
+        let values: Vec<f64> = siblings
+            .iter()
+            .map(|&r| self.summaries[r].rms(channel))
+            .collect();
+        let median_rms = median(&mut values.clone());
+        let mut logs: Vec<f64> = values
+            .iter()
+            .filter(|&&v| v >= self.checks.dead_ratio * median_rms && v > 0.0)
+            .map(|v| v.ln())
+            .collect();
+        let centre = median(&mut logs);
+        logs.iter_mut().for_each(|l| *l = (*l - centre).abs());
+        Siblings {
+            median_rms,
+            centre,
+            sigma: MAD_TO_SIGMA * median(&mut logs),
+        }
+    }
+}
+
+/// A channel's level over a record's siblings.
+#[derive(Debug, Clone, Copy)]
+struct Siblings {
+    /// Median RMS.
+    median_rms: f64,
+    /// Median log RMS of the live ones.
+    centre: f64,
+    /// `1.4826 · MAD` of their log RMS.
+    sigma: f64,
 }
 
 /// The (upper) median of `values`, reordering them; NaN for none.
@@ -723,7 +783,7 @@ mod tests {
         let mut s = Screener::new(Checks::default());
         for k in 0..2 {
             let f1 = if k == 1 { wave(1e-6, 0.0) } else { wave(2.0, 0.0) };
-            let r = record(&format!("r{k}"), [wave(10.0, 0.0), f1], [wave(1e-6, 0.1); 2]);
+            let r = record(&format!("r{k}"), [wave(10.0, 0.0), f1], [wave(1e-6, 0.1), wave(1e-6, 0.2)]);
             s.push(&r);
         }
         assert_eq!(s.across(&[]), vec![]);
