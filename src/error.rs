@@ -539,6 +539,63 @@ pub enum Warning {
         /// Lines wanted.
         needed: usize,
     },
+    // ---- Record screening (`crate::screening`) ----
+    /// A channel holds one value throughout (no variation beyond rounding): a dead,
+    /// disconnected or unpowered sensor (see [`screening`](crate::screening)).
+    FlatChannel {
+        /// Label of the record.
+        record: String,
+        /// The flat channel.
+        channel: Channel,
+        /// The value it holds (N or m).
+        value: f64,
+    },
+    /// A channel's RMS (mean removed) is far below the same channel's median RMS in its
+    /// sibling records (see [`screening`](crate::screening)).
+    DeadChannel {
+        /// Label of the record.
+        record: String,
+        /// The channel.
+        channel: Channel,
+        /// Its RMS (N or m).
+        rms: f64,
+        /// The median RMS of the same channel over the siblings (N or m).
+        median_rms: f64,
+    },
+    /// A channel's level is an outlier among its sibling records: its log RMS is far from
+    /// their median in robust standard deviations (see [`screening`](crate::screening)).
+    LevelOutlier {
+        /// Label of the record.
+        record: String,
+        /// The channel.
+        channel: Channel,
+        /// Its RMS (N or m).
+        rms: f64,
+        /// The median RMS of the same channel over the siblings (N or m).
+        median_rms: f64,
+        /// `|ln rms − median ln rms| / σ̂` with `σ̂ = 1.4826 · MAD` of the siblings' log RMS
+        /// (infinite when the siblings agree exactly).
+        sigmas: f64,
+    },
+    /// A record holds exactly the same samples as an earlier one (the same file passed twice,
+    /// say, whatever the labels).
+    DuplicateRecord {
+        /// Label of the later record.
+        record: String,
+        /// Label of the earlier record with the same samples.
+        of: String,
+    },
+    /// A paired set's impedance is far from the other sets' at most band lines (see
+    /// [`screening::outlier_sets`](crate::screening::outlier_sets)).
+    OutlierSet {
+        /// Labels of the set's records, one per direction.
+        records: Vec<String>,
+        /// Lines where the set is far out.
+        far_lines: usize,
+        /// Lines tested.
+        lines: usize,
+    },
+    // ---- end of record screening ----
 }
 
 impl fmt::Display for Warning {
@@ -668,6 +725,56 @@ impl fmt::Display for Warning {
                 f,
                 "only {lines} lines in the band ({needed} wanted): little redundancy in the fit"
             ),
+            // ---- Record screening ----
+            Warning::FlatChannel {
+                record,
+                channel,
+                value,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is flat, every sample at {value:.4e} \
+                 (a dead or disconnected sensor)"
+            ),
+            Warning::DeadChannel {
+                record,
+                channel,
+                rms,
+                median_rms,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is dead, RMS {rms:.3e} is {:.1e} × the median \
+                 {median_rms:.3e} of its sibling records",
+                rms / median_rms
+            ),
+            Warning::LevelOutlier {
+                record,
+                channel,
+                rms,
+                median_rms,
+                sigmas,
+            } => write!(
+                f,
+                "record `{record}`: {channel} level is an outlier, RMS {rms:.3e} is {:.3} × the \
+                 median {median_rms:.3e} of its sibling records ({sigmas:.1} robust σ)",
+                rms / median_rms
+            ),
+            Warning::DuplicateRecord { record, of } if record == of => write!(
+                f,
+                "record `{record}` passed again: the same samples as its first copy"
+            ),
+            Warning::DuplicateRecord { record, of } => write!(
+                f,
+                "record `{record}` holds the same samples as record `{of}` (the same data twice)"
+            ),
+            Warning::OutlierSet {
+                records,
+                far_lines,
+                lines,
+            } => write!(
+                f,
+                "paired set ({}): impedance far from the other sets' at {far_lines} of {lines} lines",
+                records.join(", ")
+            ),
         }
     }
 }
@@ -703,6 +810,11 @@ impl Warning {
             Warning::ForceGateShort { .. } => "force_gate_short",
             Warning::CoarseResolution { .. } => "coarse_resolution",
             Warning::FewLines { .. } => "few_lines",
+            Warning::FlatChannel { .. } => "flat_channel",
+            Warning::DeadChannel { .. } => "dead_channel",
+            Warning::LevelOutlier { .. } => "level_outlier",
+            Warning::DuplicateRecord { .. } => "duplicate_record",
+            Warning::OutlierSet { .. } => "outlier_set",
         }
     }
 }

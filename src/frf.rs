@@ -565,6 +565,15 @@ struct Gathered {
     contribution: Contribution,
 }
 
+/// Each paired set's own impedance per band line ([`FrfBuilder::set_impedances`]).
+#[derive(Debug, Clone)]
+pub(crate) struct SetImpedances {
+    /// Records (push order) of each set, one per direction.
+    pub(crate) records: Vec<Vec<usize>>,
+    /// `[set][line]`: `H_s`, `None` where the set's displacements are singular.
+    pub(crate) impedances: Vec<Vec<Option<Mat<c64>>>>,
+}
+
 /// The fixed settings of a builder once the first record has fixed the shape.
 #[derive(Debug, Clone)]
 struct Plan {
@@ -769,6 +778,110 @@ impl FrfBuilder {
     /// Number of records pushed.
     pub fn records(&self) -> usize {
         self.gathered.len()
+    }
+
+    /// Label of record `index` (push order).
+    pub(crate) fn label(&self, index: usize) -> &str {
+        &self.gathered[index].label
+    }
+
+    /// Whether every record pushed can be taken out again by [`FrfBuilder::remove`]: always
+    /// for paired sets (each record's spectra are kept), for cross-spectral estimators only
+    /// with [`FrfBuilder::keeping_partials`].
+    pub(crate) fn can_remove(&self) -> bool {
+        !self.estimator.is_cross_spectral() || self.keep_partials
+    }
+
+    /// Takes the records at `indices` (push order) back out, as if they had never been pushed:
+    /// cross-spectral totals are summed again from the remaining records' partials, in order,
+    /// so the result is bit for bit that of pushing only the others. Does nothing unless
+    /// [`FrfBuilder::can_remove`].
+    pub(crate) fn remove(&mut self, indices: &[usize]) {
+        if !self.can_remove() || indices.is_empty() {
+            return;
+        }
+        let mut index = 0;
+        self.gathered.retain(|_| {
+            index += 1;
+            !indices.contains(&(index - 1))
+        });
+        if !self.estimator.is_cross_spectral() {
+            self.averages = self.gathered.len();
+            return;
+        }
+        let Some((plan, _)) = self.plan.as_ref() else {
+            return;
+        };
+        let segments = self.segmentation.starts(plan.len).count();
+        let zero = c64::new(0.0, 0.0);
+        for totals in [&mut self.sff, &mut self.sxf, &mut self.sxx] {
+            totals.fill(zero);
+        }
+        for g in &self.gathered {
+            if let Contribution::Cross { sff, sxf, sxx, .. } = &g.contribution {
+                for (totals, part) in [
+                    (&mut self.sff, sff),
+                    (&mut self.sxf, sxf),
+                    (&mut self.sxx, sxx),
+                ] {
+                    totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
+                }
+            }
+        }
+        self.averages = segments * self.gathered.len();
+    }
+
+    /// Each paired set's own impedance `H_s = F_s X_s⁻¹` on every band line, `None` where
+    /// `X_s` is singular, with the records (push order) of each set, one per direction.
+    /// Empty unless paired sets.
+    ///
+    /// # Errors
+    /// As [`FrfBuilder::excitations`].
+    pub(crate) fn set_impedances(&self, assignment: &Assignment) -> Result<SetImpedances> {
+        let mut out = SetImpedances {
+            records: Vec::new(),
+            impedances: Vec::new(),
+        };
+        let Some((plan, _)) = self.plan.as_ref() else {
+            return Ok(out);
+        };
+        if self.estimator != Estimator::PairedSets {
+            return Ok(out);
+        }
+        let n = plan.n;
+        let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (r, &e) in self.excitations(assignment)?.iter().enumerate() {
+            by_direction[e].push(r);
+        }
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        let nn = n * n;
+        let zero = c64::new(0.0, 0.0);
+        let (mut x, mut f, mut h) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let mut inverter = linalg::Inverter::new(n);
+        for s in 0..sets {
+            let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
+            let mut lines = Vec::with_capacity(plan.lines.len());
+            for l in 0..plan.lines.len() {
+                for (j, &r) in records.iter().enumerate() {
+                    let Contribution::Spectra {
+                        forces,
+                        displacements,
+                    } = &self.gathered[r].contribution
+                    else {
+                        return Ok(out);
+                    };
+                    x[j * n..(j + 1) * n].copy_from_slice(&displacements[l * n..(l + 1) * n]);
+                    f[j * n..(j + 1) * n].copy_from_slice(&forces[l * n..(l + 1) * n]);
+                }
+                lines.push(inverter.invert(&mut x).then(|| {
+                    linalg::mul_into(&f, &x, &mut h, n);
+                    Mat::from_fn(n, n, |i, j| h[i + j * n])
+                }));
+            }
+            out.records.push(records);
+            out.impedances.push(lines);
+        }
+        Ok(out)
     }
 
     /// Checks `record` against the first one and fixes the plan on the first call.

@@ -12,8 +12,8 @@ use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
 use crate::gate::{self, FitGate, ForceGateCheck};
 use crate::model::{Coefficients, Mode};
 use crate::per_frequency::PerFrequency;
-use crate::quality::ImpactChecks;
 use crate::records::Record;
+use crate::screening::{self, Checks, Screener};
 use crate::solve::ml::{MlOptions, MlReport};
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
@@ -29,18 +29,30 @@ pub enum NonConvergence {
     Fail,
 }
 
-/// Whether records are screened for impact faults ([`crate::quality::check_record`]: double
-/// hits, clipped channels) before they reach the spectra.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Whether records are screened for faults ([`crate::screening`]: flat and dead channels,
+/// identical records, clipping, level outliers, double hits of impacts, paired sets far from
+/// the others) on their way to the spectra.
+///
+/// The default is [`Screening::Warn`] with [`Checks::default`]: every finding is reported, no
+/// record is left out. The checks are built not to fire on clean records of any excitation
+/// (impact, random, multisine, sweep, stepped sine at 5 % noise), so warning costs nothing on
+/// good data.
+#[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub enum Screening {
-    /// No screening (the default: random, periodic and sine records need none).
-    #[default]
+    /// No screening.
     Off,
     /// Report every fault found as a [`Warning`]; keep the record.
-    Warn(ImpactChecks),
-    /// Report every fault and leave the faulty records out ([`Warning::Rejected`]).
-    Reject(ImpactChecks),
+    Warn(Checks),
+    /// Report every fault and leave the faulty records out ([`Warning::Rejected`], with the
+    /// reason). A paired set far from the others is left out whole.
+    Reject(Checks),
+}
+
+impl Default for Screening {
+    fn default() -> Self {
+        Screening::Warn(Checks::default())
+    }
 }
 
 /// How the standard deviations of the coefficients are estimated.
@@ -172,7 +184,7 @@ impl Identifier {
             min_coherence: 0.0,
             uncertainty: Uncertainty::default(),
             force_gate: None,
-            screening: Screening::Off,
+            screening: Screening::default(),
             gate: FitGate::default(),
         }
     }
@@ -262,12 +274,13 @@ impl Identifier {
         self
     }
 
-    /// Screens every record for double hits and clipping ([`Screening`]); default off.
+    /// How records are screened for faults ([`Screening`]); default
+    /// [`Screening::Warn`]`(`[`Checks::default`]`)`.
     ///
     /// # Examples
     /// ```
     /// use bearing_ident::identify::{Identifier, Screening};
-    /// use bearing_ident::quality::ImpactChecks;
+    /// use bearing_ident::screening::Checks;
     /// use bearing_ident::simulate::{ImpactTest, seed_rig};
     /// let mut records = ImpactTest { per_direction: 3, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
     /// // Overload the first record's force amplifier at 60 % of its peak.
@@ -278,7 +291,7 @@ impl Identifier {
     ///     "clipped", r.sample_rate(), vec![clipped, r.force(1).to_vec()],
     ///     vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])?;
     /// let id = Identifier::new(8.0, 49.0)
-    ///     .screening(Screening::Reject(ImpactChecks::default()))
+    ///     .screening(Screening::Reject(Checks::default()))
     ///     .identify(&records)?;
     /// assert!(id.warnings().iter().any(|w| w.to_string().contains("`clipped` rejected")));
     /// assert!((id.coefficients().stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-6);
@@ -328,27 +341,34 @@ impl Identifier {
     pub fn identify(&self, records: &[Record]) -> Result<Identification> {
         self.validate()?;
         let mut builder = self.builder();
-        let mut screened = Vec::new();
-        let mut pulses = self.pulse_check();
-        for r in records {
-            self.observe(r, &mut pulses);
+        let pulses = self.pulse_warning(records);
+        let Some((checks, reject)) = self.checks() else {
+            builder.push_all(records)?;
+            return self.finish(builder, pulses.into_iter().collect());
+        };
+        // Every record is at hand: decide all but the per-line test before the spectra.
+        let mut screener = Screener::new(checks);
+        let mut findings: Vec<Vec<Warning>> = records.iter().map(|r| screener.push(r)).collect();
+        let excluded: Vec<bool> = findings.iter().map(|f| reject && !f.is_empty()).collect();
+        for (r, w) in screener.across(&excluded) {
+            findings[r].push(w);
         }
-        if self.screening == Screening::Off {
+        let kept: Vec<bool> = findings.iter().map(|f| !reject || f.is_empty()).collect();
+        if kept.iter().all(|&k| k) {
             builder.push_all(records)?;
         } else {
-            let kept: Vec<&Record> = records
+            let kept: Vec<Record> = records
                 .iter()
-                .filter(|r| self.screen(r, &mut screened))
+                .zip(&kept)
+                .filter(|(_, k)| **k)
+                .map(|(r, _)| r.clone())
                 .collect();
-            if kept.len() == records.len() {
-                builder.push_all(records)?;
-            } else {
-                let kept: Vec<Record> = kept.into_iter().cloned().collect();
-                builder.push_all(&kept)?;
-            }
+            builder.push_all(&kept)?;
         }
-        screened.extend(pulses.and_then(|p| p.warning()));
-        self.finish(builder, screened)
+        let mut warnings = reported(screener.summaries(), findings, reject);
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        warnings.extend(pulses);
+        self.finish(builder, warnings)
     }
 
     /// A check of the force gate against the pulses, when a gate is set on whole records.
@@ -359,38 +379,82 @@ impl Identifier {
         }
     }
 
-    /// Notes what the settings' checks need of `record`.
-    fn observe(&self, record: &Record, pulses: &mut Option<ForceGateCheck>) {
+    /// Notes the force pulses of `record` for the force-gate check.
+    fn observe(record: &Record, pulses: &mut Option<ForceGateCheck>) {
         if let Some(p) = pulses {
             let forces = (0..record.dofs()).map(|i| record.force(i));
             p.record(forces, 1.0 / record.sample_rate());
         }
     }
 
-    /// Screens `record`, adding what it finds to `warnings`; `false` if it is to be left out.
-    fn screen(&self, record: &Record, warnings: &mut Vec<Warning>) -> bool {
-        let (checks, reject) = match self.screening {
-            Screening::Off => return true,
-            Screening::Warn(c) => (c, false),
-            Screening::Reject(c) => (c, true),
-        };
-        let issues = crate::quality::check_record(record, &checks);
-        warnings.extend(crate::quality::warnings(record, &issues));
-        if reject && !issues.is_empty() {
-            let reason: Vec<String> = issues.iter().map(ToString::to_string).collect();
-            warnings.push(Warning::Rejected {
-                record: record.label().to_owned(),
-                reason: reason.join("; "),
-            });
-            return false;
+    /// [`Warning::ForceGateShort`] if the force gate closes on a pulse of `records`.
+    fn pulse_warning(&self, records: &[Record]) -> Option<Warning> {
+        let mut pulses = self.pulse_check();
+        for r in records {
+            Self::observe(r, &mut pulses);
         }
-        true
+        pulses.and_then(|p| p.warning())
+    }
+
+    /// The screening checks and whether faulty records are left out; `None` when off.
+    fn checks(&self) -> Option<(Checks, bool)> {
+        match self.screening {
+            Screening::Off => None,
+            Screening::Warn(c) => Some((c, false)),
+            Screening::Reject(c) => Some((c, true)),
+        }
+    }
+
+    /// The per-line test of paired sets ([`screening::outlier_sets`]) on what `builder`
+    /// holds; under `reject` the outlying sets' records are taken back out.
+    fn screen_sets(
+        &self,
+        builder: &mut FrfBuilder,
+        checks: &Checks,
+        reject: bool,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<()> {
+        let sets = builder.set_impedances(&self.assignment)?;
+        let mut out = Vec::new();
+        for o in screening::outlier_sets(&sets.impedances, checks) {
+            let members = &sets.records[o.set];
+            let labels: Vec<String> = members
+                .iter()
+                .map(|&r| builder.label(r).to_owned())
+                .collect();
+            let warning = Warning::OutlierSet {
+                records: labels.clone(),
+                far_lines: o.far_lines,
+                lines: o.lines,
+            };
+            if reject {
+                let reason = screening::reason(&warning);
+                out.extend(members.iter().copied());
+                warnings.push(warning);
+                warnings.extend(labels.into_iter().map(|record| Warning::Rejected {
+                    record,
+                    reason: reason.clone(),
+                }));
+            } else {
+                warnings.push(warning);
+            }
+        }
+        builder.remove(&out);
+        Ok(())
     }
 
     /// [`Identifier::identify`] over records that arrive one at a time (read from files, say):
     /// each is reduced to its band-line spectra (paired sets) or folded into the cross-spectra
     /// (H1) and can be dropped at once, so memory does not grow with record length, nor, for
     /// H1, with the number of records.
+    ///
+    /// Screening ([`Screening`]) decides flat channels, clipping, double hits and duplicates of
+    /// an earlier record on arrival; dead channels and level outliers (which need the
+    /// siblings) and the per-line test of paired sets once all have arrived. Under
+    /// [`Screening::Reject`] records found faulty late are taken back out: paired sets keep
+    /// every record's band-line spectra anyway, and cross-spectral estimators then keep each
+    /// record's own band-line cross-spectra too (`3n²` complex numbers per line and record),
+    /// so the result is that of leaving the records out from the start.
     ///
     /// # Errors
     /// The first error of the iterator, then as [`Identifier::identify`].
@@ -412,17 +476,113 @@ impl Identifier {
     ) -> Result<Identification> {
         self.validate()?;
         let mut builder = self.builder();
-        let mut screened = Vec::new();
         let mut pulses = self.pulse_check();
-        for r in records {
-            let r = r?;
-            self.observe(&r, &mut pulses);
-            if self.screen(&r, &mut screened) {
+        let Some((checks, reject)) = self.checks() else {
+            for r in records {
+                let r = r?;
+                Self::observe(&r, &mut pulses);
                 builder.push(&r)?;
             }
+            return self.finish(
+                builder,
+                pulses.and_then(|p| p.warning()).into_iter().collect(),
+            );
+        };
+        if reject {
+            // Records found faulty only once all have arrived must come out again.
+            builder = builder.keeping_partials();
         }
-        screened.extend(pulses.and_then(|p| p.warning()));
-        self.finish(builder, screened)
+        let mut screener = Screener::new(checks);
+        let (mut findings, mut pushed) = (Vec::new(), Vec::new());
+        for r in records {
+            let r = r?;
+            Self::observe(&r, &mut pulses);
+            let found = screener.push(&r);
+            if reject && !found.is_empty() {
+                pushed.push(None);
+            } else {
+                builder.push(&r)?;
+                pushed.push(Some(builder.records() - 1));
+            }
+            findings.push(found);
+        }
+        let excluded: Vec<bool> = pushed.iter().map(Option::is_none).collect();
+        let mut out = Vec::new();
+        for (r, w) in screener.across(&excluded) {
+            if let (true, Some(b)) = (reject, pushed[r]) {
+                out.push(b);
+            }
+            findings[r].push(w);
+        }
+        builder.remove(&out);
+        let mut warnings = reported(screener.summaries(), findings, reject);
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        warnings.extend(pulses.and_then(|p| p.warning()));
+        self.finish(builder, warnings)
+    }
+
+    /// Identifies a stepped-sine test ([`crate::stepped::stepped_sine`], steps grouped within
+    /// `step_tolerance` Hz, records assigned by [`Identifier::assignment`]) with the record
+    /// screening of [`Identifier::identify`] (per record and across siblings; no per-line
+    /// test, each step being its own line), then as [`Identifier::identify_frf`].
+    ///
+    /// # Errors
+    /// As [`crate::stepped::stepped_sine`] and [`Identifier::identify_frf`];
+    /// [`Error::NoRecords`] if screening left none.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, seed_rig, sine};
+    /// let mut sim = Simulator::new(&seed_rig(), 2000.0, 4000, AntiAlias::default())?;
+    /// let mut records = Vec::new();
+    /// for step in 0..8 {
+    ///     let f = 10.0 + 5.0 * step as f64;
+    ///     for dir in 0..2 {
+    ///         let mut forces = vec![vec![0.0; 4000]; 2];
+    ///         forces[dir] = sine(f, 50.0, 2000.0, 4000)?;
+    ///         let r = sim.held_record(format!("{f}Hz-{dir}"), &forces)?;
+    ///         records.push(r.trimmed(2000..4000)?);
+    ///     }
+    /// }
+    /// let id = Identifier::new(8.0, 49.0).identify_stepped_sine(&records, 0.01)?;
+    /// assert!(id.warnings().is_empty());
+    /// assert!((id.coefficients().mass()[(0, 0)] / 4.7 - 1.0).abs() < 1e-4);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_stepped_sine(
+        &self,
+        records: &[Record],
+        step_tolerance: f64,
+    ) -> Result<Identification> {
+        self.validate()?;
+        let (kept, warnings) = match self.checks() {
+            None => (records.to_vec(), Vec::new()),
+            Some((checks, reject)) => {
+                let mut screener = Screener::new(checks);
+                let mut findings: Vec<Vec<Warning>> =
+                    records.iter().map(|r| screener.push(r)).collect();
+                let excluded: Vec<bool> =
+                    findings.iter().map(|f| reject && !f.is_empty()).collect();
+                for (r, w) in screener.across(&excluded) {
+                    findings[r].push(w);
+                }
+                let kept = records
+                    .iter()
+                    .zip(&findings)
+                    .filter(|(_, f)| !reject || f.is_empty())
+                    .map(|(r, _)| r.clone())
+                    .collect();
+                (kept, reported(screener.summaries(), findings, reject))
+            }
+        };
+        if kept.is_empty() {
+            return Err(Error::NoRecords);
+        }
+        let frf = crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)?;
+        let mut id = self.identify_frf(frf)?;
+        id.warnings.splice(0..0, warnings);
+        Ok(id)
     }
 
     /// Identifies many test conditions (operating points) with the same settings, one result
@@ -837,6 +997,30 @@ fn line_spacing(freqs_hz: &[f64]) -> Option<f64> {
         .map(|w| w[1] - w[0])
         .filter(|d| *d > 0.0)
         .min_by(f64::total_cmp)
+}
+
+/// The screening's warnings in record order, each faulty record's findings followed, under
+/// `reject`, by its [`Warning::Rejected`].
+fn reported(
+    summaries: &[screening::Summary],
+    findings: Vec<Vec<Warning>>,
+    reject: bool,
+) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    for (summary, found) in summaries.iter().zip(findings) {
+        if found.is_empty() {
+            continue;
+        }
+        let reason: Vec<String> = found.iter().map(screening::reason).collect();
+        warnings.extend(found);
+        if reject {
+            warnings.push(Warning::Rejected {
+                record: summary.label().to_owned(),
+                reason: reason.join("; "),
+            });
+        }
+    }
+    warnings
 }
 
 /// Element-wise $\sqrt{s \cdot \mathrm{var}}$ over refits, with `var` the population variance

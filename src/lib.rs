@@ -48,8 +48,9 @@
 //! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
 //!    coefficients.
 //!
-//! [`quality`] screens impact records for double hits and clipped channels before they reach
-//! the spectra; [`simulate`] produces exact time records of a known system, for learning and
+//! [`screening`] screens records of every excitation for dead and flat channels, identical
+//! records, clipping, level outliers and paired sets far from the others (with [`quality`]'s
+//! double-hit and clipping checks), before and after they reach the spectra; [`simulate`] produces exact time records of a known system, for learning and
 //! testing.
 //!
 //! ## Conventions
@@ -101,6 +102,7 @@ pub mod per_frequency;
 pub mod plot;
 pub mod quality;
 pub mod records;
+pub mod screening;
 pub mod simulate;
 pub mod solve;
 pub mod spectra;

@@ -725,7 +725,10 @@ fn identify_reports_the_fit_gate_in_json() {
     let dir = tempfile::tempdir().unwrap();
     let files = simulate(dir.path(), &["--impacts", "3", "--noise", "0.05"]);
     // A force gate of 1 ns closes before the 2 ms pulse: the fit explains nothing.
-    let v = identify_json(&["--band", "8,49", "--force-gate=1e-9", "--allow-unconverged"], &files);
+    let v = identify_json(
+        &["--band", "8,49", "--force-gate=1e-9", "--allow-unconverged"],
+        &files,
+    );
     let kinds: Vec<&str> = v["warning_kinds"]
         .as_array()
         .unwrap()
@@ -743,4 +746,92 @@ fn identify_reports_the_fit_gate_in_json() {
         "{}",
         v["warnings"]
     );
+}
+
+/// Sets the named columns of a CSV record to zero (a channel that did not register).
+fn zero_columns(path: &str, columns: &[&str]) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let zeroed: Vec<usize> = header
+        .split(',')
+        .enumerate()
+        .filter(|(_, name)| columns.contains(name))
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(zeroed.len(), columns.len(), "{header}");
+    let mut out = format!("{header}\n");
+    for line in lines {
+        let fields: Vec<&str> = line
+            .split(',')
+            .enumerate()
+            .map(|(i, v)| if zeroed.contains(&i) { "0" } else { v })
+            .collect();
+        out.push_str(&fields.join(","));
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// Screening on by default: a hammer hit that did not register (`fx`, `fy` zero in one x-hit
+/// file of sixteen) is named in the table and the JSON; `--reject-bad-records` (and its
+/// hidden alias `--reject-bad-impacts`) leaves it out and M comes back.
+#[test]
+fn dead_force_channel_is_screened_and_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "8", "--noise", "0.05"]);
+    assert_eq!(files.len(), 16);
+    let dead = files
+        .iter()
+        .find(|f| f.ends_with("impact-dof0-2.csv"))
+        .unwrap();
+    zero_columns(dead, &["fx", "fy"]);
+
+    let v = identify_json(&["--band", "8,49"], &files);
+    let warnings: Vec<&str> = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    println!("{warnings:#?}");
+    for channel in ["force channel 0 is flat", "force channel 1 is flat"] {
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("impact-dof0-2") && w.contains(channel)),
+            "{warnings:?}"
+        );
+    }
+    let kinds = v["warning_kinds"].as_array().unwrap();
+    assert!(kinds.iter().any(|k| k == "flat_channel"), "{kinds:?}");
+    assert!(kinds.iter().any(|k| k == "outlier_set"), "{kinds:?}");
+    let m = matrix(&v, "M")[0][0];
+    assert!((m / 4.7 - 0.875).abs() < 0.02, "{m}");
+
+    let file_refs: Vec<&str> = files.iter().map(String::as_str).collect();
+    let out = run(&[&["identify", "--band", "8,49"], &file_refs[..]].concat());
+    assert!(out.status.success());
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.lines().any(|l| l.contains("warning:")
+            && l.contains("impact-dof0-2")
+            && l.contains("force channel 0")),
+        "{table}"
+    );
+
+    for flag in ["--reject-bad-records", "--reject-bad-impacts"] {
+        let v = identify_json(&["--band", "8,49", flag], &files);
+        let warnings = v["warnings"].as_array().unwrap();
+        assert!(
+            warnings.iter().any(|w| {
+                let w = w.as_str().unwrap();
+                w.contains("impact-dof0-2") && w.contains("rejected: force channel 0 flat")
+            }),
+            "{warnings:?}"
+        );
+        let (m, m_std) = (matrix(&v, "M")[0][0], matrix(&v, "M_std")[0][0]);
+        println!("{flag}: M_xx {m:.4} ± {m_std:.4} kg");
+        assert!((m - 4.7).abs() < 6.0 * m_std, "{m} ± {m_std}");
+    }
 }

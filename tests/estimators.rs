@@ -315,7 +315,7 @@ fn screening_warns_or_rejects_a_double_hit() {
         .unwrap();
     let checks = ImpactChecks::default();
     let warned = Identifier::new(8.0, 49.0)
-        .screening(Screening::Warn(checks))
+        .screening(Screening::Warn(checks.into()))
         .identify(&records)
         .unwrap();
     let text: Vec<String> = warned.warnings().iter().map(|w| w.to_string()).collect();
@@ -328,7 +328,7 @@ fn screening_warns_or_rejects_a_double_hit() {
     // A double hit is still a valid excitation: the result stays exact.
     assert!(common::block_relative_error(warned.coefficients(), &truth) < common::EXACT);
     let rejected = Identifier::new(8.0, 49.0)
-        .screening(Screening::Reject(checks))
+        .screening(Screening::Reject(checks.into()))
         .identify(&records)
         .unwrap();
     assert_eq!(rejected.excitations().len(), 5);

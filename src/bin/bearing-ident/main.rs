@@ -11,9 +11,9 @@ use std::time::Instant;
 use bearing_ident::gate::FitGate;
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::quality::ImpactChecks;
+use bearing_ident::screening::Checks;
 use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
 use bearing_ident::spectra::ForceGate;
-use bearing_ident::stepped::stepped_sine;
 use bearing_ident::{
     Assignment, Band, Baseline, Coefficients, Estimator, Identification, Identifier, Method,
     NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
@@ -128,10 +128,11 @@ struct IdentifyArgs {
     /// Drive frequencies closer than this (Hz) are one step of a stepped-sine test.
     #[arg(long, default_value_t = 0.01)]
     step_tolerance: f64,
-    /// Leave out impact records with a double hit or a clipped channel (they are always
-    /// reported as warnings under impact excitation).
-    #[arg(long)]
-    reject_bad_impacts: bool,
+    /// Leave out the records that screening finds faulty: flat or dead channels, identical
+    /// records, clipping, level outliers, double hits (impacts), paired sets far from the
+    /// others (they are always reported as warnings).
+    #[arg(long, alias = "reject-bad-impacts")]
+    reject_bad_records: bool,
     /// Subtract a dry-structure baseline: a directory of its CSV records (identified here with
     /// the same settings) or the JSON result of an earlier `identify --json`. The JSON output
     /// then carries `bearing` (`M`, `C`, `K` and their `*_std`: system − baseline).
@@ -482,14 +483,17 @@ fn settings(
     if let Some(open) = args.force_gate {
         identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
     }
-    if excitation == ExcitationArg::Impact || args.reject_bad_impacts {
-        let checks = ImpactChecks::default();
-        identifier = identifier.screening(if args.reject_bad_impacts {
-            Screening::Reject(checks)
-        } else {
-            Screening::Warn(checks)
-        });
-    }
+    // Screening on every excitation; the double-hit check only for impacts.
+    let checks = if excitation == ExcitationArg::Impact {
+        Checks::default()
+    } else {
+        Checks::without_double_hits()
+    };
+    identifier = identifier.screening(if args.reject_bad_records {
+        Screening::Reject(checks)
+    } else {
+        Screening::Warn(checks)
+    });
     let segment_len = match segmentation {
         Segmentation::Welch { len } | Segmentation::Periods { len } => Some(len),
         _ => None,
@@ -524,14 +528,12 @@ fn run(
     let records = std::iter::once(Ok(first)).chain(rest);
     let id = if excitation == ExcitationArg::SteppedSine {
         let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
-        let dofs = Some(records[0].dofs());
-        let frf = stepped_sine(
-            &records,
-            &Assignment::DominantForce,
-            dofs,
-            args.step_tolerance,
-        )?;
-        identifier.identify_frf(frf)?
+        let dofs = records[0].dofs();
+        identifier
+            .clone()
+            .dofs(dofs)
+            .assignment(Assignment::DominantForce)
+            .identify_stepped_sine(&records, args.step_tolerance)?
     } else {
         identifier.identify_stream(records)?
     };
