@@ -333,6 +333,32 @@ pub enum Error {
         /// Which decomposition.
         what: &'static str,
     },
+    /// A line of a CSV file, its number of columns, or its number of values is past the
+    /// reader's documented limit (see [`io`](crate::io#limits)): reading stops there, before the
+    /// input can exhaust memory.
+    #[error("{path}, line {line}: {what} past the limit of {limit}")]
+    CsvLimit {
+        /// The file.
+        path: String,
+        /// One-based line number where the limit was reached.
+        line: u64,
+        /// What was counted: `"line length (bytes)"`, `"columns"` or `"values (samples ×
+        /// columns)"`.
+        what: &'static str,
+        /// The limit.
+        limit: u64,
+    },
+    /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
+    /// of the crate.
+    #[error("{what} = {value} is past the limit of {limit}")]
+    TooLarge {
+        /// What was asked for, in words.
+        what: &'static str,
+        /// The size asked for (as `f64`: it may not fit any integer type).
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// A step of a stepped-sine test has no record driving one of the directions.
     #[error(
         "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
@@ -540,7 +566,7 @@ impl Error {
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
-    /// `baseline_mismatch`.
+    /// `baseline_mismatch`, `too_large`.
     ///
     /// # Examples
     /// ```
@@ -573,12 +599,60 @@ impl Error {
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
                 "singular"
             }
+            Error::CsvLimit { .. } | Error::TooLarge { .. } => "too_large",
             Error::BaselineMismatch { .. } => "baseline_mismatch",
             Error::MlNeedsRepeats => "ml_needs_repeats",
             Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
+        }
+    }
+}
+
+/// The most characters of input that any message quotes (see [`excerpt`]).
+pub const QUOTE_CHARS: usize = 80;
+
+/// At most [`QUOTE_CHARS`] characters of `text`, for quoting input in a message: longer text is
+/// cut there and the cut says how many bytes were left out. Every message that echoes a header,
+/// a field, a value or an argument goes through this, so a file with no newline or a pasted
+/// megabyte never floods a terminal or a JSON log.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::error::excerpt;
+/// assert_eq!(excerpt("t,fx,x"), "t,fx,x");
+/// let long = "a".repeat(1000);
+/// assert_eq!(excerpt(&long), format!("{}… (920 more bytes)", "a".repeat(80)));
+/// ```
+pub fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(QUOTE_CHARS) {
+        None => text.to_owned(),
+        Some((cut, _)) => format!("{}… ({} more bytes)", &text[..cut], text.len() - cut),
+    }
+}
+
+/// [`excerpt`] of bytes that may not be UTF-8 (invalid sequences shown as `�`); only the first
+/// few hundred bytes are ever looked at.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::error::excerpt_bytes;
+/// assert_eq!(excerpt_bytes(b"1.5e3"), "1.5e3");
+/// assert!(excerpt_bytes(&[0u8; 1 << 20]).len() < 120);
+/// ```
+pub fn excerpt_bytes(bytes: &[u8]) -> String {
+    // 4 bytes per character at most: this prefix holds the quoted characters.
+    let head = &bytes[..bytes.len().min(4 * QUOTE_CHARS + 4)];
+    let text = String::from_utf8_lossy(head);
+    match text.char_indices().nth(QUOTE_CHARS) {
+        None if head.len() == bytes.len() => text.into_owned(),
+        None => format!("{text}… ({} more bytes)", bytes.len() - head.len()),
+        Some((cut, _)) => {
+            let shown = &text[..cut];
+            // Input bytes behind the shown characters (exact for UTF-8 input).
+            let behind = bytes.len().saturating_sub(shown.len());
+            format!("{shown}… ({behind} more bytes)")
         }
     }
 }
