@@ -350,7 +350,7 @@ pub enum Error {
     },
     /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
     /// of the crate.
-    #[error("{what} = {value} is past the limit of {limit}")]
+    #[error("{what} = {} is past the limit of {limit}", size(*value))]
     TooLarge {
         /// What was asked for, in words.
         what: &'static str,
@@ -607,6 +607,15 @@ impl Error {
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
         }
+    }
+}
+
+/// A size for a message: whole numbers in full up to 10¹⁵, scientific beyond.
+fn size(value: f64) -> String {
+    if value.abs() < 1e15 {
+        format!("{value}")
+    } else {
+        format!("{value:.3e}")
     }
 }
 
