@@ -743,6 +743,47 @@ mod tests {
     }
 
     #[test]
+    fn excerpts_are_bounded() {
+        assert_eq!(excerpt(""), "");
+        let eighty = "é".repeat(80);
+        assert_eq!(excerpt(&eighty), eighty);
+        let long = "é".repeat(81);
+        assert_eq!(excerpt(&long), format!("{eighty}… (2 more bytes)"));
+        assert_eq!(excerpt_bytes(b"abc"), "abc");
+        let s = excerpt_bytes(&[b'x'; 10_000]);
+        assert!(
+            s.starts_with(&"x".repeat(80)) && s.ends_with("(9920 more bytes)"),
+            "{s}"
+        );
+        assert!(excerpt_bytes(&[0xff; 10_000]).chars().count() < 110);
+    }
+
+    #[test]
+    fn limits_are_too_large() {
+        let e = Error::TooLarge {
+            what: "samples per record",
+            value: 6.7e33,
+            limit: 16_777_216.0,
+        };
+        assert_eq!(e.kind(), "too_large");
+        assert_eq!(
+            e.to_string(),
+            "samples per record = 6.700e33 is past the limit of 16777216"
+        );
+        let e = Error::CsvLimit {
+            path: "f.csv".into(),
+            line: 1,
+            what: "line length (bytes)",
+            limit: 1 << 20,
+        };
+        assert_eq!(e.kind(), "too_large");
+        assert_eq!(
+            e.to_string(),
+            "f.csv, line 1: line length (bytes) past the limit of 1048576"
+        );
+    }
+
+    #[test]
     fn plot_errors_name_the_figure() {
         let e = Error::Plot {
             figure: "impedance",

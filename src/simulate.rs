@@ -798,7 +798,11 @@ pub fn multisine(
             expected: "finite and positive (N)",
         });
     }
-    at_most("samples per record", samples.max(period) as f64, MAX_SAMPLES)?;
+    at_most(
+        "samples per record",
+        samples.max(period) as f64,
+        MAX_SAMPLES,
+    )?;
     let count = last - first + 1;
     at_most(
         "multisine period × lines",
@@ -1246,6 +1250,104 @@ mod tests {
             }
         );
         assert!(sim.held_record("r", &[ok.clone(), ok]).is_ok());
+    }
+
+    #[test]
+    fn sizes_past_the_limits_are_refused_without_allocating() {
+        fn too_large<T>(r: Result<T>) -> bool {
+            matches!(r, Err(Error::TooLarge { .. }))
+        }
+        assert!(too_large(sample_count(1e30, 6700.0)));
+        assert!(too_large(sample_count(1e9, 6700.0)));
+        assert!(matches!(
+            sample_count(f64::NAN, 6700.0),
+            Err(Error::InvalidParameter { .. })
+        ));
+        assert_eq!(sample_count(1.2, 6700.0), Ok(8040));
+        let sys = seed_rig();
+        assert!(too_large(
+            Simulator::new(&sys, 1000.0, MAX_SAMPLES + 1, AntiAlias::None).map(|_| ())
+        ));
+        assert!(too_large(sine(10.0, 1.0, 1000.0, usize::MAX)));
+        assert!(too_large(sweep(5.0, 60.0, 1.0, 1.0, 1000.0, usize::MAX)));
+        assert!(too_large(multisine(256, 5..=10, 1.0, usize::MAX, 0)));
+        assert!(too_large(multisine(
+            MAX_SAMPLES,
+            1..=MAX_SAMPLES / 2 - 1,
+            1.0,
+            8,
+            0
+        )));
+        for test in [
+            ImpactTest {
+                per_direction: usize::MAX,
+                ..ImpactTest::seed_rig()
+            },
+            ImpactTest {
+                duration_s: 1e30,
+                ..ImpactTest::seed_rig()
+            },
+            ImpactTest {
+                sample_rate: 1e12,
+                ..ImpactTest::seed_rig()
+            },
+        ] {
+            assert!(too_large(test.run(&sys)), "{test:?}");
+        }
+        let big = Coefficients::new(
+            Mat::identity(17, 17),
+            Mat::identity(17, 17),
+            Mat::identity(17, 17),
+        )
+        .unwrap();
+        assert!(too_large(
+            Simulator::new(&big, 1000.0, 100, AntiAlias::None).map(|_| ())
+        ));
+    }
+
+    #[test]
+    fn a_fast_filter_at_a_high_rate_integrates() {
+        // ‖A Δt‖ ≈ 2.5e12: 42 squarings, past any u32 power of two.
+        let mut sim = Simulator::new(&seed_rig(), 1e12, 64, AntiAlias::default()).unwrap();
+        let rec = sim.random_record("fast", 1.0, 1).unwrap();
+        assert!(rec.force(0).iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn matrices_without_decay_are_named() {
+        let name = |m, c, k| match slowest_decay(&Coefficients::new(m, c, k).unwrap()) {
+            Err(Error::InvalidParameter { name, .. }) => name,
+            other => panic!("{other:?}"),
+        };
+        let (m, c, k) = (
+            mat![[4.7, 0.0], [0.0, 4.8]],
+            mat![[130.0, 0.0], [0.0, 130.0]],
+            mat![[1.5e5, 0.0], [0.0, 1.7e5]],
+        );
+        assert_eq!(name(-&m, c.clone(), k.clone()), "mass matrix");
+        assert_eq!(
+            name(m.clone(), Mat::zeros(2, 2), k.clone()),
+            "damping matrix"
+        );
+        assert_eq!(name(m.clone(), -&c, k.clone()), "damping matrix");
+        assert_eq!(name(m.clone(), Mat::zeros(2, 2), -&k), "stiffness matrix");
+        let slowest = slowest_decay(&Coefficients::new(m, c, k).unwrap()).unwrap();
+        // Proportional damping: −Re λ = c / 2m for every mode, the slowest on the heavier mass.
+        assert!((slowest - 130.0 / 9.6).abs() < 1e-9, "{slowest}");
+        // The impact test names the matrix too, not the record duration.
+        let undamped = Coefficients::new(
+            mat![[4.7, 0.0], [0.0, 4.8]],
+            Mat::zeros(2, 2),
+            mat![[1.5e5, 0.0], [0.0, 1.7e5]],
+        )
+        .unwrap();
+        assert!(matches!(
+            ImpactTest::seed_rig().run(&undamped),
+            Err(Error::InvalidParameter {
+                name: "damping matrix",
+                ..
+            })
+        ));
     }
 
     #[test]

@@ -730,7 +730,11 @@ fn simulate_refuses_sizes_past_its_limits() {
     let head = ["simulate", "--json", "--out", out];
     let seed_k = "146.3e3,22.3e3;11.5e3,169.1e3";
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
-        (vec!["--duration", "1e30"], "too_large", "samples per record"),
+        (
+            vec!["--duration", "1e30"],
+            "too_large",
+            "samples per record",
+        ),
         (vec!["--duration", "1e9"], "too_large", "samples per record"),
         (vec!["--rate", "1e12"], "too_large", "slowest mode"),
         (
@@ -795,7 +799,10 @@ fn simulate_refuses_sizes_past_its_limits() {
         let args = [&head[..], &extra[..]].concat();
         let start = std::time::Instant::now();
         let o = run(&args);
-        assert!(start.elapsed().as_secs_f64() < 20.0, "{extra:?} took too long");
+        assert!(
+            start.elapsed().as_secs_f64() < 20.0,
+            "{extra:?} took too long"
+        );
         assert_eq!(o.status.code(), Some(2), "{extra:?}");
         let v: Value = serde_json::from_slice(&o.stdout).expect("JSON error");
         assert_eq!(v["error"], kind, "{extra:?}: {v}");
@@ -808,6 +815,22 @@ fn simulate_refuses_sizes_past_its_limits() {
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["records"], 2);
     assert_eq!(v["samples"], 8040);
+    // Counts from the user that once sized allocations (bootstrap draws, IVF iterations).
+    let files = simulate(dir.path(), &["--impacts", "3", "--noise", "0.05"]);
+    let files: Vec<&str> = files.iter().map(String::as_str).collect();
+    let head = ["identify", "--json", "--band", "8,49"];
+    let huge = "18446744073709551615";
+    let o = run(&[
+        &head[..],
+        &["--uncertainty", "bootstrap", "--bootstrap-draws", huge],
+        &files,
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "too_large", "{v}");
+    let o = run(&[&head[..], &["--max-iterations", huge], &files].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 /// Argument errors (clap's and the tool's own) print `{"error": "invalid_argument", …}` on
@@ -818,9 +841,13 @@ fn argument_errors_are_json_with_json() {
     let long = "9".repeat(100_000);
     let cases: Vec<Vec<&str>> = vec![
         vec!["identify", "--json", "--band", "8,49", "--bogus", "f.csv"],
-        vec!["identify", "--json", "--band", "8,49", "--method", "magic", "f.csv"],
+        vec![
+            "identify", "--json", "--band", "8,49", "--method", "magic", "f.csv",
+        ],
         vec!["identify", "--json", "f.csv"],
-        vec!["identify", "--json", "--band", "8,49", "--window", &long, "f.csv"],
+        vec![
+            "identify", "--json", "--band", "8,49", "--window", &long, "f.csv",
+        ],
         vec!["demo", "--json", "--noise", "abc"],
         vec!["demo", "--json", "--noise", &long[..]],
         vec!["simulate", "--json", "--out", "x", "--rate", "fast"],
@@ -838,7 +865,11 @@ fn argument_errors_are_json_with_json() {
         );
         let message = v["message"].as_str().unwrap();
         assert!(message.len() < 500, "{shown:?}: {} bytes", message.len());
-        assert!(o.stderr.len() < 600, "{shown:?}: stderr {} bytes", o.stderr.len());
+        assert!(
+            o.stderr.len() < 600,
+            "{shown:?}: stderr {} bytes",
+            o.stderr.len()
+        );
     }
     // Without --json clap's own text (with its tip) remains.
     let o = run(&["demo", "--noise", "abc"]);
@@ -865,7 +896,11 @@ fn huge_lines_are_not_echoed() {
         let v: Value = serde_json::from_slice(&o.stdout).expect("JSON");
         let message = v["message"].as_str().unwrap();
         assert!(message.len() < 400, "{file}: {} bytes", message.len());
-        assert!(o.stderr.len() < 500, "{file}: stderr {} bytes", o.stderr.len());
+        assert!(
+            o.stderr.len() < 500,
+            "{file}: stderr {} bytes",
+            o.stderr.len()
+        );
         assert!(
             v["error"] == "too_large" || v["error"] == "missing_column",
             "{file}: {v}"

@@ -628,8 +628,8 @@ fn baseline_from_json(text: &str) -> Result<Baseline, String> {
         let Some(rows) = v.get(key).filter(|r| !r.is_null()) else {
             return Ok(None);
         };
-        let rows: Vec<Vec<f64>> =
-            serde_json::from_value(rows.clone()).map_err(|e| format!("`{key}`: {}", excerpt(&e.to_string())))?;
+        let rows: Vec<Vec<f64>> = serde_json::from_value(rows.clone())
+            .map_err(|e| format!("`{key}`: {}", excerpt(&e.to_string())))?;
         let n = rows.len();
         if n == 0 || rows.iter().any(|r| r.len() != n) {
             return Err(format!("`{key}`: expected a square matrix (list of rows)"));
@@ -675,7 +675,10 @@ fn baseline_from_json(text: &str) -> Result<Baseline, String> {
                 .ok_or("no `window_decay_per_s` for the exponential window")?,
         },
         other => {
-            return Err(format!("unknown `window` {}", excerpt(&format!("{other:?}"))));
+            return Err(format!(
+                "unknown `window` {}",
+                excerpt(&format!("{other:?}"))
+            ));
         }
     };
     Ok(Baseline::new(
@@ -934,7 +937,11 @@ fn driven_records(
         KindArg::Multisine => {
             let period = samples(args.period)?;
             let kept = period.saturating_mul(args.periods);
-            at_most("multisine samples kept per record", kept as f64, MAX_SAMPLES)?;
+            at_most(
+                "multisine samples kept per record",
+                kept as f64,
+                MAX_SAMPLES,
+            )?;
             let settle = samples(2.0)?;
             check_size(n as f64 * args.records as f64, settle + kept)?;
             let lines =
