@@ -154,7 +154,8 @@ const LIMITS: Limits = Limits {
     values: MAX_VALUES,
 };
 
-/// Rows read before the input's length is used as a hint of the row count.
+/// Rows read before the input's length is used as a hint of the row count (a power of two
+/// times [`MIN_CAPACITY`], so the buffers are full there).
 const SIZING_ROWS: usize = 64;
 
 /// Smallest capacity of a channel buffer.
@@ -306,7 +307,6 @@ fn read_csv_limited(
     drop(header);
 
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); index.len()];
-    let mut hint = 0;
     // Line of every row, kept only once the rows stop being consecutive lines.
     let mut lines: Option<Vec<u64>> = None;
     let mut first_line = 0;
@@ -323,16 +323,19 @@ fn read_csv_limited(
                 limit: limits.values,
             });
         }
-        if r == SIZING_ROWS && bytes > 0 {
-            // Rows the input's length suggests, from the bytes per row so far.
-            let offset = row.position().map_or(0, csv::Position::byte);
-            let first = columns_start.unwrap_or(0);
-            let per_row = (offset.saturating_sub(first) as f64 / r as f64).max(1.0);
-            let rows = bytes.saturating_sub(first) as f64 / per_row * 1.02 + 16.0;
-            // A hint only: capped by the value limit, it sizes no allocation by itself.
-            hint = rows.min((limits.values / index.len() as u64) as f64) as usize;
-        }
         if r == columns[0].capacity() {
+            // Rows the input's length suggests, from the bytes per row so far (estimated again
+            // at every growth, so it sharpens as rows arrive). A hint only: capacities never
+            // more than double, whatever it says.
+            let hint = if bytes > 0 && r >= SIZING_ROWS {
+                let offset = row.position().map_or(0, csv::Position::byte);
+                let first = columns_start.unwrap_or(0);
+                let per_row = (offset.saturating_sub(first) as f64 / r as f64).max(1.0);
+                let rows = bytes.saturating_sub(first) as f64 / per_row * 1.02 + 16.0;
+                rows.min((limits.values / index.len() as u64) as f64) as usize
+            } else {
+                0
+            };
             let cap = next_capacity(r, hint);
             for c in &mut columns {
                 c.reserve_exact(cap - c.len());
