@@ -829,6 +829,11 @@ fn simulate_refuses_sizes_past_its_limits() {
     assert_eq!(o.status.code(), Some(2));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["error"], "too_large", "{v}");
+    // A baseline file that never ends is read only up to its limit.
+    let o = run(&[&head[..], &["--baseline", "/dev/zero"], &files].concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "too_large", "{v}");
     let o = run(&[&head[..], &["--max-iterations", huge], &files].concat());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }

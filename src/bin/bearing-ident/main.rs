@@ -614,12 +614,34 @@ fn baseline(
         let id = run(args, identifier, excitation, first, &files, &mut reading)?;
         return Ok(Baseline::from(&id));
     }
-    let text = std::fs::read_to_string(path).map_err(io_failure)?;
+    // Read at most the limit (a sparse file or /dev/zero must not fill memory).
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(io_failure)?,
+            MAX_BASELINE_BYTES + 1,
+        ),
+        &mut bytes,
+    )
+    .map_err(io_failure)?;
+    if bytes.len() as u64 > MAX_BASELINE_BYTES {
+        return Err(Failure {
+            kind: "too_large",
+            message: format!(
+                "--baseline {}: longer than the limit of {MAX_BASELINE_BYTES} bytes for a JSON result",
+                path.display()
+            ),
+        });
+    }
+    let text = String::from_utf8_lossy(&bytes);
     baseline_from_json(&text).map_err(|what| Failure {
         kind: "bad_baseline",
         message: format!("--baseline {}: {what}", path.display()),
     })
 }
+
+/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
+const MAX_BASELINE_BYTES: u64 = 1 << 24;
 
 /// A [`Baseline`] from the JSON of `identify --json`.
 fn baseline_from_json(text: &str) -> Result<Baseline, String> {
