@@ -162,7 +162,7 @@ pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
         Ok(eig.iter().copied().fold(f64::INFINITY, f64::min))
     };
     let mass = min_sym_eig(system.mass().as_ref())?;
-    if !(mass > 0.0) {
+    if mass.is_nan() || mass <= 0.0 {
         return Err(Error::InvalidParameter {
             name: "mass matrix",
             value: mass,

@@ -1095,7 +1095,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     let decay_s = 16.2 / slowest;
     let decay_samples = decay_s * args.rate;
     let derived = args.duration.is_none() && matches!(args.kind, KindArg::Impact | KindArg::Sweep);
-    if derived && !(decay_samples <= MAX_SAMPLES as f64) {
+    if derived && (decay_samples.is_nan() || decay_samples > MAX_SAMPLES as f64) {
         return Err(Failure {
             kind: "too_large",
             message: format!(
