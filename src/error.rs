@@ -334,8 +334,8 @@ pub enum Error {
         what: &'static str,
     },
     /// A line of a CSV file, its number of columns, or its number of values is past the
-    /// reader's documented limit (see [`io`](crate::io#limits)): reading stops there, before the
-    /// input can exhaust memory.
+    /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
+    /// stops there, before the input can exhaust memory.
     #[error("{path}, line {line}: {what} past the limit of {limit}")]
     CsvLimit {
         /// The file.
