@@ -354,6 +354,32 @@ pub enum Error {
         /// Which decomposition.
         what: &'static str,
     },
+    /// A line of a CSV file, its number of columns, or its number of values is past the
+    /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
+    /// stops there, before the input can exhaust memory.
+    #[error("{path}, line {line}: {what} past the limit of {limit}")]
+    CsvLimit {
+        /// The file.
+        path: String,
+        /// One-based line number where the limit was reached.
+        line: u64,
+        /// What was counted: `"line length (bytes)"`, `"columns"` or `"values (samples ×
+        /// columns)"`.
+        what: &'static str,
+        /// The limit.
+        limit: u64,
+    },
+    /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
+    /// of the crate.
+    #[error("{what} = {} is past the limit of {limit}", size(*value))]
+    TooLarge {
+        /// What was asked for, in words.
+        what: &'static str,
+        /// The size asked for (as `f64`: it may not fit any integer type).
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// A step of a stepped-sine test has no record driving one of the directions.
     #[error(
         "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
@@ -824,7 +850,7 @@ impl Error {
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
-    /// `baseline_mismatch`.
+    /// `baseline_mismatch`, `too_large`.
     ///
     /// # Examples
     /// ```
@@ -857,12 +883,69 @@ impl Error {
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
                 "singular"
             }
+            Error::CsvLimit { .. } | Error::TooLarge { .. } => "too_large",
             Error::BaselineMismatch { .. } => "baseline_mismatch",
             Error::MlNeedsRepeats => "ml_needs_repeats",
             Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
+        }
+    }
+}
+
+/// A size for a message: whole numbers in full up to 10¹⁵, scientific beyond.
+fn size(value: f64) -> String {
+    if value.abs() < 1e15 {
+        format!("{value}")
+    } else {
+        format!("{value:.3e}")
+    }
+}
+
+/// The most characters of input that any message quotes (see [`excerpt`]).
+pub const QUOTE_CHARS: usize = 80;
+
+/// At most [`QUOTE_CHARS`] characters of `text`, for quoting input in a message: longer text is
+/// cut there and the cut says how many bytes were left out. Every message that echoes a header,
+/// a field, a value or an argument goes through this, so a file with no newline or a pasted
+/// megabyte never floods a terminal or a JSON log.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::error::excerpt;
+/// assert_eq!(excerpt("t,fx,x"), "t,fx,x");
+/// let long = "a".repeat(1000);
+/// assert_eq!(excerpt(&long), format!("{}… (920 more bytes)", "a".repeat(80)));
+/// ```
+pub fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(QUOTE_CHARS) {
+        None => text.to_owned(),
+        Some((cut, _)) => format!("{}… ({} more bytes)", &text[..cut], text.len() - cut),
+    }
+}
+
+/// [`excerpt`] of bytes that may not be UTF-8 (invalid sequences shown as `�`); only the first
+/// few hundred bytes are ever looked at.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::error::excerpt_bytes;
+/// assert_eq!(excerpt_bytes(b"1.5e3"), "1.5e3");
+/// assert!(excerpt_bytes(&[0u8; 1 << 20]).len() < 120);
+/// ```
+pub fn excerpt_bytes(bytes: &[u8]) -> String {
+    // 4 bytes per character at most: this prefix holds the quoted characters.
+    let head = &bytes[..bytes.len().min(4 * QUOTE_CHARS + 4)];
+    let text = String::from_utf8_lossy(head);
+    match text.char_indices().nth(QUOTE_CHARS) {
+        None if head.len() == bytes.len() => text.into_owned(),
+        None => format!("{text}… ({} more bytes)", bytes.len() - head.len()),
+        Some((cut, _)) => {
+            let shown = &text[..cut];
+            // Input bytes behind the shown characters (exact for UTF-8 input).
+            let behind = bytes.len().saturating_sub(shown.len());
+            format!("{shown}… ({behind} more bytes)")
         }
     }
 }
@@ -940,6 +1023,47 @@ mod tests {
         assert_eq!(
             w.to_string(),
             "record `hit-y-3` rejected: force channel 1 clipped"
+        );
+    }
+
+    #[test]
+    fn excerpts_are_bounded() {
+        assert_eq!(excerpt(""), "");
+        let eighty = "é".repeat(80);
+        assert_eq!(excerpt(&eighty), eighty);
+        let long = "é".repeat(81);
+        assert_eq!(excerpt(&long), format!("{eighty}… (2 more bytes)"));
+        assert_eq!(excerpt_bytes(b"abc"), "abc");
+        let s = excerpt_bytes(&[b'x'; 10_000]);
+        assert!(
+            s.starts_with(&"x".repeat(80)) && s.ends_with("(9920 more bytes)"),
+            "{s}"
+        );
+        assert!(excerpt_bytes(&[0xff; 10_000]).chars().count() < 110);
+    }
+
+    #[test]
+    fn limits_are_too_large() {
+        let e = Error::TooLarge {
+            what: "samples per record",
+            value: 6.7e33,
+            limit: 16_777_216.0,
+        };
+        assert_eq!(e.kind(), "too_large");
+        assert_eq!(
+            e.to_string(),
+            "samples per record = 6.700e33 is past the limit of 16777216"
+        );
+        let e = Error::CsvLimit {
+            path: "f.csv".into(),
+            line: 1,
+            what: "line length (bytes)",
+            limit: 1 << 20,
+        };
+        assert_eq!(e.kind(), "too_large");
+        assert_eq!(
+            e.to_string(),
+            "f.csv, line 1: line length (bytes) past the limit of 1048576"
         );
     }
 

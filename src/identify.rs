@@ -77,7 +77,8 @@ pub enum Uncertainty {
     /// the resampling's small-`R` shrinkage). Needs at least 3 replicates (else the sandwich is
     /// used, with a warning). 95 % intervals use Student's t with `R − 1` degrees of freedom.
     Bootstrap {
-        /// Number of bootstrap refits (≥ 20; 200 is usual).
+        /// Number of bootstrap refits (≥ 20; 200 is usual; at most [`MAX_BOOTSTRAP_DRAWS`],
+        /// past which identification fails with [`Error::TooLarge`]).
         replicates: usize,
         /// Seed of the resampling.
         seed: u64,
@@ -86,6 +87,9 @@ pub enum Uncertainty {
     /// The result reports the one used.
     Auto,
 }
+
+/// Most bootstrap refits an identification runs (100 000).
+pub const MAX_BOOTSTRAP_DRAWS: usize = 100_000;
 
 impl Uncertainty {
     /// The bootstrap with 200 replicates and seed 0.
@@ -958,6 +962,13 @@ impl Identifier {
     ) -> Result<Coefficients> {
         use rand::{RngExt, SeedableRng};
         let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        if draws > MAX_BOOTSTRAP_DRAWS {
+            return Err(Error::TooLarge {
+                what: "bootstrap draws",
+                value: draws as f64,
+                limit: MAX_BOOTSTRAP_DRAWS as f64,
+            });
+        }
         let mut weights = vec![0.0; replicates];
         let mut thetas = Vec::with_capacity(draws);
         let mut failures = 0;

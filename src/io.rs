@@ -12,6 +12,14 @@
 //!
 //! Reading streams the file row by row (the csv crate, one reused row buffer): only the parsed
 //! channels are held, never the text. Every problem names the file, the line and the column.
+//!
+//! # Limits
+//! Memory of reading stays proportional to the values actually read: the input's length is a
+//! hint, never the size of an allocation, and the channel buffers at most double as rows
+//! arrive. A line is at most [`MAX_LINE_BYTES`] (1 MiB), a header at most [`MAX_COLUMNS`]
+//! (4096) columns, a record at most [`MAX_VALUES`] (2²⁸) values; past any of them reading stops
+//! with [`Error::CsvLimit`] naming the file and line. Messages quote at most
+//! [`QUOTE_CHARS`](crate::error::QUOTE_CHARS) characters of the input.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -78,7 +86,8 @@ impl CsvLayout {
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be read; [`Error::Csv`] for a ragged or unparsable line;
-/// [`Error::MissingColumn`]; [`Error::CsvNonFinite`]; [`Error::NonUniformTime`]; and the
+/// [`Error::MissingColumn`]; [`Error::CsvNonFinite`]; [`Error::NonUniformTime`] (naming the
+/// line whose time is off the grid); [`Error::CsvLimit`] past a [limit](self#limits); and the
 /// [`Record::new`] errors (too few rows, mismatched channel counts in the layout).
 pub fn read_record(path: impl AsRef<Path>, layout: &CsvLayout) -> Result<Record> {
     let path = path.as_ref();
@@ -119,16 +128,118 @@ pub fn read_record_from(
     read_csv(reader, label, layout, 0)
 }
 
-/// Rows read before the channel buffers are sized from the file length.
+/// Longest line the reader accepts, in bytes (1 MiB). A longer line, or an input with no
+/// newline at all (`/dev/zero`), stops with [`Error::CsvLimit`] as soon as the limit is passed.
+pub const MAX_LINE_BYTES: u64 = 1 << 20;
+
+/// Most columns a record file may have (header fields).
+pub const MAX_COLUMNS: usize = 4096;
+
+/// Most values one record may hold: samples × columns read (time, forces and displacements),
+/// `2²⁸` (2 GiB of `f64`), e.g. 53 million samples of a 2-DOF record. An endless stream of
+/// valid rows stops with [`Error::CsvLimit`] there.
+pub const MAX_VALUES: u64 = 1 << 28;
+
+/// The reader's limits; tests use small ones.
+#[derive(Debug, Clone, Copy)]
+struct Limits {
+    line_bytes: u64,
+    columns: usize,
+    values: u64,
+}
+
+const LIMITS: Limits = Limits {
+    line_bytes: MAX_LINE_BYTES,
+    columns: MAX_COLUMNS,
+    values: MAX_VALUES,
+};
+
+/// Rows read before the input's length is used as a hint of the row count (a power of two
+/// times [`MIN_CAPACITY`], so the buffers are full there).
 const SIZING_ROWS: usize = 64;
 
+/// Smallest capacity of a channel buffer.
+const MIN_CAPACITY: usize = 64;
+
+/// Next capacity of the channel buffers, full at `cap`: at most twice `cap`, so memory stays
+/// proportional to the samples actually read, whatever the hint says. `hint` (0 if unknown) is
+/// the row count the input's length suggests; the capacities are then `hint / 2ᵏ`, so a file as
+/// long as it says lands exactly on the hint, without a last oversized doubling.
+fn next_capacity(cap: usize, hint: usize) -> usize {
+    if hint > cap {
+        let mut c = hint;
+        while c / 2 > cap && c / 2 >= MIN_CAPACITY {
+            c /= 2;
+        }
+        c
+    } else {
+        cap.saturating_mul(2).max(MIN_CAPACITY)
+    }
+}
+
+/// The payload of the I/O error [`LineLimit`] raises.
+#[derive(Debug)]
+struct LineTooLong {
+    line: u64,
+}
+
+impl std::fmt::Display for LineTooLong {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "line {} is too long", self.line)
+    }
+}
+
+impl std::error::Error for LineTooLong {}
+
+/// A reader that fails once a line (bytes since the last `\n`) passes `limit` bytes.
+struct LineLimit<R> {
+    inner: R,
+    limit: u64,
+    /// Bytes since the last newline.
+    run: u64,
+    /// One-based number of the current line.
+    line: u64,
+}
+
+impl<R: std::io::Read> std::io::Read for LineLimit<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        let too_long = |line| Err(std::io::Error::other(LineTooLong { line }));
+        let mut rest = &buf[..n];
+        while let Some(p) = rest.iter().position(|&b| b == b'\n') {
+            if self.run + p as u64 > self.limit {
+                return too_long(self.line);
+            }
+            self.run = 0;
+            self.line += 1;
+            rest = &rest[p + 1..];
+        }
+        self.run += rest.len() as u64;
+        if self.run > self.limit {
+            return too_long(self.line);
+        }
+        Ok(n)
+    }
+}
+
 /// The reader behind [`read_record`] and [`read_record_from`]; `bytes` is the input's length
-/// when known (0 otherwise), used to size the channel buffers once so they never reallocate.
+/// when known (0 otherwise), a hint of the row count only (a sparse or lying length never
+/// sizes an allocation).
 fn read_csv(
     reader: impl std::io::Read,
     label: &str,
     layout: &CsvLayout,
     bytes: u64,
+) -> Result<Record> {
+    read_csv_limited(reader, label, layout, bytes, LIMITS)
+}
+
+fn read_csv_limited(
+    reader: impl std::io::Read,
+    label: &str,
+    layout: &CsvLayout,
+    bytes: u64,
+    limits: Limits,
 ) -> Result<Record> {
     let csv_error = |e: csv::Error| {
         let line = e.position().map_or(0, csv::Position::line);
@@ -139,9 +250,17 @@ fn read_csv(
             _ => e.to_string(),
         };
         match e.kind() {
-            csv::ErrorKind::Io(_) => Error::Io {
-                path: label.to_owned(),
-                message,
+            csv::ErrorKind::Io(io) => match io.get_ref().and_then(|i| i.downcast_ref()) {
+                Some(LineTooLong { line }) => Error::CsvLimit {
+                    path: label.to_owned(),
+                    line: *line,
+                    what: "line length (bytes)",
+                    limit: limits.line_bytes,
+                },
+                None => Error::Io {
+                    path: label.to_owned(),
+                    message,
+                },
             },
             _ => Error::Csv {
                 path: label.to_owned(),
@@ -150,27 +269,42 @@ fn read_csv(
             },
         }
     };
+    let limited = LineLimit {
+        inner: reader,
+        limit: limits.line_bytes,
+        run: 0,
+        line: 1,
+    };
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
-        .from_reader(reader);
+        .from_reader(limited);
     let header = rdr.byte_headers().map_err(csv_error)?.clone();
-    let names: Vec<String> = header
-        .iter()
-        .map(|h| String::from_utf8_lossy(h).into_owned())
-        .collect();
+    if header.len() > limits.columns {
+        return Err(Error::CsvLimit {
+            path: label.to_owned(),
+            line: 1,
+            what: "columns",
+            limit: limits.columns as u64,
+        });
+    }
     let index: Vec<usize> = layout
         .columns()
         .map(|c| {
-            names
+            header
                 .iter()
-                .position(|h| h == c)
-                .ok_or_else(|| Error::MissingColumn {
-                    path: label.to_owned(),
-                    column: c.clone(),
-                    header: names.join(","),
+                .position(|h| h == c.as_bytes())
+                .ok_or_else(|| {
+                    let names: Vec<String> =
+                        header.iter().map(crate::error::excerpt_bytes).collect();
+                    Error::MissingColumn {
+                        path: label.to_owned(),
+                        column: crate::error::excerpt(c),
+                        header: crate::error::excerpt(&names.join(",")),
+                    }
                 })
         })
         .collect::<Result<_>>()?;
+    drop(header);
 
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); index.len()];
     // Line of every row, kept only once the rows stop being consecutive lines.
@@ -181,19 +315,34 @@ fn read_csv(
     while rdr.read_byte_record(&mut row).map_err(csv_error)? {
         let line = row.position().map_or(0, csv::Position::line);
         let r = columns[0].len();
-        if r == SIZING_ROWS && bytes > 0 {
-            let offset = row.position().map_or(0, csv::Position::byte);
-            let first = columns_start.unwrap_or(0);
-            let per_row = (offset.saturating_sub(first) as f64 / r as f64).max(1.0);
-            let rows = ((bytes.saturating_sub(first)) as f64 / per_row * 1.02) as usize + 16;
+        if (r as u64 + 1).saturating_mul(index.len() as u64) > limits.values {
+            return Err(Error::CsvLimit {
+                path: label.to_owned(),
+                line,
+                what: "values (samples × columns)",
+                limit: limits.values,
+            });
+        }
+        if r == columns[0].capacity() {
+            // Rows the input's length suggests, from the bytes per row so far (estimated again
+            // at every growth, so it sharpens as rows arrive). A hint only: capacities never
+            // more than double, whatever it says.
+            let hint = if bytes > 0 && r >= SIZING_ROWS {
+                let offset = row.position().map_or(0, csv::Position::byte);
+                let first = columns_start.unwrap_or(0);
+                let per_row = (offset.saturating_sub(first) as f64 / r as f64).max(1.0);
+                let rows = bytes.saturating_sub(first) as f64 / per_row * 1.02 + 16.0;
+                rows.min((limits.values / index.len() as u64) as f64) as usize
+            } else {
+                0
+            };
+            let cap = next_capacity(r, hint);
             for c in &mut columns {
-                c.reserve_exact(rows.saturating_sub(c.len()));
+                c.reserve_exact(cap - c.len());
             }
         }
         if r == 0 {
             columns_start = row.position().map(csv::Position::byte);
-        }
-        if r == 0 {
             first_line = line;
         }
         match &mut lines {
@@ -214,15 +363,16 @@ fn read_csv(
                     path: label.to_owned(),
                     line,
                     message: format!(
-                        "column `{name}`: `{}` is not a number",
-                        String::from_utf8_lossy(field)
+                        "column `{}`: `{}` is not a number",
+                        crate::error::excerpt(name),
+                        crate::error::excerpt_bytes(field)
                     ),
                 })?;
             if !value.is_finite() {
                 return Err(Error::CsvNonFinite {
                     path: label.to_owned(),
                     line,
-                    column: name.clone(),
+                    column: crate::error::excerpt(name),
                 });
             }
             col.push(value);
@@ -239,8 +389,12 @@ fn read_csv(
     Record::new(label, sample_rate, forces, displacements)
 }
 
+/// Tolerance of the time grid, as a fraction of a step.
+const GRID_TOLERANCE: f64 = 0.01;
+
 /// The sampling rate of a uniform time column: `(N − 1)/(t_last − t_0)`, every sample within
-/// 1 % of a step of its place on the grid.
+/// 1 % of a step of its place on the grid. A time off the grid is blamed on its own line (see
+/// [`offending_sample`]).
 fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Result<f64> {
     if time.len() < 2 {
         return Err(Error::RecordTooShort {
@@ -252,20 +406,61 @@ fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Re
     let (t0, last) = (time[0], time[time.len() - 1]);
     let step = (last - t0) / (time.len() - 1) as f64;
     let increasing = step > 0.0 && step.is_finite();
-    for (i, &t) in time.iter().enumerate() {
-        let expected = t0 + i as f64 * step;
-        if !increasing || (t - expected).abs() > 0.01 * step {
-            let i = if increasing { i } else { 1 };
-            return Err(Error::NonUniformTime {
+    let off_grid = (!increasing).then_some(0).or_else(|| {
+        time.iter()
+            .enumerate()
+            .position(|(i, &t)| (t - (t0 + i as f64 * step)).abs() > GRID_TOLERANCE * step)
+    });
+    match off_grid {
+        None => Ok(1.0 / step),
+        Some(first_off) => {
+            let (i, expected_s, step_s) = offending_sample(time, first_off, step);
+            Err(Error::NonUniformTime {
                 path: label.to_owned(),
                 line: line_of(i),
-                expected_s: t0 + i as f64 * step,
+                expected_s,
                 actual_s: time[i],
-                step_s: step,
-            });
+                step_s,
+            })
         }
     }
-    Ok(1.0 / step)
+}
+
+/// Most time differences sampled for the local step of [`offending_sample`].
+const STEP_SAMPLES: usize = 4095;
+
+/// The sample to blame for a time column off its grid, with the time it should have had and
+/// the step: the grid through the end points is skewed by a bad first or last time, so the
+/// step is taken as the median of (up to [`STEP_SAMPLES`], evenly spread) consecutive
+/// differences, and the first difference off that step by more than the tolerance names the
+/// sample — the later one of the pair, or the first sample when only the first difference is
+/// off. `first_off` is the first sample off the end-point grid of step `grid_step`, the answer
+/// when every difference agrees with the median (a slow drift).
+fn offending_sample(time: &[f64], first_off: usize, grid_step: f64) -> (usize, f64, f64) {
+    let n = time.len();
+    let stride = (n - 1).div_ceil(STEP_SAMPLES).max(1);
+    let mut diffs: Vec<f64> = (1..n)
+        .step_by(stride)
+        .map(|i| time[i] - time[i - 1])
+        .filter(|d| d.is_finite())
+        .collect();
+    let step = if diffs.is_empty() {
+        f64::NAN
+    } else {
+        let mid = diffs.len() / 2;
+        *diffs.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
+    if !(step > 0.0 && step.is_finite()) {
+        // Time that stands still or runs backwards: the first sample not after its predecessor.
+        let i = (1..n).find(|&i| time[i] <= time[i - 1]).unwrap_or(1);
+        return (i, time[i - 1] + grid_step.abs(), grid_step);
+    }
+    let off = |i: usize| (time[i] - time[i - 1] - step).abs() > GRID_TOLERANCE * step;
+    match (1..n).find(|&i| off(i)) {
+        Some(1) if n > 2 && !off(2) => (0, time[1] - step, step),
+        Some(i) => (i, time[i - 1] + step, step),
+        None => (first_off, time[0] + first_off as f64 * grid_step, grid_step),
+    }
 }
 
 /// Writes a record in the layout [`read_record`] reads, times `t_m = m / f_s`, every number in
@@ -415,6 +610,194 @@ mod tests {
         let text = rows(10).replace("0.05,5,10\n", "0.055,5,10\n");
         let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
         assert!(matches!(e, Error::NonUniformTime { line: 7, .. }), "{e:?}");
+    }
+
+    /// A time error in the second data row, the middle and the last row is each blamed on
+    /// its own line; so is one in the first row.
+    #[test]
+    fn nonuniform_time_names_the_offending_line() {
+        let cases = [
+            ("0,0,0\n", "0.005,0,0\n", 2),
+            ("0.01,1,2\n", "0.013,1,2\n", 3),
+            ("0.04,4,8\n", "0.047,4,8\n", 6),
+            ("0.09,9,18\n", "0.1,9,18\n", 11),
+            ("0.09,9,18\n", "0,9,18\n", 11),
+            ("0.09,9,18\n", "1e9,9,18\n", 11),
+            ("0.09,9,18\n", "0.08,9,18\n", 11),
+        ];
+        for (from, to, line) in cases {
+            let text = rows(10).replace(from, to);
+            let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+            assert!(
+                matches!(e, Error::NonUniformTime { line: l, .. } if l == line),
+                "{to}: {e:?}"
+            );
+        }
+        // A time column that stands still names its second line.
+        let text = "t,fx,x\n".to_owned() + &"0,0,0\n".repeat(10);
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+        assert!(matches!(e, Error::NonUniformTime { line: 3, .. }), "{e:?}");
+        // The expected time and step come from the uniform part of the column.
+        let text = rows(10).replace("0.09,9,18\n", "1e9,9,18\n");
+        let Err(Error::NonUniformTime {
+            expected_s, step_s, ..
+        }) = read_record_from(text.as_bytes(), "f.csv", &layout1())
+        else {
+            panic!("not a time error")
+        };
+        assert!((expected_s - 0.09).abs() < 1e-12 && (step_s - 0.01).abs() < 1e-12);
+    }
+
+    fn small_limits() -> Limits {
+        Limits {
+            line_bytes: 100,
+            columns: 8,
+            values: 3 * 50,
+        }
+    }
+
+    fn read_small(reader: impl std::io::Read) -> Result<Record> {
+        read_csv_limited(reader, "f.csv", &layout1(), 0, small_limits())
+    }
+
+    #[test]
+    fn a_line_past_the_limit_stops_the_reader() {
+        // No newline at all: an endless header.
+        let e = read_small(std::io::repeat(b'a')).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::CsvLimit {
+                    line: 1,
+                    limit: 100,
+                    what: "line length (bytes)",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        // Zeros, as from /dev/zero.
+        let e = read_small(std::io::repeat(0)).unwrap_err();
+        assert!(matches!(e, Error::CsvLimit { line: 1, .. }), "{e:?}");
+        // A long row after good ones is named by its line.
+        let text = rows(10) + &"1".repeat(101) + "\n";
+        let e = read_small(text.as_bytes()).unwrap_err();
+        assert!(matches!(e, Error::CsvLimit { line: 12, .. }), "{e:?}");
+        // A line of exactly the limit is fine.
+        let text = rows(10) + "0.1,10," + &"0".repeat(93) + "\n";
+        assert_eq!(read_small(text.as_bytes()).unwrap().len(), 11);
+        // The real limit stops /dev/zero after a mebibyte.
+        let e = read_record_from(std::io::repeat(0), "zero", &layout1()).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::CsvLimit {
+                    limit: MAX_LINE_BYTES,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn too_many_columns_or_values_stop_the_reader() {
+        let header = (0..9)
+            .map(|i| format!("c{i}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        let e = read_small(format!("{header}\n").as_bytes()).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::CsvLimit {
+                    line: 1,
+                    what: "columns",
+                    limit: 8,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        // 50 rows of 3 values fit; the 51st row (line 52) does not.
+        assert_eq!(read_small(rows(50).as_bytes()).unwrap().len(), 50);
+        let e = read_small(rows(51).as_bytes()).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::CsvLimit {
+                    line: 52,
+                    what: "values (samples × columns)",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        // An endless stream of valid rows stops at the limit.
+        let endless = rows(1)
+            .into_bytes()
+            .into_iter()
+            .chain((1u64..).flat_map(|m| format!("{},{m},{m}\n", m as f64 * 0.01).into_bytes()));
+        let reader = IterRead(endless);
+        let e = read_small(reader).unwrap_err();
+        assert!(matches!(e, Error::CsvLimit { line: 52, .. }), "{e:?}");
+    }
+
+    /// Bytes from an iterator, as a reader.
+    struct IterRead<I>(I);
+
+    impl<I: Iterator<Item = u8>> std::io::Read for IterRead<I> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let mut n = 0;
+            for (slot, b) in buf.iter_mut().zip(&mut self.0) {
+                *slot = b;
+                n += 1;
+            }
+            Ok(n)
+        }
+    }
+
+    /// A 1 TiB sparse file after valid rows: the length is a hint, never an allocation; the
+    /// NUL bytes then end at the line limit.
+    #[test]
+    fn a_sparse_terabyte_file_fails_fast() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sparse.csv");
+        std::fs::write(&path, rows(100)).unwrap();
+        let file = std::fs::OpenOptions::new().write(true).open(&path).unwrap();
+        file.set_len(1 << 40).unwrap();
+        drop(file);
+        let start = std::time::Instant::now();
+        let e = read_record(&path, &layout1()).unwrap_err();
+        assert!(matches!(e, Error::CsvLimit { line: 102, .. }), "{e:?}");
+        assert!(start.elapsed().as_secs_f64() < 10.0);
+    }
+
+    #[test]
+    fn capacity_follows_the_rows_read() {
+        // Without a hint: doubling from the minimum.
+        assert_eq!(next_capacity(0, 0), MIN_CAPACITY);
+        assert_eq!(next_capacity(64, 0), 128);
+        // A hint of 1000 rows: 125, 250, 500, 1000, then doubling past the hint.
+        assert_eq!(next_capacity(64, 1000), 125);
+        assert_eq!(next_capacity(125, 1000), 250);
+        assert_eq!(next_capacity(500, 1000), 1000);
+        assert_eq!(next_capacity(1000, 1000), 2000);
+        // A hint of 2⁶⁰ rows never more than doubles the buffer.
+        assert!(next_capacity(64, 1 << 60) <= 128);
+    }
+
+    #[test]
+    fn messages_quote_at_most_80_characters_of_input() {
+        // A header with no newline-separated rows and one huge field.
+        let text = format!("t,{},x\n0,0,0\n", "h".repeat(50_000));
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+        assert!(matches!(e, Error::MissingColumn { .. }));
+        assert!(e.to_string().len() < 300, "{}", e.to_string().len());
+        let text = rows(10).replace("0.04,4,8\n", &format!("0.04,{},8\n", "9x".repeat(50_000)));
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+        assert!(matches!(e, Error::Csv { line: 6, .. }), "{e:?}");
+        assert!(e.to_string().len() < 300, "{}", e.to_string().len());
     }
 
     #[test]

@@ -74,6 +74,125 @@ pub struct Impact {
 /// seeded with the same number is an unrelated stream.
 const FORCING_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
 
+/// Most samples in one simulated record (or one drive signal): `2²⁴`, about 16.8 million
+/// (42 minutes at 6.7 kHz). Larger requests are [`Error::TooLarge`], never an allocation.
+pub const MAX_SAMPLES: usize = 1 << 24;
+
+/// Most records one simulated test may produce ([`ImpactTest`], and the CLI's `simulate`).
+pub const MAX_RECORDS: usize = 4096;
+
+/// Most degrees of freedom a [`Simulator`] accepts (its state has `(5 + 2·order) n` entries).
+pub const MAX_DOFS: usize = 16;
+
+/// Most samples × records of one simulated test, `2²⁸`: bounds the time of a simulation.
+pub const MAX_TOTAL_SAMPLES: usize = 1 << 28;
+
+/// Most operations (samples × lines) in computing one multisine period, `2³²`.
+const MAX_MULTISINE_WORK: usize = 1 << 32;
+
+/// `Ok` if `value ≤ limit`, else [`Error::TooLarge`].
+fn at_most(what: &'static str, value: f64, limit: usize) -> Result<()> {
+    if value <= limit as f64 {
+        Ok(())
+    } else {
+        Err(Error::TooLarge {
+            what,
+            value,
+            limit: limit as f64,
+        })
+    }
+}
+
+/// Number of samples of a record `duration_s` long at `sample_rate`, `round(duration × rate)`,
+/// checked: both finite and positive, and at most [`MAX_SAMPLES`].
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for a duration or rate that is not finite and positive;
+/// [`Error::TooLarge`] past [`MAX_SAMPLES`].
+///
+/// # Examples
+/// ```
+/// use bearing_ident::simulate::sample_count;
+/// assert_eq!(sample_count(1.2, 6700.0)?, 8040);
+/// assert!(sample_count(1e30, 6700.0).is_err());
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn sample_count(duration_s: f64, sample_rate: f64) -> Result<usize> {
+    if !(sample_rate.is_finite() && sample_rate > 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "sample rate",
+            value: sample_rate,
+            expected: "finite and positive (Hz)",
+        });
+    }
+    if !(duration_s.is_finite() && duration_s > 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "record duration",
+            value: duration_s,
+            expected: "finite and positive (s)",
+        });
+    }
+    let samples = (duration_s * sample_rate).round();
+    at_most("samples per record", samples, MAX_SAMPLES)?;
+    Ok(samples as usize)
+}
+
+/// The slowest decay rate of a system, `min(−Re λ)` over its eigenvalues (1/s), checked: a
+/// mass matrix whose symmetric part is not positive definite, or a system with a mode that
+/// does not decay, is an error naming the matrix.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming `"mass matrix"` (value: the smallest eigenvalue of its
+/// symmetric part), `"stiffness matrix"` (likewise, when a mode does not decay and `K` is not
+/// positive definite) or `"damping matrix"` (value: the slowest decay rate); the
+/// [`Coefficients::eigenvalues`] errors.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::simulate::{seed_rig, slowest_decay};
+/// // The seed's rig: 8 % damping at about 27.5 Hz.
+/// assert!((slowest_decay(&seed_rig())? - 13.9).abs() < 0.1);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
+    let min_sym_eig = |a: faer::MatRef<'_, f64>| -> Result<f64> {
+        let n = a.nrows();
+        let sym = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+        let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower)?;
+        Ok(eig.iter().copied().fold(f64::INFINITY, f64::min))
+    };
+    let mass = min_sym_eig(system.mass().as_ref())?;
+    if mass.is_nan() || mass <= 0.0 {
+        return Err(Error::InvalidParameter {
+            name: "mass matrix",
+            value: mass,
+            expected: "positive definite (smallest eigenvalue of its symmetric part > 0)",
+        });
+    }
+    let slowest = system
+        .eigenvalues()?
+        .iter()
+        .map(|l| -l.re)
+        .fold(f64::INFINITY, f64::min);
+    if !(slowest > 0.0 && slowest.is_finite()) {
+        let stiffness = min_sym_eig(system.stiffness().as_ref())?;
+        return Err(if stiffness > 0.0 {
+            Error::InvalidParameter {
+                name: "damping matrix",
+                value: slowest + 0.0, // no "-0" in the message
+                expected: "a decay rate > 0 for every mode (−Re λ, 1/s)",
+            }
+        } else {
+            Error::InvalidParameter {
+                name: "stiffness matrix",
+                value: stiffness,
+                expected: "positive definite, or every mode decays",
+            }
+        });
+    }
+    Ok(slowest)
+}
+
 /// Matrix exponential by scaling and squaring with a 16-term Taylor series
 /// (truncation below `10⁻²⁰` after scaling to norm ≤ 1/2).
 fn expm(a: &Mat<f64>) -> Mat<f64> {
@@ -86,7 +205,10 @@ fn expm(a: &Mat<f64>) -> Mat<f64> {
     } else {
         0
     };
-    let scaled = Mat::from_fn(d, d, |i, j| a[(i, j)] / f64::from(2u32.pow(squarings)));
+    // 2^-squarings as f64: an integer power of two overflows past 31 squarings (a fast filter
+    // at a high sampling rate).
+    let scale = 0.5f64.powi(squarings.min(2000) as i32);
+    let scaled = Mat::from_fn(d, d, |i, j| a[(i, j)] * scale);
     let mut result = Mat::<f64>::identity(d, d);
     let mut term = Mat::<f64>::identity(d, d);
     let mut next = Mat::<f64>::zeros(d, d);
@@ -150,7 +272,8 @@ impl Simulator {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-positive rate, fewer than 8 samples, or a filter
-    /// order or cutoff out of range; [`Error::Singular`] if `M` is singular.
+    /// order or cutoff out of range; [`Error::TooLarge`] for more than [`MAX_SAMPLES`] samples
+    /// or [`MAX_DOFS`] degrees of freedom; [`Error::Singular`] if `M` is singular.
     pub fn new(
         system: &Coefficients,
         sample_rate: f64,
@@ -165,6 +288,8 @@ impl Simulator {
                 expected: "finite and positive (Hz)",
             });
         }
+        at_most("samples per record", samples as f64, MAX_SAMPLES)?;
+        at_most("degrees of freedom", system.dofs() as f64, MAX_DOFS)?;
         if samples < crate::records::MIN_SAMPLES {
             return Err(Error::InvalidParameter {
                 name: "samples",
@@ -589,7 +714,7 @@ fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] unless the sampling rate is finite and positive, `0 < f < f_s/2`,
-/// and the amplitude is finite.
+/// and the amplitude is finite; [`Error::TooLarge`] for more than [`MAX_SAMPLES`] samples.
 ///
 /// # Examples
 /// ```
@@ -602,6 +727,7 @@ fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result
 /// ```
 pub fn sine(freq_hz: f64, amplitude_n: f64, sample_rate: f64, samples: usize) -> Result<Vec<f64>> {
     check_frequency("sine frequency", freq_hz, sample_rate)?;
+    at_most("samples per record", samples as f64, MAX_SAMPLES)?;
     if !amplitude_n.is_finite() {
         return Err(Error::InvalidParameter {
             name: "sine amplitude",
@@ -629,7 +755,9 @@ pub fn sine(freq_hz: f64, amplitude_n: f64, sample_rate: f64, samples: usize) ->
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] for a period below 8 samples, an empty range of lines, line 0
-/// (DC) or a line at or above `P/2` (Nyquist), or an RMS that is not finite and positive.
+/// (DC) or a line at or above `P/2` (Nyquist), or an RMS that is not finite and positive;
+/// [`Error::TooLarge`] for a period or record of more than [`MAX_SAMPLES`] samples, or more
+/// than `2³²` period samples × lines.
 ///
 /// # Examples
 /// ```
@@ -670,7 +798,17 @@ pub fn multisine(
             expected: "finite and positive (N)",
         });
     }
+    at_most(
+        "samples per record",
+        samples.max(period) as f64,
+        MAX_SAMPLES,
+    )?;
     let count = last - first + 1;
+    at_most(
+        "multisine period × lines",
+        period as f64 * count as f64,
+        MAX_MULTISINE_WORK,
+    )?;
     let a = rms_n * (2.0 / count as f64).sqrt();
     let mut rng = StdRng::seed_from_u64(seed);
     let uniform = Uniform::new(0.0, 2.0 * PI).expect("constant, valid range");
@@ -710,7 +848,8 @@ pub const SWEEP_TAPER: f64 = 0.05;
 /// # Errors
 /// [`Error::InvalidParameter`] unless the sampling rate is finite and positive, both
 /// frequencies lie strictly between 0 and `f_s/2`, `sweep_s` is finite and positive and fits
-/// in `samples`, and the amplitude is finite.
+/// in `samples`, and the amplitude is finite; [`Error::TooLarge`] for more than
+/// [`MAX_SAMPLES`] samples.
 ///
 /// # Examples
 /// ```
@@ -732,6 +871,7 @@ pub fn sweep(
 ) -> Result<Vec<f64>> {
     check_frequency("sweep start frequency", f0_hz, sample_rate)?;
     check_frequency("sweep end frequency", f1_hz, sample_rate)?;
+    at_most("samples per record", samples as f64, MAX_SAMPLES)?;
     if !(sweep_s.is_finite() && sweep_s > 0.0 && sweep_s * sample_rate <= samples as f64 + 0.5) {
         return Err(Error::InvalidParameter {
             name: "sweep duration",
@@ -822,22 +962,32 @@ impl ImpactTest {
     }
 
     /// Number of samples per record, `round(duration × rate)`.
-    pub fn samples(&self) -> usize {
-        (self.duration_s * self.sample_rate).round() as usize
+    ///
+    /// # Errors
+    /// As [`sample_count`].
+    pub fn samples(&self) -> Result<usize> {
+        sample_count(self.duration_s, self.sample_rate)
     }
 
     /// Noise-free records of the test on `system`, hits along DOF 0 first, then DOF 1, ….
     ///
     /// # Errors
-    /// As [`Simulator::new`] and [`Simulator::record`]; [`Error::InvalidParameter`] if the
-    /// slowest mode has not decayed to `10⁻⁶` of its amplitude by the end of the record
-    /// (the records would leak).
+    /// As [`Simulator::new`], [`Simulator::record`], [`sample_count`] and [`slowest_decay`]
+    /// (a mass that is not positive definite, a mode that does not decay);
+    /// [`Error::InvalidParameter`] if the slowest mode has not decayed to `10⁻⁶` of its
+    /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
+    /// more than [`MAX_RECORDS`] records or [`MAX_TOTAL_SAMPLES`] samples in all.
     pub fn run_clean(&self, system: &Coefficients) -> Result<Vec<Record>> {
-        let slowest = system
-            .eigenvalues()?
-            .iter()
-            .map(|l| -l.re)
-            .fold(f64::INFINITY, f64::min);
+        let samples = self.samples()?;
+        let n = system.dofs();
+        let records = self.per_direction as f64 * n as f64;
+        at_most("records", records, MAX_RECORDS)?;
+        at_most(
+            "samples × records",
+            records * samples as f64,
+            MAX_TOTAL_SAMPLES,
+        )?;
+        let slowest = slowest_decay(system)?;
         let decay_time = self.duration_s - self.pretrigger_s - self.pulse_s;
         let decays = slowest * decay_time >= 6.0 * std::f64::consts::LN_10;
         if !decays {
@@ -847,8 +997,7 @@ impl ImpactTest {
                 expected: "long enough for the slowest mode to decay to 1e-6",
             });
         }
-        let n = system.dofs();
-        let mut sim = Simulator::new(system, self.sample_rate, self.samples(), self.anti_alias)?;
+        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?;
         let mut out = Vec::with_capacity(n * self.per_direction);
         for dof in 0..n {
             for hit in 0..self.per_direction {
@@ -1101,6 +1250,104 @@ mod tests {
             }
         );
         assert!(sim.held_record("r", &[ok.clone(), ok]).is_ok());
+    }
+
+    #[test]
+    fn sizes_past_the_limits_are_refused_without_allocating() {
+        fn too_large<T>(r: Result<T>) -> bool {
+            matches!(r, Err(Error::TooLarge { .. }))
+        }
+        assert!(too_large(sample_count(1e30, 6700.0)));
+        assert!(too_large(sample_count(1e9, 6700.0)));
+        assert!(matches!(
+            sample_count(f64::NAN, 6700.0),
+            Err(Error::InvalidParameter { .. })
+        ));
+        assert_eq!(sample_count(1.2, 6700.0), Ok(8040));
+        let sys = seed_rig();
+        assert!(too_large(
+            Simulator::new(&sys, 1000.0, MAX_SAMPLES + 1, AntiAlias::None).map(|_| ())
+        ));
+        assert!(too_large(sine(10.0, 1.0, 1000.0, usize::MAX)));
+        assert!(too_large(sweep(5.0, 60.0, 1.0, 1.0, 1000.0, usize::MAX)));
+        assert!(too_large(multisine(256, 5..=10, 1.0, usize::MAX, 0)));
+        assert!(too_large(multisine(
+            MAX_SAMPLES,
+            1..=MAX_SAMPLES / 2 - 1,
+            1.0,
+            8,
+            0
+        )));
+        for test in [
+            ImpactTest {
+                per_direction: usize::MAX,
+                ..ImpactTest::seed_rig()
+            },
+            ImpactTest {
+                duration_s: 1e30,
+                ..ImpactTest::seed_rig()
+            },
+            ImpactTest {
+                sample_rate: 1e12,
+                ..ImpactTest::seed_rig()
+            },
+        ] {
+            assert!(too_large(test.run(&sys)), "{test:?}");
+        }
+        let big = Coefficients::new(
+            Mat::identity(17, 17),
+            Mat::identity(17, 17),
+            Mat::identity(17, 17),
+        )
+        .unwrap();
+        assert!(too_large(
+            Simulator::new(&big, 1000.0, 100, AntiAlias::None).map(|_| ())
+        ));
+    }
+
+    #[test]
+    fn a_fast_filter_at_a_high_rate_integrates() {
+        // ‖A Δt‖ ≈ 2.5e12: 42 squarings, past any u32 power of two.
+        let mut sim = Simulator::new(&seed_rig(), 1e12, 64, AntiAlias::default()).unwrap();
+        let rec = sim.random_record("fast", 1.0, 1).unwrap();
+        assert!(rec.force(0).iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn matrices_without_decay_are_named() {
+        let name = |m, c, k| match slowest_decay(&Coefficients::new(m, c, k).unwrap()) {
+            Err(Error::InvalidParameter { name, .. }) => name,
+            other => panic!("{other:?}"),
+        };
+        let (m, c, k) = (
+            mat![[4.7, 0.0], [0.0, 4.8]],
+            mat![[130.0, 0.0], [0.0, 130.0]],
+            mat![[1.5e5, 0.0], [0.0, 1.7e5]],
+        );
+        assert_eq!(name(-&m, c.clone(), k.clone()), "mass matrix");
+        assert_eq!(
+            name(m.clone(), Mat::zeros(2, 2), k.clone()),
+            "damping matrix"
+        );
+        assert_eq!(name(m.clone(), -&c, k.clone()), "damping matrix");
+        assert_eq!(name(m.clone(), Mat::zeros(2, 2), -&k), "stiffness matrix");
+        let slowest = slowest_decay(&Coefficients::new(m, c, k).unwrap()).unwrap();
+        // Proportional damping: −Re λ = c / 2m for every mode, the slowest on the heavier mass.
+        assert!((slowest - 130.0 / 9.6).abs() < 1e-9, "{slowest}");
+        // The impact test names the matrix too, not the record duration.
+        let undamped = Coefficients::new(
+            mat![[4.7, 0.0], [0.0, 4.8]],
+            Mat::zeros(2, 2),
+            mat![[1.5e5, 0.0], [0.0, 1.7e5]],
+        )
+        .unwrap();
+        assert!(matches!(
+            ImpactTest::seed_rig().run(&undamped),
+            Err(Error::InvalidParameter {
+                name: "damping matrix",
+                ..
+            })
+        ));
     }
 
     #[test]

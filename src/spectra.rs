@@ -169,7 +169,8 @@ impl ForceGate {
 
     /// First sample index at which the gate is closed, for segments sampled `dt` apart.
     fn closed_from(self, dt: f64) -> usize {
-        ((self.open_s + self.taper_s) / dt).floor() as usize + 1
+        // `as` saturates: a gate longer than any record stays open over all of it.
+        (((self.open_s + self.taper_s) / dt).floor() as usize).saturating_add(1)
     }
 }
 

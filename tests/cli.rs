@@ -835,3 +835,196 @@ fn dead_force_channel_is_screened_and_rejected() {
         assert!((m - 4.7).abs() < 6.0 * m_std, "{m} ± {m_std}");
     }
 }
+
+/// `simulate` refuses sizes past its documented limits with a typed error instead of
+/// panicking, aborting or running without end; a mass that is not positive definite, or a
+/// system that does not decay, is named.
+#[test]
+fn simulate_refuses_sizes_past_its_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let head = ["simulate", "--json", "--out", out];
+    let seed_k = "146.3e3,22.3e3;11.5e3,169.1e3";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec!["--duration", "1e30"],
+            "too_large",
+            "samples per record",
+        ),
+        (vec!["--duration", "1e9"], "too_large", "samples per record"),
+        (vec!["--rate", "1e12"], "too_large", "slowest mode"),
+        (
+            vec!["--records", "18446744073709551615", "--kind", "random"],
+            "too_large",
+            "records",
+        ),
+        (
+            vec!["--impacts", "18446744073709551615"],
+            "too_large",
+            "records",
+        ),
+        (
+            vec!["--kind", "stepped-sine", "--freqs", "10,48,1e9"],
+            "too_large",
+            "records",
+        ),
+        (
+            vec!["--kind", "multisine", "--period", "1e6"],
+            "too_large",
+            "samples per record",
+        ),
+        (
+            vec!["--kind", "sweep", "--freqs", "5,inf"],
+            "invalid_argument",
+            "--freqs",
+        ),
+        (
+            vec![
+                "--mass=-4.7,0;0,4.8",
+                "--damping=131.98,0;0,131.98",
+                "--stiffness",
+                seed_k,
+            ],
+            "invalid_argument",
+            "mass matrix",
+        ),
+        (
+            vec![
+                "--mass=4.7,0;0,4.8",
+                "--damping=1e-9,0;0,1e-9",
+                "--stiffness",
+                seed_k,
+            ],
+            "too_large",
+            "slowest mode",
+        ),
+        (
+            vec![
+                "--mass=4.7,0;0,4.8",
+                "--damping=0,0;0,0",
+                "--stiffness",
+                seed_k,
+                "--kind",
+                "random",
+            ],
+            "invalid_argument",
+            "damping matrix",
+        ),
+    ];
+    for (extra, kind, says) in cases {
+        let args = [&head[..], &extra[..]].concat();
+        let start = std::time::Instant::now();
+        let o = run(&args);
+        assert!(
+            start.elapsed().as_secs_f64() < 20.0,
+            "{extra:?} took too long"
+        );
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON error");
+        assert_eq!(v["error"], kind, "{extra:?}: {v}");
+        let message = v["message"].as_str().unwrap();
+        assert!(message.contains(says), "{extra:?}: {message}");
+    }
+    // Within the limits, --json says what was written.
+    let o = run(&[&head[..], &["--impacts", "1", "--duration", "1.2"]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["records"], 2);
+    assert_eq!(v["samples"], 8040);
+    // Counts from the user that once sized allocations (bootstrap draws, IVF iterations).
+    let files = simulate(dir.path(), &["--impacts", "3", "--noise", "0.05"]);
+    let files: Vec<&str> = files.iter().map(String::as_str).collect();
+    let head = ["identify", "--json", "--band", "8,49"];
+    let huge = "18446744073709551615";
+    let o = run(&[
+        &head[..],
+        &["--uncertainty", "bootstrap", "--bootstrap-draws", huge],
+        &files,
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "too_large", "{v}");
+    // A baseline file that never ends is read only up to its limit.
+    let o = run(&[&head[..], &["--baseline", "/dev/zero"], &files].concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "too_large", "{v}");
+    let o = run(&[&head[..], &["--max-iterations", huge], &files].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Argument errors (clap's and the tool's own) print `{"error": "invalid_argument", …}` on
+/// stdout and exit 2 when `--json` is given, for every subcommand; the input they quote is
+/// bounded.
+#[test]
+fn argument_errors_are_json_with_json() {
+    let long = "9".repeat(100_000);
+    let cases: Vec<Vec<&str>> = vec![
+        vec!["identify", "--json", "--band", "8,49", "--bogus", "f.csv"],
+        vec![
+            "identify", "--json", "--band", "8,49", "--method", "magic", "f.csv",
+        ],
+        vec!["identify", "--json", "f.csv"],
+        vec![
+            "identify", "--json", "--band", "8,49", "--window", &long, "f.csv",
+        ],
+        vec!["demo", "--json", "--noise", "abc"],
+        vec!["demo", "--json", "--noise", &long[..]],
+        vec!["simulate", "--json", "--out", "x", "--rate", "fast"],
+        vec!["simulate", "--json"],
+        vec!["--json"],
+    ];
+    for args in cases {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+        let shown: Vec<&str> = args.iter().map(|a| &a[..a.len().min(20)]).collect();
+        assert!(
+            v["error"] == "invalid_argument" || v["error"] == "io_error",
+            "{shown:?}: {v}"
+        );
+        let message = v["message"].as_str().unwrap();
+        assert!(message.len() < 500, "{shown:?}: {} bytes", message.len());
+        assert!(
+            o.stderr.len() < 600,
+            "{shown:?}: stderr {} bytes",
+            o.stderr.len()
+        );
+    }
+    // Without --json clap's own text (with its tip) remains.
+    let o = run(&["demo", "--noise", "abc"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(o.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--help"));
+}
+
+/// A record file with no newline, or a huge header, is quoted by at most 80 characters in the
+/// error (stderr and JSON), and `/dev/zero` stops at the line limit.
+#[test]
+fn huge_lines_are_not_echoed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let no_newline = write(d, "one-line.csv", &"t,fx,fy,x,y,".repeat(40_000));
+    let wide = write(
+        d,
+        "wide.csv",
+        &format!("t,fx,fy,x,{}\n0,0,0,0,0\n", "q".repeat(500_000)),
+    );
+    for file in [no_newline.as_str(), wide.as_str(), "/dev/zero"] {
+        let o = run(&["identify", "--json", "--band", "8,49", file]);
+        assert_eq!(o.status.code(), Some(2), "{file}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        let message = v["message"].as_str().unwrap();
+        assert!(message.len() < 400, "{file}: {} bytes", message.len());
+        assert!(
+            o.stderr.len() < 500,
+            "{file}: stderr {} bytes",
+            o.stderr.len()
+        );
+        assert!(
+            v["error"] == "too_large" || v["error"] == "missing_column",
+            "{file}: {v}"
+        );
+    }
+}

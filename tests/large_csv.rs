@@ -1,5 +1,6 @@
 //! A record file of 10⁶ rows parses in one streaming pass: the heap never holds the text (not
-//! even once), only the parsed channels, sized once from the file length.
+//! even once), only the parsed channels, grown towards the row count the file length suggests
+//! (a hint only: they never more than double).
 #![cfg(feature = "csv")]
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -79,7 +80,7 @@ fn million_row_file_streams() {
     assert_eq!(rec.len(), rows);
     assert!((rec.sample_rate() / 10_000.0 - 1.0).abs() < 1e-9);
     // The text is never held: the peak is below the file's size, and within 15 % of the parsed
-    // channels themselves (time column included, buffers sized once).
+    // channels themselves (time column included; the last growth lands on the hinted size).
     assert!(peak < bytes, "peak {peak} B ≥ text {bytes} B");
     assert!(
         (peak as f64) < 1.15 * parsed as f64,

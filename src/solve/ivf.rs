@@ -162,7 +162,8 @@ impl IvfSolver {
             options,
             next: theta.clone(),
             theta,
-            history: Vec::with_capacity(options.max_iterations),
+            // The limit is the user's: grown as iterations run, not reserved up front.
+            history: Vec::with_capacity(options.max_iterations.min(64)),
             w_s: Mat::zeros(m, p),
             normal: Mat::zeros(p, p),
             rhs: Mat::zeros(p, n),

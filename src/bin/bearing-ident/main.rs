@@ -1,6 +1,7 @@
 //! `bearing-ident`: identify bearing force coefficients from CSV records, simulate records, or
 //! run the demo. Errors exit with status 2 and one line on stderr naming file, line and column;
-//! with `--json` a `{"error": KIND, "message": …}` object is also printed on stdout.
+//! with `--json` a `{"error": KIND, "message": …}` object is also printed on stdout — argument
+//! errors included (`invalid_argument`). Messages quote at most 80 characters of any input.
 
 mod report;
 
@@ -8,11 +9,15 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use bearing_ident::error::excerpt;
 use bearing_ident::gate::FitGate;
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::screening::Checks;
-use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
+use bearing_ident::simulate::{
+    AntiAlias, ImpactTest, MAX_RECORDS, MAX_SAMPLES, MAX_TOTAL_SAMPLES, Simulator, add_noise,
+    sample_count, seed_rig, slowest_decay,
+};
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::{
     Assignment, Band, Baseline, Coefficients, Estimator, Identification, Identifier, Method,
@@ -266,6 +271,9 @@ struct SimulateArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
+    /// Print what was written as JSON on stdout (and errors as `{"error": …}`).
+    #[arg(long)]
+    json: bool,
 }
 
 /// A failure of the tool: a stable kind and a one-line message.
@@ -291,11 +299,16 @@ fn invalid(message: String) -> Failure {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // Known before parsing, so that argument errors, too, are JSON when it was asked for.
+    let json = std::env::args_os().skip(1).any(|a| a == "--json");
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return argument_error(&e, json),
+    };
     let json = match &cli.command {
         Command::Identify(a) => a.json,
         Command::Demo(a) => a.json,
-        Command::Simulate(_) => false,
+        Command::Simulate(a) => a.json,
     };
     let outcome = match cli.command {
         Command::Identify(args) => identify(&args),
@@ -315,10 +328,49 @@ fn main() -> ExitCode {
     }
 }
 
+/// Longest message line printed for an argument error (the input in it is quoted by
+/// [`excerpt`] already; this bounds the rest).
+const MESSAGE_CHARS: usize = 400;
+
+/// Reports an argument error of clap's: help and version as clap prints them; otherwise exit
+/// status 2, with `{"error": "invalid_argument", "message": …}` on stdout under `--json` and
+/// one line on stderr. The offending input is quoted by at most 80 characters.
+fn argument_error(e: &clap::Error, json: bool) -> ExitCode {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        e.exit();
+    }
+    let rendered = e.render().to_string();
+    let mut message = rendered
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("invalid arguments")
+        .trim_start_matches("error: ")
+        .to_owned();
+    for kind in [ContextKind::InvalidValue, ContextKind::InvalidArg] {
+        if let Some(ContextValue::String(v)) = e.get(kind) {
+            message = message.replace(v.as_str(), &excerpt(v));
+        }
+    }
+    if let Some((cut, _)) = message.char_indices().nth(MESSAGE_CHARS) {
+        message.truncate(cut);
+        message.push('…');
+    }
+    if json {
+        let v = serde_json::json!({ "error": "invalid_argument", "message": message });
+        println!("{v}");
+    } else if rendered.len() <= 4 * MESSAGE_CHARS {
+        // Short enough to print as clap does, with its usage and tips.
+        e.exit();
+    }
+    eprintln!("bearing-ident: error: {message}");
+    ExitCode::from(2)
+}
+
 fn parse_band(s: &str) -> Result<(f64, f64), Failure> {
     let bad = || Failure {
         kind: "bad_band",
-        message: format!("--band `{s}`: expected LO,HI in Hz, e.g. 8,49"),
+        message: format!("--band `{}`: expected LO,HI in Hz, e.g. 8,49", excerpt(s)),
     };
     let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
     let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
@@ -343,7 +395,8 @@ const IMPACT_CREST: f64 = 8.0;
 fn parse_window(s: &str, segment_s: f64) -> Result<Window, Failure> {
     let bad = || {
         invalid(format!(
-            "--window `{s}`: expected rect, hann or exp:END with 0 < END < 1"
+            "--window `{}`: expected rect, hann or exp:END with 0 < END < 1",
+            excerpt(s)
         ))
     };
     match s {
@@ -571,22 +624,44 @@ fn baseline(
         let id = run(args, identifier, excitation, first, &files, &mut reading)?;
         return Ok(Baseline::from(&id));
     }
-    let text = std::fs::read_to_string(path).map_err(io_failure)?;
+    // Read at most the limit (a sparse file or /dev/zero must not fill memory).
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(io_failure)?,
+            MAX_BASELINE_BYTES + 1,
+        ),
+        &mut bytes,
+    )
+    .map_err(io_failure)?;
+    if bytes.len() as u64 > MAX_BASELINE_BYTES {
+        return Err(Failure {
+            kind: "too_large",
+            message: format!(
+                "--baseline {}: longer than the limit of {MAX_BASELINE_BYTES} bytes for a JSON result",
+                path.display()
+            ),
+        });
+    }
+    let text = String::from_utf8_lossy(&bytes);
     baseline_from_json(&text).map_err(|what| Failure {
         kind: "bad_baseline",
         message: format!("--baseline {}: {what}", path.display()),
     })
 }
 
+/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
+const MAX_BASELINE_BYTES: u64 = 1 << 24;
+
 /// A [`Baseline`] from the JSON of `identify --json`.
 fn baseline_from_json(text: &str) -> Result<Baseline, String> {
-    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| excerpt(&e.to_string()))?;
     let matrix = |key: &str| -> Result<Option<Mat<f64>>, String> {
         let Some(rows) = v.get(key).filter(|r| !r.is_null()) else {
             return Ok(None);
         };
-        let rows: Vec<Vec<f64>> =
-            serde_json::from_value(rows.clone()).map_err(|e| format!("`{key}`: {e}"))?;
+        let rows: Vec<Vec<f64>> = serde_json::from_value(rows.clone())
+            .map_err(|e| format!("`{key}`: {}", excerpt(&e.to_string())))?;
         let n = rows.len();
         if n == 0 || rows.iter().any(|r| r.len() != n) {
             return Err(format!("`{key}`: expected a square matrix (list of rows)"));
@@ -615,7 +690,12 @@ fn baseline_from_json(text: &str) -> Result<Baseline, String> {
         Some("h1") => Estimator::H1,
         Some("h2") => Estimator::H2,
         Some("hv") => Estimator::Hv,
-        other => return Err(format!("unknown `estimator` {other:?}")),
+        other => {
+            return Err(format!(
+                "unknown `estimator` {}",
+                excerpt(&format!("{other:?}"))
+            ));
+        }
     };
     let window = match v.get("window").and_then(|e| e.as_str()) {
         Some("rect") => Window::Rectangular,
@@ -626,7 +706,12 @@ fn baseline_from_json(text: &str) -> Result<Baseline, String> {
                 .and_then(serde_json::Value::as_f64)
                 .ok_or("no `window_decay_per_s` for the exponential window")?,
         },
-        other => return Err(format!("unknown `window` {other:?}")),
+        other => {
+            return Err(format!(
+                "unknown `window` {}",
+                excerpt(&format!("{other:?}"))
+            ));
+        }
     };
     Ok(Baseline::new(
         coefficients,
@@ -826,11 +911,12 @@ fn parse_matrix(name: &str, s: &str) -> Result<Mat<f64>, Failure> {
         .split(';')
         .map(|r| r.split(',').map(|v| v.trim().parse::<f64>()).collect())
         .collect::<Result<_, _>>()
-        .map_err(|e| invalid(format!("--{name} `{s}`: {e}")))?;
+        .map_err(|e| invalid(format!("--{name} `{}`: {e}", excerpt(s))))?;
     let n = rows.len();
     if rows.iter().any(|r| r.len() != n) {
         return Err(invalid(format!(
-            "--{name} `{s}`: expected a square matrix, rows separated by `;`"
+            "--{name} `{}`: expected a square matrix, rows separated by `;`",
+            excerpt(s)
         )));
     }
     Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
@@ -850,7 +936,7 @@ fn driven_records(
             .split(',')
             .map(|v| v.trim().parse::<f64>())
             .collect::<Result<_, _>>()
-            .map_err(|e| invalid(format!("--freqs `{s}`: {e}")))?,
+            .map_err(|e| invalid(format!("--freqs `{}`: {e}", excerpt(s))))?,
         None => match args.kind {
             KindArg::Multisine => vec![8.0, 49.0],
             KindArg::SteppedSine => vec![10.0, 48.0, 15.0],
@@ -862,9 +948,12 @@ fn driven_records(
     } else {
         2
     };
-    if freqs.len() != expected || !(freqs[0] > 0.0 && freqs[1] > freqs[0]) {
+    if freqs.len() != expected
+        || freqs.iter().any(|f| !f.is_finite())
+        || !(freqs[0] > 0.0 && freqs[1] > freqs[0])
+    {
         return Err(invalid(format!(
-            "--freqs: expected {} with 0 < LO < HI",
+            "--freqs: expected {} with 0 < LO < HI, all finite",
             if expected == 3 {
                 "LO,HI,COUNT"
             } else {
@@ -872,14 +961,21 @@ fn driven_records(
             }
         )));
     }
-    let samples = |s: f64| (s * rate).round() as usize;
+    let samples = |s: f64| sample_count(s, rate);
     let amplitude = args.force_rms * std::f64::consts::SQRT_2;
     // (label, direction, drive samples, samples kept from the end)
     let mut drives: Vec<(String, usize, Vec<f64>, usize)> = Vec::new();
     match args.kind {
         KindArg::Multisine => {
-            let period = samples(args.period);
-            let (settle, kept) = (samples(2.0), period * args.periods);
+            let period = samples(args.period)?;
+            let kept = period.saturating_mul(args.periods);
+            at_most(
+                "multisine samples kept per record",
+                kept as f64,
+                MAX_SAMPLES,
+            )?;
+            let settle = samples(2.0)?;
+            check_size(n as f64 * args.records as f64, settle + kept)?;
             let lines =
                 (freqs[0] * args.period).ceil() as usize..=(freqs[1] * args.period) as usize;
             for d in 0..n {
@@ -897,12 +993,15 @@ fn driven_records(
             }
         }
         KindArg::SteppedSine => {
-            let count = freqs[2] as usize;
-            if count < 1 || freqs[2].fract() != 0.0 {
+            if freqs[2] < 1.0 || freqs[2].fract() != 0.0 {
                 return Err(invalid("--freqs: COUNT must be a whole number ≥ 1".into()));
             }
-            let kept = samples(args.duration.unwrap_or(1.0));
-            let total = samples(1.0) + kept;
+            let kept = samples(args.duration.unwrap_or(1.0))?;
+            let total = samples(1.0)? + kept;
+            at_most("samples per record", total as f64, MAX_SAMPLES)?;
+            check_size(freqs[2] * n as f64, total)?;
+            // At most MAX_RECORDS, checked above.
+            let count = freqs[2] as usize;
             for s in 0..count {
                 let f = if count == 1 {
                     freqs[0]
@@ -916,7 +1015,8 @@ fn driven_records(
             }
         }
         _ => {
-            let total = samples(args.duration.unwrap_or(args.sweep_time + decay_s));
+            let total = samples(args.duration.unwrap_or(args.sweep_time + decay_s))?;
+            check_size(n as f64 * args.records as f64, total)?;
             for d in 0..n {
                 for r in 0..args.records {
                     let drive = bearing_ident::simulate::sweep(
@@ -960,6 +1060,31 @@ fn driven_records(
         .map_err(Failure::from)
 }
 
+/// `Ok` if `value ≤ limit`, else a `too_large` failure.
+fn at_most(what: &'static str, value: f64, limit: usize) -> Result<(), Failure> {
+    if value <= limit as f64 {
+        Ok(())
+    } else {
+        Err(bearing_ident::Error::TooLarge {
+            what,
+            value,
+            limit: limit as f64,
+        }
+        .into())
+    }
+}
+
+/// Checks the size of a simulated test: at most `MAX_RECORDS` records and `MAX_TOTAL_SAMPLES`
+/// samples in all.
+fn check_size(records: f64, samples: usize) -> Result<(), Failure> {
+    at_most("records", records, MAX_RECORDS)?;
+    at_most(
+        "samples × records",
+        records * samples as f64,
+        MAX_TOTAL_SAMPLES,
+    )
+}
+
 /// Mixed into `--seed` for the measurement-noise generator of random records, so that noise
 /// and forcing come from unrelated streams.
 const NOISE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -974,13 +1099,23 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         _ => seed_rig(),
     };
     let base = ImpactTest::seed_rig();
-    // Time for the slowest mode to decay to 1e-7 (e^{-16.1}).
-    let slowest = system
-        .eigenvalues()?
-        .iter()
-        .map(|l| -l.re)
-        .fold(f64::INFINITY, f64::min);
+    // Time for the slowest mode to decay to 1e-7 (e^{-16.1}); a mass that is not positive
+    // definite or a mode that does not decay is an error naming the matrix.
+    let slowest = slowest_decay(&system)?;
     let decay_s = 16.2 / slowest;
+    let decay_samples = decay_s * args.rate;
+    let derived = args.duration.is_none() && matches!(args.kind, KindArg::Impact | KindArg::Sweep);
+    if derived && (decay_samples.is_nan() || decay_samples > MAX_SAMPLES as f64) {
+        return Err(Failure {
+            kind: "too_large",
+            message: format!(
+                "the slowest mode decays at {slowest:.3e} 1/s: records must last {decay_s:.3e} s \
+                 for it to decay to 1e-7, {decay_samples:.3e} samples at {} Hz, past the limit \
+                 of {MAX_SAMPLES} samples per record (add damping or give --duration)",
+                args.rate
+            ),
+        });
+    }
     let duration_s = match (args.duration, args.kind) {
         (Some(d), _) => d,
         (None, KindArg::Random) => 60.0,
@@ -1007,7 +1142,9 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
             driven_records(args, &system, decay_s)?
         }
         KindArg::Random => {
-            let mut sim = Simulator::new(&system, args.rate, test.samples(), AntiAlias::default())?;
+            let samples = test.samples()?;
+            check_size(args.records as f64, samples)?;
+            let mut sim = Simulator::new(&system, args.rate, samples, AntiAlias::default())?;
             // The noise stream must not be the forcing stream (seeded by `seed + r`).
             let mut rng = StdRng::seed_from_u64(args.seed ^ NOISE_STREAM);
             (0..args.records)
@@ -1029,6 +1166,21 @@ fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     let layout = CsvLayout::for_dofs(system.dofs());
     for r in &records {
         io::write_record(args.out.join(format!("{}.csv", r.label())), r, &layout)?;
+    }
+    if args.json {
+        let v = serde_json::json!({
+            "records": records.len(),
+            "samples": records.first().map_or(0, Record::len),
+            "duration_s": duration_s,
+            "sample_rate": args.rate,
+            "out": args.out.display().to_string(),
+            "columns": std::iter::once(&layout.time)
+                .chain(&layout.forces)
+                .chain(&layout.displacements)
+                .collect::<Vec<_>>(),
+        });
+        println!("{v}");
+        return Ok(());
     }
     println!(
         "wrote {} records of {} samples ({} s at {} samples/s) to {}, columns {},{},{}",
