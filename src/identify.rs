@@ -475,12 +475,24 @@ impl Identifier {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
-        let frf = builder.finish(&self.assignment)?;
-        let excitations = match self.estimator {
-            Estimator::PairedSets => builder.excitations(&self.assignment)?,
-            _ => builder.excitations(&Assignment::DominantForce)?,
-        };
-        self.conclude(frf, Some(&builder), excitations, screened)
+        let outcome = builder.finish(&self.assignment).and_then(|frf| {
+            let excitations = match self.estimator {
+                Estimator::PairedSets => builder.excitations(&self.assignment)?,
+                _ => builder.excitations(&Assignment::DominantForce)?,
+            };
+            self.conclude(frf, Some(&builder), excitations, screened)
+        });
+        // A record without force or without response shows up later as missing rank, a
+        // singular fit or no usable line: name the record instead.
+        match outcome {
+            Err(
+                Error::RankDeficient { .. }
+                | Error::Singular { .. }
+                | Error::SingularFit { .. }
+                | Error::TooFewLines { .. },
+            ) if builder.dead_channel().is_some() => Err(builder.dead_channel().expect("checked")),
+            outcome => outcome,
+        }
     }
 
     /// Fits an [`Frf`] measured some other way — stepped sine
@@ -532,6 +544,16 @@ impl Identifier {
             if low_coherence > 0 {
                 frf = frf.retain_lines(keep);
             }
+        }
+        // Too few lines in the band is the band's fault whether or not the lines are usable.
+        let band_lines = frf.lines() + frf.dropped_hz().len();
+        let required = solve::required_lines(frf.dofs());
+        if band_lines < required {
+            return Err(Error::TooFewLines {
+                lines: band_lines,
+                required,
+                resolution_hz: frf.line_spacing_hz(),
+            });
         }
         let conditioning = Conditioning::assess(&frf, self.limits)?;
         let (fit, ml) = match self.method {

@@ -240,7 +240,8 @@ fn read_csv(
 }
 
 /// The sampling rate of a uniform time column: `(N − 1)/(t_last − t_0)`, every sample within
-/// 1 % of a step of its place on the grid.
+/// [`TIME_GRID_TOLERANCE`](crate::records::TIME_GRID_TOLERANCE) (1 %) of a step of its place
+/// on the grid.
 fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Result<f64> {
     if time.len() < 2 {
         return Err(Error::RecordTooShort {
@@ -254,7 +255,7 @@ fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Re
     let increasing = step > 0.0 && step.is_finite();
     for (i, &t) in time.iter().enumerate() {
         let expected = t0 + i as f64 * step;
-        if !increasing || (t - expected).abs() > 0.01 * step {
+        if !increasing || (t - expected).abs() > crate::records::TIME_GRID_TOLERANCE * step {
             let i = if increasing { i } else { 1 };
             return Err(Error::NonUniformTime {
                 path: label.to_owned(),
