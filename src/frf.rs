@@ -874,8 +874,11 @@ impl FrfBuilder {
     ///
     /// # Errors
     /// [`Error::DofMismatch`], [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`]
-    /// against the first record; on the first record, [`Error::BandAboveNyquist`] and
-    /// [`Error::InvalidParameter`] for a bad Welch segment length.
+    /// against the first record (rates compared by
+    /// [`sample_rates_agree`](crate::records::sample_rates_agree)); on the first record,
+    /// [`Error::BandAboveNyquist`] and [`Error::InvalidParameter`] for a bad Welch segment
+    /// length; [`Error::SpectrumOverflow`] naming the record, channel and line when its
+    /// spectra or cross-spectra (or the running totals) overflow.
     pub fn push(&mut self, record: &Record) -> Result<()> {
         self.check(record)?;
         let (plan, spectral) = self.plan.as_mut().expect("set by check");
@@ -1018,7 +1021,10 @@ impl FrfBuilder {
     ///
     /// # Errors
     /// [`Error::NoRecords`] if nothing was pushed; for paired sets, the assignment errors and
-    /// [`Error::RankDeficient`] when some direction has no record.
+    /// [`Error::RankDeficient`] when some direction has no record;
+    /// [`Error::NonFiniteResult`] at the first line whose impedance, flexibility or coherence
+    /// is not finite. (A record with all its forces or displacements flat is kept aside as
+    /// [`FrfBuilder::dead_channel`] for the caller to report.)
     pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
         let frf = if self.estimator == Estimator::PairedSets {

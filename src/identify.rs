@@ -297,8 +297,12 @@ impl Identifier {
     /// # Errors
     /// Every error of the stages: record shapes ([`Error::DofMismatch`],
     /// [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`], [`Error::NoRecords`]),
-    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]),
-    /// the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
+    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]
+    /// when the band holds fewer lines than the fit needs, with the line spacing),
+    /// [`Error::SpectrumOverflow`] and [`Error::NonFiniteResult`] when levels overflow f64,
+    /// [`Error::DeadChannel`] naming a record with every force (or displacement) channel flat
+    /// when the run cannot go on without it (instead of the rank, singularity or line-count
+    /// error it causes), the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
     /// [`Error::InvalidParameter`] for out-of-range settings, and [`Error::NotConverged`] under
     /// [`NonConvergence::Fail`].
     pub fn identify(&self, records: &[Record]) -> Result<Identification> {

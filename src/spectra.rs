@@ -49,7 +49,10 @@ pub enum Window {
 
 impl Window {
     /// The exponential window that falls to `end_value` (e.g. 0.01) at `duration_s`:
-    /// `a = −ln(end_value) / duration_s`.
+    /// `a = −ln(end_value) / duration_s`. A decay that is not finite and `≥ 0` (an
+    /// `end_value` outside `(0, 1]`, a `duration_s` of 0) is refused with
+    /// [`Error::InvalidParameter`] where the window is used ([`SpectralEstimator::new`],
+    /// `Identifier::identify`).
     ///
     /// # Examples
     /// ```
