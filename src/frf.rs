@@ -223,8 +223,8 @@ impl Frf {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for mismatched lengths, non-square or mismatched matrices, or
-    /// a frequency that is not finite and positive; [`Error::NonFiniteCoefficient`] never; a line
-    /// whose `G` is singular is dropped.
+    /// a frequency that is not finite and positive; [`Error::NonFiniteResult`] for a matrix
+    /// holding NaN or infinity; a line whose `G` is singular is dropped.
     ///
     /// # Examples
     /// ```
@@ -1567,6 +1567,29 @@ pub fn h1(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn given_flexibilities_must_be_finite_and_keep_their_spacing() {
+        let g = |v: f64| Mat::from_fn(1, 1, |_, _| c64::new(v, 0.0));
+        let e = Frf::from_flexibility(vec![10.0, 20.0], &[g(1e-3), g(f64::NAN)]).unwrap_err();
+        assert_eq!(
+            e,
+            Error::NonFiniteResult {
+                stage: "given flexibility",
+                freq_hz: 20.0
+            }
+        );
+        let one = Frf::from_flexibility(vec![10.0], &[g(1e-3)]).unwrap();
+        assert_eq!(one.line_spacing_hz(), None);
+        let kept = Frf::from_flexibility(vec![10.0, 20.0], &[g(1e-3), g(2e-3)])
+            .unwrap()
+            .retain_lines(|k| k == 0);
+        assert_eq!(kept.line_spacing_hz(), Some(10.0));
+        // Lines the band held but that were all dropped are not a band error.
+        let none = kept.retain_lines(|_| false);
+        let e = crate::conditioning::Conditioning::assess(&none, Default::default());
+        assert!(matches!(e, Err(Error::RankDeficient { .. })), "{e:?}");
+    }
 
     /// Records of a 2-DOF static "system" X = G F with a known constant G, driven by a pulse in
     /// x and one in y. A constant G is exact at every line whatever the signals.

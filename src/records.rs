@@ -36,7 +36,7 @@ pub const TIME_GRID_TOLERANCE: f64 = 0.01;
 /// assert!(sample_rates_agree(6700.0, 6700.003, 8040));
 /// assert!(!sample_rates_agree(6700.0, 6701.0, 8040));
 /// // Short records: their rate is known less well.
-/// assert!(sample_rates_agree(100.0, 100.5, 12));
+/// assert!(sample_rates_agree(100.0, 100.4, 12));
 /// ```
 pub fn sample_rates_agree(a: f64, b: f64, len: usize) -> bool {
     let tolerance = 4.0 * TIME_GRID_TOLERANCE / (len.max(MIN_SAMPLES) - 3) as f64 + 1e-12;
