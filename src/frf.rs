@@ -1001,7 +1001,7 @@ impl FrfBuilder {
 
     /// The first record pushed whose force channels, or whose displacement channels, are all
     /// flat (constant over the whole record), as [`Error::DeadChannel`]: the true cause when
-    /// an identification cannot go on (rank-deficient or singular excitations, no usable line).
+    /// an identification cannot go on (rank-deficient excitations or a singular fit).
     pub fn dead_channel(&self) -> Option<Error> {
         self.dead.clone()
     }

@@ -486,15 +486,14 @@ impl Identifier {
             };
             self.conclude(frf, Some(&builder), excitations, screened)
         });
-        // A record without force or without response shows up later as missing rank, a
-        // singular fit or no usable line: name the record instead.
+        // A record without force or without response shows up later as missing rank or a
+        // singular fit: name the record instead. (A band with too few lines stays `bad_band`.)
         match outcome {
             Err(
-                Error::RankDeficient { .. }
-                | Error::Singular { .. }
-                | Error::SingularFit { .. }
-                | Error::TooFewLines { .. },
-            ) if builder.dead_channel().is_some() => Err(builder.dead_channel().expect("checked")),
+                Error::RankDeficient { .. } | Error::Singular { .. } | Error::SingularFit { .. },
+            ) => Err(builder
+                .dead_channel()
+                .unwrap_or_else(|| outcome.expect_err("matched"))),
             outcome => outcome,
         }
     }

@@ -154,6 +154,9 @@ fn a_dead_record_that_stops_the_run_is_named() {
         );
         assert!(e.to_string().contains("impact-dof0-0"));
     }
+    // A band too narrow is still the band's fault, dead record or not.
+    let e = Identifier::new(10.0, 10.2).identify(&recs).unwrap_err();
+    assert_eq!(e.kind(), "bad_band", "{e}");
 }
 
 /// A CSV text of `len` samples at 100 Hz whose first and last time stamps sit `shift` steps
