@@ -36,7 +36,7 @@ fn spectra(c: &mut Criterion) {
         let signal: Vec<f64> = (0..len)
             .map(|m| ((m * 7919) % 1000) as f64 * 1e-3)
             .collect();
-        let mut est = SpectralEstimator::new(len, 1.0e4, Window::Rectangular);
+        let mut est = SpectralEstimator::new(len, 1.0e4, Window::Rectangular).expect("valid plan");
         group.throughput(Throughput::Elements(len as u64));
         group.bench_with_input(BenchmarkId::from_parameter(len), &signal, |b, s| {
             b.iter(|| black_box(est.transform(s)[1]))
@@ -165,7 +165,8 @@ fn seed_rig_end_to_end(c: &mut Criterion) {
         b.iter(|| black_box(id.identify(&records).unwrap()))
     });
     group.bench_function("fft_only", |b| {
-        let mut est = SpectralEstimator::new(8040, 6700.0, Window::Rectangular);
+        let mut est =
+            SpectralEstimator::new(8040, 6700.0, Window::Rectangular).expect("valid plan");
         b.iter(|| {
             let mut acc = c64::new(0.0, 0.0);
             for r in &records {

@@ -66,11 +66,18 @@ impl Conditioning {
     /// Judges the condition numbers of `frf`.
     ///
     /// # Errors
-    /// [`Error::RankDeficient`] if the band has no usable line or every line's condition number
-    /// exceeds `limits.refuse`.
+    /// [`Error::TooFewLines`] if `frf` holds no line at all; [`Error::RankDeficient`] if every
+    /// line was dropped as singular or every line's condition number exceeds `limits.refuse`.
     pub fn assess(frf: &Frf, limits: ConditionLimits) -> Result<Self> {
         let cond = frf.condition_numbers();
         let n = frf.dofs();
+        if cond.is_empty() && frf.dropped_hz().is_empty() {
+            return Err(Error::TooFewLines {
+                lines: 0,
+                required: 1,
+                resolution_hz: frf.line_spacing_hz(),
+            });
+        }
         if cond.is_empty() || cond.iter().all(|&c| exceeds(c, limits.refuse)) {
             return Err(Error::RankDeficient {
                 rank: n.saturating_sub(1),

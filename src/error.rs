@@ -159,18 +159,21 @@ pub enum Error {
         /// Half the sampling rate (Hz).
         nyquist_hz: f64,
     },
-    /// The band holds too few frequency lines for the number of unknowns.
+    /// The band holds too few frequency lines for the number of unknowns (an empty band
+    /// included).
     #[error(
         "the band holds {lines} usable frequency lines, at least {required} are needed \
-         (line spacing {resolution_hz} Hz)"
+         ({}): widen the band or lengthen the records (segments)",
+        spacing(*resolution_hz)
     )]
     TooFewLines {
         /// Usable lines in the band.
         lines: usize,
         /// Lines needed.
         required: usize,
-        /// Spacing of the lines (Hz).
-        resolution_hz: f64,
+        /// Spacing of the lines (Hz): the spectral resolution `fs / N` of the records or
+        /// segments; `None` for a ready-made [`Frf`](crate::frf::Frf) of fewer than two lines.
+        resolution_hz: Option<f64>,
     },
     /// An explicit excitation assignment does not fit the records.
     #[error(
@@ -393,6 +396,71 @@ pub enum Error {
         /// Number of degrees of freedom.
         dofs: usize,
     },
+    // Errors that name the cause where a later stage would only see its effect.
+    /// A spectrum, or a product of spectra, of finite samples overflowed to infinity or NaN.
+    #[error(
+        "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
+         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
+         channel, e.g. to N and m)"
+    )]
+    SpectrumOverflow {
+        /// Label of the record.
+        record: String,
+        /// `"spectrum"`, `"cross-spectrum"` or `"accumulated cross-spectrum"`.
+        stage: &'static str,
+        /// The channel (for a cross-spectrum `S_ab`, channel `a`).
+        channel: Channel,
+        /// Frequency of the first line that overflowed (Hz).
+        freq_hz: f64,
+        /// Largest absolute sample of the channel.
+        peak: f64,
+    },
+    /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
+    /// finite.
+    #[error(
+        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
+         estimator (rescale the channels, e.g. to N and m)"
+    )]
+    NonFiniteResult {
+        /// `"impedance"`, `"flexibility"`, …
+        stage: &'static str,
+        /// Frequency of the first line where it appears (Hz).
+        freq_hz: f64,
+    },
+    /// Every force channel (or every displacement channel) of a record is flat: nothing was
+    /// recorded, and the identification cannot use the record.
+    #[error(
+        "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
+         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
+         that did not register); leave the record out",
+        if matches!(channel, Channel::Force(_)) { "force" } else { "displacement" }
+    )]
+    DeadChannel {
+        /// Label of the record.
+        record: String,
+        /// The first flat channel of the record.
+        channel: Channel,
+        /// The constant value it holds (N or m).
+        value: f64,
+    },
+    /// Two inputs of a library function that must have one length do not.
+    #[error("{what}: {actual} values, expected {expected}")]
+    LengthMismatch {
+        /// Which inputs.
+        what: &'static str,
+        /// The length of the first input.
+        expected: usize,
+        /// The length of the one that differs.
+        actual: usize,
+    },
+}
+
+/// `line spacing … Hz`, or that it is unknown.
+fn spacing(resolution_hz: Option<f64>) -> String {
+    match resolution_hz {
+        Some(df) => format!("line spacing {df} Hz"),
+        None => "line spacing unknown: fewer than two lines given".to_owned(),
+    }
 }
 
 /// Something a user should know about an identification that did not stop it.
@@ -850,7 +918,8 @@ impl Error {
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
-    /// `baseline_mismatch`, `too_large`.
+    /// `baseline_mismatch`, `ml_needs_repeats`, `plot_error`, `dead_channel`, `too_large`,
+    /// `bad_baseline`. The README's table lists every one (a unit test checks it).
     ///
     /// # Examples
     /// ```
@@ -861,7 +930,11 @@ impl Error {
         match self {
             Error::Csv { .. } => "malformed_csv",
             Error::MissingColumn { .. } => "missing_column",
-            Error::NonFinite { .. } | Error::CsvNonFinite { .. } => "non_finite",
+            Error::NonFinite { .. }
+            | Error::CsvNonFinite { .. }
+            | Error::SpectrumOverflow { .. }
+            | Error::NonFiniteResult { .. } => "non_finite",
+            Error::DeadChannel { .. } => "dead_channel",
             Error::NonUniformTime { .. } => "nonuniform_time",
             Error::InvalidSampleRate { .. }
             | Error::ChannelCount { .. }
@@ -879,7 +952,7 @@ impl Error {
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",
             Error::RecordTooShort { .. } => "record_too_short",
-            Error::InvalidParameter { .. } => "invalid_argument",
+            Error::InvalidParameter { .. } | Error::LengthMismatch { .. } => "invalid_argument",
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
                 "singular"
             }
@@ -1075,6 +1148,58 @@ mod tests {
         };
         assert_eq!(e.kind(), "plot_error");
         assert_eq!(e.to_string(), "figure `impedance`: disk full");
+    }
+
+    /// The quoted strings of `text` that follow `marker` (which ends in a quote).
+    fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+        text.match_indices(marker)
+            .map(|(at, _)| {
+                let rest = &text[at + marker.len()..];
+                &rest[..rest.find('"').expect("closing quote")]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn readme_lists_every_error_kind() {
+        let source = include_str!("error.rs");
+        // Every string literal of `Error::kind`'s body is a kind.
+        let start = source.find("impl Error {").expect("impl Error");
+        let body = &source[start..];
+        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
+        let body = &body[..body.find("\n}\n").expect("end of impl")];
+        let mut kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
+        assert!(kinds.len() >= 17, "found only {kinds:?}");
+        // The CLI's own kinds for failures outside the library.
+        kinds.extend(quoted_after(
+            include_str!("bin/bearing-ident/main.rs"),
+            "kind: \"",
+        ));
+        let readme = include_str!("../README.md");
+        for kind in kinds {
+            assert!(
+                readme.contains(&format!("| `{kind}` |")),
+                "README's error table lacks `{kind}`"
+            );
+        }
+    }
+
+    #[test]
+    fn too_few_lines_says_the_spacing_or_that_it_is_unknown() {
+        let e = Error::TooFewLines {
+            lines: 1,
+            required: 6,
+            resolution_hz: None,
+        };
+        assert_eq!(e.kind(), "bad_band");
+        assert!(!e.to_string().contains("NaN"), "{e}");
+        assert!(e.to_string().contains("unknown"), "{e}");
+        let e = Error::TooFewLines {
+            lines: 0,
+            required: 6,
+            resolution_hz: Some(0.5),
+        };
+        assert!(e.to_string().contains("holds 0 usable") && e.to_string().contains("0.5 Hz"));
     }
 
     #[test]

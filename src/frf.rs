@@ -21,7 +21,7 @@
 
 use faer::{Mat, MatRef, c64};
 
-use crate::error::{Error, Result};
+use crate::error::{Channel, Error, Result};
 use crate::linalg;
 use crate::records::Record;
 use crate::spectra::{ForceGate, Segmentation, SpectralEstimator, Window};
@@ -174,15 +174,11 @@ impl Assignment {
     }
 }
 
-/// Relative difference below which two sampling rates are the same (rates read from CSV time
-/// columns carry rounding).
-pub const SAMPLE_RATE_TOLERANCE: f64 = 1e-6;
-
 /// The common shape of a list of records: `(dofs, sample_rate, len)`.
 ///
 /// # Errors
-/// [`Error::NoRecords`], or [`Error::DofMismatch`], [`Error::SampleRateMismatch`] (beyond
-/// [`SAMPLE_RATE_TOLERANCE`]),
+/// [`Error::NoRecords`], or [`Error::DofMismatch`], [`Error::SampleRateMismatch`] (unless
+/// [`sample_rates_agree`](crate::records::sample_rates_agree)),
 /// [`Error::RecordLengthMismatch`] naming the first record that differs from the first one
 /// (or from `dofs`, when given).
 pub fn common_shape(records: &[Record], dofs: Option<usize>) -> Result<(usize, f64, usize)> {
@@ -217,6 +213,8 @@ pub struct Frf {
     impedance_variance: Vec<f64>,
     /// Band lines the excitation does not drive (periodic segmentation only).
     unexcited_hz: Vec<f64>,
+    /// Spacing of the lines (Hz) when known.
+    spacing_hz: Option<f64>,
 }
 
 impl Frf {
@@ -225,8 +223,8 @@ impl Frf {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for mismatched lengths, non-square or mismatched matrices, or
-    /// a frequency that is not finite and positive; [`Error::NonFiniteCoefficient`] never; a line
-    /// whose `G` is singular is dropped.
+    /// a frequency that is not finite and positive; [`Error::NonFiniteResult`] for a matrix
+    /// holding NaN or infinity; a line whose `G` is singular is dropped.
     ///
     /// # Examples
     /// ```
@@ -279,6 +277,12 @@ impl Frf {
                     g[i + j * n] = m[(i, j)];
                 }
             }
+            if g.iter().any(|z| !(z.re.is_finite() && z.im.is_finite())) {
+                return Err(Error::NonFiniteResult {
+                    stage: "given flexibility",
+                    freq_hz: f,
+                });
+            }
             let cond = linalg::condition_number_with(&g, n, &mut scratch, &mut sigma);
             h.copy_from_slice(&g);
             if inverter.invert(&mut h) {
@@ -288,6 +292,7 @@ impl Frf {
             }
         }
         out.averages = 1;
+        out.spacing_hz = Frf::smallest_spacing(&freqs_hz);
         Ok(out)
     }
 
@@ -306,7 +311,43 @@ impl Frf {
             ordinary_coherence: Vec::new(),
             impedance_variance: Vec::new(),
             unexcited_hz: Vec::new(),
+            spacing_hz: None,
         }
+    }
+
+    /// The smallest positive spacing of `freqs_hz` (Hz), `None` below two distinct lines.
+    fn smallest_spacing(freqs_hz: &[f64]) -> Option<f64> {
+        let mut sorted = freqs_hz.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|&d| d > 0.0)
+            .min_by(f64::total_cmp)
+    }
+
+    /// [`Error::NonFiniteResult`] at the first line whose impedance, flexibility or coherence
+    /// is not finite.
+    fn check_finite(&self) -> Result<()> {
+        let (n, nn) = (self.dofs, self.dofs * self.dofs);
+        for (k, &freq_hz) in self.freqs_hz.iter().enumerate() {
+            let finite = |v: &[c64]| v.iter().all(|z| z.re.is_finite() && z.im.is_finite());
+            let stage = if !finite(&self.impedance[k * nn..(k + 1) * nn]) {
+                "impedance"
+            } else if !finite(&self.flexibility[k * nn..(k + 1) * nn]) {
+                "flexibility"
+            } else if self
+                .multiple_coherence
+                .get(k * n..(k + 1) * n)
+                .is_some_and(|c| c.iter().any(|g| !g.is_finite()))
+            {
+                "coherence"
+            } else {
+                continue;
+            };
+            return Err(Error::NonFiniteResult { stage, freq_hz });
+        }
+        Ok(())
     }
 
     fn push_coherence(&mut self, multiple: &[f64], ordinary: &[f64]) {
@@ -474,8 +515,26 @@ impl Frf {
             }
         }
         out.unexcited_hz = self.unexcited_hz.clone();
+        out.spacing_hz = self.spacing_hz;
         out.dropped_hz.sort_by(f64::total_cmp);
         out
+    }
+
+    /// Spacing of the frequency lines (Hz): the spectral resolution `fs / N` for an `Frf`
+    /// built from records, the smallest spacing of the given lines otherwise; `None` for a
+    /// ready-made `Frf` of fewer than two lines.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::Frf;
+    /// use faer::{Mat, c64};
+    /// let g = vec![Mat::from_fn(1, 1, |_, _| c64::new(1e-3, 0.0)); 3];
+    /// let frf = Frf::from_flexibility(vec![10.0, 12.5, 20.0], &g)?;
+    /// assert_eq!(frf.line_spacing_hz(), Some(2.5));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn line_spacing_hz(&self) -> Option<f64> {
+        self.spacing_hz
     }
 
     /// Labels of records left out of the paired sets (more records in one direction than in
@@ -496,8 +555,10 @@ impl Frf {
     ) -> Frf {
         let mut out = Frf::empty(n, estimator);
         (out.averages, out.unpaired) = (averages, unpaired);
+        let mut all_hz = Vec::new();
         let (mut inverter, mut g) = (linalg::Inverter::new(n), vec![c64::new(0.0, 0.0); n * n]);
         for (freq, h, condition) in lines {
+            all_hz.push(freq);
             let h = h.filter(|h| h.len() == n * n);
             let inverted = h.is_some_and(|h| {
                 g.copy_from_slice(h);
@@ -508,6 +569,7 @@ impl Frf {
                 _ => out.dropped_hz.push(freq),
             }
         }
+        out.spacing_hz = Frf::smallest_spacing(&all_hz);
         out
     }
 }
@@ -621,6 +683,8 @@ pub struct FrfBuilder {
     averages: usize,
     /// Keep each H1 record's own sums too (for leave-one-out replicates).
     keep_partials: bool,
+    /// The first record with every force or every displacement channel flat.
+    dead: Option<Error>,
 }
 
 impl FrfBuilder {
@@ -649,6 +713,7 @@ impl FrfBuilder {
             sxx: Vec::new(),
             averages: 0,
             keep_partials: false,
+            dead: None,
         }
     }
 
@@ -892,7 +957,7 @@ impl FrfBuilder {
                 common_shape(std::slice::from_ref(record), Some(n))?;
                 let seg_len = self.segmentation.segment_len(record.len())?;
                 let lines = self.band.lines(record.sample_rate(), seg_len)?;
-                let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window);
+                let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window)?;
                 let plan = Plan {
                     n,
                     sample_rate: record.sample_rate(),
@@ -922,14 +987,16 @@ impl FrfBuilder {
     ///
     /// # Errors
     /// [`Error::DofMismatch`], [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`]
-    /// against the first record; on the first record, [`Error::BandAboveNyquist`] and
-    /// [`Error::InvalidParameter`] for a bad Welch segment length.
+    /// against the first record (rates compared by
+    /// [`sample_rates_agree`](crate::records::sample_rates_agree)); on the first record,
+    /// [`Error::BandAboveNyquist`] and [`Error::InvalidParameter`] for a bad Welch segment
+    /// length; [`Error::SpectrumOverflow`] naming the record, channel and line when its
+    /// spectra or cross-spectra (or the running totals) overflow.
     pub fn push(&mut self, record: &Record) -> Result<()> {
         self.check(record)?;
         let (plan, spectral) = self.plan.as_mut().expect("set by check");
-        let contribution = contribute(self.estimator, self.segmentation, plan, spectral, record);
-        self.merge(record, contribution);
-        Ok(())
+        let contribution = contribute(self.estimator, self.segmentation, plan, spectral, record)?;
+        self.merge(record, contribution)
     }
 
     /// Adds every record of a slice. With the `rayon` feature the records are transformed in
@@ -949,7 +1016,7 @@ impl FrfBuilder {
         let (plan, spectral) = self.plan.as_mut().expect("set by check");
         let (estimator, segmentation) = (self.estimator, self.segmentation);
         #[cfg(feature = "rayon")]
-        let contributions: Vec<Contribution> = {
+        let contributions: Vec<Result<Contribution>> = {
             use rayon::prelude::*;
             let (plan, spectral) = (&*plan, &*spectral);
             records
@@ -961,17 +1028,25 @@ impl FrfBuilder {
                 .collect()
         };
         #[cfg(not(feature = "rayon"))]
-        let contributions: Vec<Contribution> = records
+        let contributions: Vec<Result<Contribution>> = records
             .iter()
             .map(|r| contribute(estimator, segmentation, plan, spectral, r))
             .collect();
         for (r, c) in records.iter().zip(contributions) {
-            self.merge(r, c);
+            self.merge(r, c?)?;
         }
         Ok(())
     }
 
-    fn merge(&mut self, record: &Record, contribution: Contribution) {
+    /// Adds `contribution` to what was gathered.
+    ///
+    /// # Errors
+    /// [`Error::SpectrumOverflow`] when the accumulated cross-spectra overflow with this
+    /// record; [`Error::DeadChannel`] is only noted here (see [`FrfBuilder::finish`]).
+    fn merge(&mut self, record: &Record, contribution: Contribution) -> Result<()> {
+        if self.dead.is_none() {
+            self.dead = dead_channel(record);
+        }
         let contribution = match contribution {
             Contribution::Cross {
                 sff,
@@ -986,6 +1061,23 @@ impl FrfBuilder {
                     (&mut self.sxx, &sxx),
                 ] {
                     totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
+                }
+                if let Some((plan, _)) = &self.plan {
+                    let nn = plan.n * plan.n;
+                    for (totals, channel) in [
+                        (&self.sff, Channel::Force as fn(usize) -> Channel),
+                        (&self.sxf, Channel::Displacement),
+                        (&self.sxx, Channel::Displacement),
+                    ] {
+                        overflow_check(
+                            record,
+                            plan,
+                            "accumulated cross-spectrum",
+                            totals,
+                            nn,
+                            channel,
+                        )?;
+                    }
                 }
                 self.averages += self.segmentation.starts(record.len()).count();
                 if self.keep_partials {
@@ -1017,6 +1109,14 @@ impl FrfBuilder {
             dominant: record.dominant_force(),
             contribution,
         });
+        Ok(())
+    }
+
+    /// The first record pushed whose force channels, or whose displacement channels, are all
+    /// flat (constant over the whole record), as [`Error::DeadChannel`]: the true cause when
+    /// an identification cannot go on (rank-deficient excitations or a singular fit).
+    pub fn dead_channel(&self) -> Option<Error> {
+        self.dead.clone()
     }
 
     /// The excitation of every record pushed, by `assignment`.
@@ -1034,14 +1134,19 @@ impl FrfBuilder {
     ///
     /// # Errors
     /// [`Error::NoRecords`] if nothing was pushed; for paired sets, the assignment errors and
-    /// [`Error::RankDeficient`] when some direction has no record.
+    /// [`Error::RankDeficient`] when some direction has no record;
+    /// [`Error::NonFiniteResult`] at the first line whose impedance, flexibility or coherence
+    /// is not finite. (A record with all its forces or displacements flat is kept aside as
+    /// [`FrfBuilder::dead_channel`] for the caller to report.)
     pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
-        if self.estimator == Estimator::PairedSets {
-            self.finish_paired(plan, &self.excitations(assignment)?, None)
+        let frf = if self.estimator == Estimator::PairedSets {
+            self.finish_paired(plan, &self.excitations(assignment)?, None)?
         } else {
-            Ok(self.finish_cross(plan, None))
-        }
+            self.finish_cross(plan, None)
+        };
+        frf.check_finite()?;
+        Ok(frf)
     }
 
     fn finish_paired(
@@ -1061,6 +1166,7 @@ impl FrfBuilder {
         }
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let mut frf = Frf::empty(n, Estimator::PairedSets);
+        frf.spacing_hz = Some(plan.resolution_hz);
         let weight = |s: usize| weights.map_or(1.0, |w| w.get(s).copied().unwrap_or(0.0));
         let used: Vec<usize> = (0..sets).filter(|&s| weight(s) > 0.0).collect();
         let total_weight: f64 = used.iter().map(|&s| weight(s)).sum();
@@ -1203,6 +1309,7 @@ impl FrfBuilder {
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let mut frf = Frf::empty(n, self.estimator);
+        frf.spacing_hz = Some(plan.resolution_hz);
         let (Cross { sff, sxf, sxx }, averages) = self.cross_totals(plan, weights);
         frf.averages = averages.round() as usize;
         // Lines the excitation drives (periodic excitation leaves the others empty).
@@ -1363,7 +1470,7 @@ fn check_against(record: &Record, n: usize, sample_rate: f64, len: usize) -> Res
             actual: record.dofs(),
         });
     }
-    if (record.sample_rate() / sample_rate - 1.0).abs() > SAMPLE_RATE_TOLERANCE {
+    if !crate::records::sample_rates_agree(record.sample_rate(), sample_rate, len) {
         return Err(Error::SampleRateMismatch {
             record: record.label().to_owned(),
             expected: sample_rate,
@@ -1387,7 +1494,7 @@ fn contribute(
     plan: &Plan,
     spectral: &mut SpectralEstimator,
     record: &Record,
-) -> Contribution {
+) -> Result<Contribution> {
     let (n, lines) = (plan.n, &plan.lines);
     let zero = c64::new(0.0, 0.0);
     let mut forces = vec![zero; lines.len() * n];
@@ -1404,14 +1511,21 @@ fn contribute(
                 displacements[l * n + c] = spec[k];
             }
         }
+        for (values, channel) in [
+            (&*forces, Channel::Force as fn(usize) -> Channel),
+            (&*displacements, Channel::Displacement),
+        ] {
+            overflow_check(record, plan, "spectrum", values, n, channel)?;
+        }
+        Ok::<(), Error>(())
     };
     match estimator {
         Estimator::PairedSets => {
-            transform(0, &mut forces, &mut displacements);
-            Contribution::Spectra {
+            transform(0, &mut forces, &mut displacements)?;
+            Ok(Contribution::Spectra {
                 forces,
                 displacements,
-            }
+            })
         }
         _ => {
             let nn = n * n;
@@ -1421,7 +1535,7 @@ fn contribute(
             let mut sf = vec![zero; lines.len() * n];
             let mut sx = vec![zero; lines.len() * n];
             for start in segmentation.starts(record.len()) {
-                transform(start, &mut forces, &mut displacements);
+                transform(start, &mut forces, &mut displacements)?;
                 for (t, v) in sf.iter_mut().zip(&forces) {
                     *t += v;
                 }
@@ -1448,15 +1562,75 @@ fn contribute(
                     }
                 }
             }
-            Contribution::Cross {
+            for (values, channel) in [
+                (&sff, Channel::Force as fn(usize) -> Channel),
+                (&sxf, Channel::Displacement),
+                (&sxx, Channel::Displacement),
+            ] {
+                overflow_check(record, plan, "cross-spectrum", values, nn, channel)?;
+            }
+            Ok(Contribution::Cross {
                 sff,
                 sxf,
                 sxx,
                 sf,
                 sx,
-            }
+            })
         }
     }
+}
+
+/// [`Error::DeadChannel`] if every force channel, or every displacement channel, of `record`
+/// is constant over the whole record.
+fn dead_channel(record: &Record) -> Option<Error> {
+    let flat = |v: &[f64]| v.iter().all(|x| (x - v[0]).abs() <= 0.0);
+    let n = record.dofs();
+    let forces = (0..n).all(|c| flat(record.force(c)));
+    let displacements = (0..n).all(|c| flat(record.displacement(c)));
+    let channel = match (forces, displacements) {
+        (true, _) => Channel::Force(0),
+        (false, true) => Channel::Displacement(0),
+        (false, false) => return None,
+    };
+    let value = match channel {
+        Channel::Force(c) => record.force(c)[0],
+        Channel::Displacement(c) => record.displacement(c)[0],
+    };
+    Some(Error::DeadChannel {
+        record: record.label().to_owned(),
+        channel,
+        value,
+    })
+}
+
+/// [`Error::SpectrumOverflow`] at the first non-finite value of `values` (`[line][stride]`;
+/// within a line, value `v` belongs to `channel(v % n)`, the row of an `n × n` matrix).
+fn overflow_check(
+    record: &Record,
+    plan: &Plan,
+    stage: &'static str,
+    values: &[c64],
+    stride: usize,
+    channel: fn(usize) -> Channel,
+) -> Result<()> {
+    let Some(at) = values
+        .iter()
+        .position(|z| !(z.re.is_finite() && z.im.is_finite()))
+    else {
+        return Ok(());
+    };
+    let channel = channel(at % stride % plan.n);
+    let samples = match channel {
+        Channel::Force(c) => record.force(c),
+        Channel::Displacement(c) => record.displacement(c),
+    };
+    Err(Error::SpectrumOverflow {
+        record: record.label().to_owned(),
+        stage,
+        channel,
+        freq_hz: plan.lines[at / stride] as f64 * plan.resolution_hz,
+        peak: samples.iter().fold(0.0, |m, v| m.max(v.abs())),
+    })
 }
 
 /// Impedance by paired sets (seed eq. 9): whole-record spectra, `H = F X⁻¹` per set, averaged.
@@ -1506,6 +1680,29 @@ pub fn h1(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn given_flexibilities_must_be_finite_and_keep_their_spacing() {
+        let g = |v: f64| Mat::from_fn(1, 1, |_, _| c64::new(v, 0.0));
+        let e = Frf::from_flexibility(vec![10.0, 20.0], &[g(1e-3), g(f64::NAN)]).unwrap_err();
+        assert_eq!(
+            e,
+            Error::NonFiniteResult {
+                stage: "given flexibility",
+                freq_hz: 20.0
+            }
+        );
+        let one = Frf::from_flexibility(vec![10.0], &[g(1e-3)]).unwrap();
+        assert_eq!(one.line_spacing_hz(), None);
+        let kept = Frf::from_flexibility(vec![10.0, 20.0], &[g(1e-3), g(2e-3)])
+            .unwrap()
+            .retain_lines(|k| k == 0);
+        assert_eq!(kept.line_spacing_hz(), Some(10.0));
+        // Lines the band held but that were all dropped are not a band error.
+        let none = kept.retain_lines(|_| false);
+        let e = crate::conditioning::Conditioning::assess(&none, Default::default());
+        assert!(matches!(e, Err(Error::RankDeficient { .. })), "{e:?}");
+    }
 
     /// Records of a 2-DOF static "system" X = G F with a known constant G, driven by a pulse in
     /// x and one in y. A constant G is exact at every line whatever the signals.

@@ -338,8 +338,12 @@ impl Identifier {
     /// # Errors
     /// Every error of the stages: record shapes ([`Error::DofMismatch`],
     /// [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`], [`Error::NoRecords`]),
-    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]),
-    /// the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
+    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]
+    /// when the band holds fewer lines than the fit needs, with the line spacing),
+    /// [`Error::SpectrumOverflow`] and [`Error::NonFiniteResult`] when levels overflow f64,
+    /// [`Error::DeadChannel`] naming a record with every force (or displacement) channel flat
+    /// when the run cannot go on without it (instead of the rank, singularity or line-count
+    /// error it causes), the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
     /// [`Error::InvalidParameter`] for out-of-range settings, and [`Error::NotConverged`] under
     /// [`NonConvergence::Fail`].
     pub fn identify(&self, records: &[Record]) -> Result<Identification> {
@@ -688,12 +692,23 @@ impl Identifier {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
-        let frf = builder.finish(&self.assignment)?;
-        let excitations = match self.estimator {
-            Estimator::PairedSets => builder.excitations(&self.assignment)?,
-            _ => builder.excitations(&Assignment::DominantForce)?,
-        };
-        self.conclude(frf, Some(&builder), excitations, screened)
+        let outcome = builder.finish(&self.assignment).and_then(|frf| {
+            let excitations = match self.estimator {
+                Estimator::PairedSets => builder.excitations(&self.assignment)?,
+                _ => builder.excitations(&Assignment::DominantForce)?,
+            };
+            self.conclude(frf, Some(&builder), excitations, screened)
+        });
+        // A record without force or without response shows up later as missing rank or a
+        // singular fit: name the record instead. (A band with too few lines stays `bad_band`.)
+        match outcome {
+            Err(
+                Error::RankDeficient { .. } | Error::Singular { .. } | Error::SingularFit { .. },
+            ) => Err(builder
+                .dead_channel()
+                .unwrap_or_else(|| outcome.expect_err("matched"))),
+            outcome => outcome,
+        }
     }
 
     /// Fits an [`Frf`] measured some other way — stepped sine
@@ -745,6 +760,16 @@ impl Identifier {
             if low_coherence > 0 {
                 frf = frf.retain_lines(keep);
             }
+        }
+        // Too few lines in the band is the band's fault whether or not the lines are usable.
+        let band_lines = frf.lines() + frf.dropped_hz().len();
+        let required = solve::required_lines(frf.dofs());
+        if band_lines < required {
+            return Err(Error::TooFewLines {
+                lines: band_lines,
+                required,
+                resolution_hz: frf.line_spacing_hz(),
+            });
         }
         let conditioning = Conditioning::assess(&frf, self.limits)?;
         let (fit, ml) = match self.method {

@@ -389,11 +389,9 @@ fn read_csv_limited(
     Record::new(label, sample_rate, forces, displacements)
 }
 
-/// Tolerance of the time grid, as a fraction of a step.
-const GRID_TOLERANCE: f64 = 0.01;
-
 /// The sampling rate of a uniform time column: `(N − 1)/(t_last − t_0)`, every sample within
-/// 1 % of a step of its place on the grid. A time off the grid is blamed on its own line (see
+/// [`TIME_GRID_TOLERANCE`](crate::records::TIME_GRID_TOLERANCE) (1 %) of a step of its place
+/// on the grid. A time off the grid is blamed on its own line (see
 /// [`offending_sample`]).
 fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Result<f64> {
     if time.len() < 2 {
@@ -407,9 +405,9 @@ fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Re
     let step = (last - t0) / (time.len() - 1) as f64;
     let increasing = step > 0.0 && step.is_finite();
     let off_grid = (!increasing).then_some(0).or_else(|| {
-        time.iter()
-            .enumerate()
-            .position(|(i, &t)| (t - (t0 + i as f64 * step)).abs() > GRID_TOLERANCE * step)
+        time.iter().enumerate().position(|(i, &t)| {
+            (t - (t0 + i as f64 * step)).abs() > crate::records::TIME_GRID_TOLERANCE * step
+        })
     });
     match off_grid {
         None => Ok(1.0 / step),
@@ -455,7 +453,9 @@ fn offending_sample(time: &[f64], first_off: usize, grid_step: f64) -> (usize, f
         let i = (1..n).find(|&i| time[i] <= time[i - 1]).unwrap_or(1);
         return (i, time[i - 1] + grid_step.abs(), grid_step);
     }
-    let off = |i: usize| (time[i] - time[i - 1] - step).abs() > GRID_TOLERANCE * step;
+    let off = |i: usize| {
+        (time[i] - time[i - 1] - step).abs() > crate::records::TIME_GRID_TOLERANCE * step
+    };
     match (1..n).find(|&i| off(i)) {
         Some(1) if n > 2 && !off(2) => (0, time[1] - step, step),
         Some(i) => (i, time[i - 1] + step, step),

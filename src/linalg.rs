@@ -11,6 +11,14 @@ use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratc
 use faer::linalg::lu::partial_pivoting::inverse::{inverse, inverse_scratch};
 use faer::{MatMut, MatRef, Par, c64};
 
+/// `1 / z` without forming `|z|²`, which overflows for `|z|` beyond `1.3e154` (and
+/// underflows below `1e-154`) where `num_complex`'s `inv` would give 0 or infinity.
+fn reciprocal(z: c64) -> c64 {
+    let r = z.norm();
+    let unit = c64::new(z.re / r, z.im / r);
+    unit.conj() * (1.0 / r)
+}
+
 /// Inverts the column-major `n × n` matrix in `a` in place by Gauss–Jordan elimination with
 /// partial pivoting; `pivots` is caller-owned scratch of length `n`. This is the small-`n`
 /// path of [`Inverter`], through which every caller goes.
@@ -39,7 +47,7 @@ fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
                 a.swap(k + j * n, p + j * n);
             }
         }
-        let inv = a[k + k * n].inv();
+        let inv = reciprocal(a[k + k * n]);
         a[k + k * n] = c64::new(1.0, 0.0);
         for j in 0..n {
             a[k + j * n] *= inv;
@@ -228,7 +236,17 @@ pub(crate) fn condition_number_with(
     scratch: &mut [c64],
     sigma: &mut [f64],
 ) -> f64 {
-    scratch[..n * n].copy_from_slice(&a[..n * n]);
+    // The condition number does not depend on scale; scaling to a largest entry of 1 keeps the
+    // Jacobi rotations' squares in range for entries anywhere in f64.
+    let largest = a[..n * n].iter().fold(0.0, |m: f64, z| m.max(z.norm()));
+    let scale = if largest > 0.0 && largest.is_finite() {
+        largest
+    } else {
+        1.0
+    };
+    for (dst, z) in scratch[..n * n].iter_mut().zip(&a[..n * n]) {
+        *dst = c64::new(z.re / scale, z.im / scale);
+    }
     singular_values_in_place(&mut scratch[..n * n], n, sigma);
     let max = sigma[..n].iter().cloned().fold(0.0, f64::max);
     let min = sigma[..n].iter().cloned().fold(f64::INFINITY, f64::min);
@@ -255,6 +273,16 @@ fn condition_number(m: MatRef<'_, c64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reciprocal_holds_over_the_whole_range() {
+        for scale in [1e-300, 1e-160, 1.0, 1e160, 1e300] {
+            let z = c64::new(3.0 * scale, -4.0 * scale);
+            let w = reciprocal(z);
+            let expected = c64::new(3.0, 4.0) / 25.0;
+            assert!((w * scale - expected).norm() < 1e-15, "{scale:e}: {w}");
+        }
+    }
     use faer::Mat;
 
     #[test]

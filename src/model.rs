@@ -254,7 +254,8 @@ impl Coefficients {
     /// system's and the dry structure's (`K_b = K_s − K_h`, `C_b = C_s − C_h`, `M_b = M_s − M_h`).
     ///
     /// # Errors
-    /// [`Error::DofCountMismatch`] if the sizes differ.
+    /// [`Error::DofCountMismatch`] if the sizes differ; [`Error::NonFiniteCoefficient`] if a
+    /// difference overflows (coefficients near `±f64::MAX`).
     ///
     /// # Examples
     /// ```
@@ -274,11 +275,11 @@ impl Coefficients {
                 right: baseline.dofs(),
             });
         }
-        Ok(Coefficients {
-            mass: &self.mass - &baseline.mass,
-            damping: &self.damping - &baseline.damping,
-            stiffness: &self.stiffness - &baseline.stiffness,
-        })
+        Coefficients::new(
+            &self.mass - &baseline.mass,
+            &self.damping - &baseline.damping,
+            &self.stiffness - &baseline.stiffness,
+        )
     }
 }
 
@@ -314,18 +315,22 @@ impl Coefficients {
     }
 }
 
+/// `&system - &structure` is [`Coefficients::subtract`]: a `Result`, since the sizes may differ.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::model::Coefficients;
+/// use faer::mat;
+/// let a = Coefficients::new(mat![[2.0]], mat![[3.0]], mat![[4.0]])?;
+/// let b = Coefficients::new(mat![[1.0]], mat![[1.0]], mat![[1.0]])?;
+/// assert_eq!((&a - &b)?.stiffness()[(0, 0)], 3.0);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
 impl std::ops::Sub for &Coefficients {
-    type Output = Coefficients;
+    type Output = Result<Coefficients>;
 
-    /// `system − structure`; see [`Coefficients::subtract`].
-    ///
-    /// # Panics
-    /// If the sizes differ.
-    fn sub(self, rhs: &Coefficients) -> Coefficients {
-        match self.subtract(rhs) {
-            Ok(c) => c,
-            Err(e) => panic!("{e}"),
-        }
+    fn sub(self, rhs: &Coefficients) -> Result<Coefficients> {
+        self.subtract(rhs)
     }
 }
 
@@ -433,7 +438,19 @@ mod tests {
             a.subtract(&b).unwrap_err(),
             Error::DofCountMismatch { left: 2, right: 1 }
         );
-        let zero = &a - &a;
+        let zero = (&a - &a).unwrap();
         assert_eq!(zero.stiffness()[(1, 0)], 0.0);
+        assert!((&a - &b).is_err());
+        // Differences that overflow are refused, not returned as infinity.
+        let big = Coefficients::new(mat![[f64::MAX]], mat![[1.0]], mat![[1.0]]).unwrap();
+        let neg = Coefficients::new(mat![[-f64::MAX]], mat![[1.0]], mat![[1.0]]).unwrap();
+        assert_eq!(
+            big.subtract(&neg).unwrap_err(),
+            Error::NonFiniteCoefficient {
+                matrix: "M",
+                row: 0,
+                col: 0
+            }
+        );
     }
 }

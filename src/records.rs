@@ -11,6 +11,38 @@ use crate::error::{Channel, Error, Result};
 /// Smallest number of samples a record may have.
 pub const MIN_SAMPLES: usize = 8;
 
+/// How far a sample's time may sit from its place on a uniform grid, as a fraction of one
+/// sampling step: the CSV reader ([`io`](crate::io), feature `csv`) accepts a time column whose
+/// every sample is within this tolerance of the grid through its first and last time, and the
+/// same tolerance decides when two records' sampling rates agree ([`sample_rates_agree`]).
+///
+/// Why 1 %: data loggers stamp samples from one clock, so real jitter is far smaller; a
+/// column off by more is not uniformly sampled (dropped or repeated samples). Over a record
+/// the tolerance moves the highest band line by at most about 2 % of a line spacing, which the
+/// spectra do not notice.
+pub const TIME_GRID_TOLERANCE: f64 = 0.01;
+
+/// Whether sampling rates `a` and `b` (Hz) of records of `len` samples are the same rate.
+///
+/// A time column accepted under [`TIME_GRID_TOLERANCE`] fixes its rate
+/// `(N − 1)/(t_{N−1} − t_0)` to within a relative `2τ/(N − 3)` (τ = the tolerance; both end
+/// times may sit up to about τ steps off the true grid); two such rates agree within
+/// `4τ/(N − 3)`, plus `10⁻¹²` for rounding. So what the reader accepts, the records accept
+/// too, and a rate that differs by more is a different rate.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::records::sample_rates_agree;
+/// assert!(sample_rates_agree(6700.0, 6700.003, 8040));
+/// assert!(!sample_rates_agree(6700.0, 6701.0, 8040));
+/// // Short records: their rate is known less well.
+/// assert!(sample_rates_agree(100.0, 100.4, 12));
+/// ```
+pub fn sample_rates_agree(a: f64, b: f64, len: usize) -> bool {
+    let tolerance = 4.0 * TIME_GRID_TOLERANCE / (len.max(MIN_SAMPLES) - 3) as f64 + 1e-12;
+    (a / b - 1.0).abs() <= tolerance
+}
+
 /// One validated test record: forces and displacements for every degree of freedom.
 ///
 /// Channels are stored one `Vec<f64>` per channel. The label names the record in every error
@@ -208,9 +240,17 @@ impl Record {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn dominant_force(&self) -> usize {
+        // Scaled by the largest force of the record, so that forces near f64::MAX compare
+        // rather than all overflow to infinity.
+        let scale = self
+            .forces
+            .iter()
+            .flatten()
+            .fold(0.0, |m: f64, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
         let energy = |c: &[f64]| {
-            let mean = c.iter().sum::<f64>() / c.len() as f64;
-            c.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>()
+            let mean = c.iter().map(|v| v / scale).sum::<f64>() / c.len() as f64;
+            c.iter().map(|v| (v / scale - mean).powi(2)).sum::<f64>()
         };
         let mut best = (0, f64::NEG_INFINITY);
         for (i, c) in self.forces.iter().enumerate() {
@@ -226,48 +266,122 @@ impl Record {
 /// Displacement at a bearing plane `z_b` from two sensor planes `z_1`, `z_2` on a rigid shaft:
 /// $x_B = x_1 + (x_2 - x_1)\,\frac{z_B - z_1}{z_2 - z_1}$, sample by sample.
 ///
-/// # Panics
-/// If the channels differ in length or `z_1 = z_2`.
+/// # Errors
+/// [`Error::LengthMismatch`] if the channels differ in length; [`Error::InvalidParameter`] if a
+/// plane position is not finite or `z_1 = z_2`, or a sample or the result is not finite.
 ///
 /// # Examples
 /// ```
 /// use bearing_ident::records::two_plane_to_bearing;
-/// let xb = two_plane_to_bearing(&[1.0, 2.0], &[3.0, 6.0], 0.0, 0.2, 0.1);
+/// let xb = two_plane_to_bearing(&[1.0, 2.0], &[3.0, 6.0], 0.0, 0.2, 0.1)?;
 /// assert_eq!(xb, vec![2.0, 4.0]);
+/// assert!(two_plane_to_bearing(&[1.0], &[3.0], 0.2, 0.2, 0.1).is_err());
+/// # Ok::<(), bearing_ident::Error>(())
 /// ```
-pub fn two_plane_to_bearing(x1: &[f64], x2: &[f64], z1: f64, z2: f64, zb: f64) -> Vec<f64> {
-    assert_eq!(x1.len(), x2.len(), "sensor channels of different lengths");
-    assert!((z2 - z1).abs() > 0.0, "the two sensor planes must differ");
-    let r = (zb - z1) / (z2 - z1);
-    x1.iter().zip(x2).map(|(a, b)| a + (b - a) * r).collect()
+pub fn two_plane_to_bearing(x1: &[f64], x2: &[f64], z1: f64, z2: f64, zb: f64) -> Result<Vec<f64>> {
+    if x1.len() != x2.len() {
+        return Err(Error::LengthMismatch {
+            what: "sensor channels x1 and x2",
+            expected: x1.len(),
+            actual: x2.len(),
+        });
+    }
+    let r = plane_ratio(zb - z1, z2 - z1, [z1, z2, zb], "sensor planes z1 ≠ z2")?;
+    finite_samples(x1.iter().zip(x2).map(|(a, b)| a + (b - a) * r))
 }
 
 /// Displacement at a bearing plane `z_b` from one sensor plane `z_s` for a conical mode about
 /// a pivot at `z_p`: $x_B = r\,x_S$ with $r = (z_B - z_p)/(z_S - z_p)$.
 ///
-/// # Panics
-/// If `z_s = z_p`.
+/// # Errors
+/// [`Error::InvalidParameter`] if a position is not finite, `z_s = z_p`, or a sample or the
+/// result is not finite.
 ///
 /// # Examples
 /// ```
 /// use bearing_ident::records::conical_to_bearing;
 /// // Sensor at the disk (0.3 m from the pivot), damper at 0.1 m: a third of the motion.
-/// let xb = conical_to_bearing(&[3.0e-6], 0.3, 0.0, 0.1);
+/// let xb = conical_to_bearing(&[3.0e-6], 0.3, 0.0, 0.1)?;
 /// assert!((xb[0] - 1.0e-6).abs() < 1e-18);
+/// # Ok::<(), bearing_ident::Error>(())
 /// ```
-pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Vec<f64> {
-    assert!(
-        (zs - zp).abs() > 0.0,
-        "the sensor plane must differ from the pivot"
-    );
-    let r = (zb - zp) / (zs - zp);
-    xs.iter().map(|x| x * r).collect()
+pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Result<Vec<f64>> {
+    let r = plane_ratio(zb - zp, zs - zp, [zs, zp, zb], "sensor plane zs ≠ pivot zp")?;
+    finite_samples(xs.iter().map(|x| x * r))
+}
+
+/// `num / den` for plane positions `planes`, refused unless all are finite and `den ≠ 0`.
+fn plane_ratio(num: f64, den: f64, planes: [f64; 3], expected: &'static str) -> Result<f64> {
+    if let Some(&z) = planes.iter().find(|z| !z.is_finite()) {
+        return Err(Error::InvalidParameter {
+            name: "plane position",
+            value: z,
+            expected: "finite (m)",
+        });
+    }
+    let r = num / den;
+    if !r.is_finite() {
+        return Err(Error::InvalidParameter {
+            name: "distance between the planes",
+            value: den,
+            expected,
+        });
+    }
+    Ok(r)
+}
+
+/// Collects `samples`, refusing the first that is not finite.
+fn finite_samples(samples: impl Iterator<Item = f64>) -> Result<Vec<f64>> {
+    samples
+        .map(|x| {
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(Error::InvalidParameter {
+                    name: "transformed sample",
+                    value: x,
+                    expected: "finite: every sample and the plane ratio finite",
+                })
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
 #[allow(clippy::float_cmp)] // the values compared are copied through, not computed
 mod tests {
     use super::*;
+
+    #[test]
+    fn plane_transforms_refuse_bad_geometry_with_errors() {
+        let e = two_plane_to_bearing(&[1.0, 2.0], &[3.0], 0.0, 0.2, 0.1).unwrap_err();
+        assert_eq!(
+            e,
+            Error::LengthMismatch {
+                what: "sensor channels x1 and x2",
+                expected: 2,
+                actual: 1
+            }
+        );
+        for (z1, z2, zb) in [
+            (0.2, 0.2, 0.1),
+            (f64::NAN, 0.2, 0.1),
+            (0.0, 0.2, f64::INFINITY),
+        ] {
+            let e = two_plane_to_bearing(&[1.0], &[3.0], z1, z2, zb).unwrap_err();
+            assert_eq!(e.kind(), "invalid_argument", "{z1} {z2} {zb}");
+        }
+        assert!(two_plane_to_bearing(&[f64::NAN], &[3.0], 0.0, 0.2, 0.1).is_err());
+        // Planes 1e-310 apart: the ratio overflows.
+        assert!(two_plane_to_bearing(&[1.0], &[3.0], 0.0, 1e-310, 0.1).is_err());
+        for (zs, zp, zb) in [(0.3, 0.3, 0.1), (f64::NAN, 0.0, 0.1), (0.3, 0.0, f64::NAN)] {
+            assert!(
+                conical_to_bearing(&[1.0], zs, zp, zb).is_err(),
+                "{zs} {zp} {zb}"
+            );
+        }
+        assert!(conical_to_bearing(&[1e308], 1e-300, 0.0, 1.0).is_err());
+    }
 
     fn ok_channel() -> Vec<f64> {
         vec![0.0; 16]

@@ -49,7 +49,10 @@ pub enum Window {
 
 impl Window {
     /// The exponential window that falls to `end_value` (e.g. 0.01) at `duration_s`:
-    /// `a = −ln(end_value) / duration_s`.
+    /// `a = −ln(end_value) / duration_s`. A decay that is not finite and `≥ 0` (an
+    /// `end_value` outside `(0, 1]`, a `duration_s` of 0) is refused with
+    /// [`Error::InvalidParameter`] where the window is used ([`SpectralEstimator::new`],
+    /// `Identifier::identify`).
     ///
     /// # Examples
     /// ```
@@ -258,11 +261,12 @@ impl Segmentation {
 /// let x: Vec<f64> = (0..64)
 ///     .map(|m| 2.0 * (2.0 * std::f64::consts::PI * 5.0 * m as f64 / 64.0).cos())
 ///     .collect();
-/// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular);
+/// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular)?;
 /// let spectrum = est.transform(&x);
 /// // Line 5 holds amplitude · duration / 2 = 1.0 (Δt-scaled DFT).
 /// assert!((spectrum[5].re - 1.0).abs() < 1e-12);
 /// assert_eq!(est.frequency_hz(5), 5.0);
+/// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub struct SpectralEstimator {
     len: usize,
@@ -309,22 +313,40 @@ impl SpectralEstimator {
     /// Plans the FFT and allocates every buffer for segments of `len` samples at
     /// `sample_rate` Hz.
     ///
-    /// # Panics
-    /// If `len < 2` or `sample_rate` is not finite and positive (records are validated before
-    /// they reach here).
-    pub fn new(len: usize, sample_rate: f64, window: Window) -> Self {
-        assert!(len >= 2, "a spectral estimator needs at least 2 samples");
-        assert!(
-            sample_rate.is_finite() && sample_rate > 0.0,
-            "sample rate must be finite and positive"
-        );
+    /// # Errors
+    /// [`Error::InvalidParameter`] if `len < 2`, `sample_rate` is not finite and positive, or
+    /// an exponential window's decay is not finite and `≥ 0`.
+    pub fn new(len: usize, sample_rate: f64, window: Window) -> Result<Self> {
+        if len < 2 {
+            return Err(Error::InvalidParameter {
+                name: "spectral segment length",
+                value: len as f64,
+                expected: "at least 2 samples",
+            });
+        }
+        if !(sample_rate.is_finite() && sample_rate > 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "sample rate",
+                value: sample_rate,
+                expected: "finite and positive (Hz)",
+            });
+        }
+        if let Some(a) = window.decay_per_s() {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::InvalidParameter {
+                    name: "exponential window decay",
+                    value: a,
+                    expected: "finite and ≥ 0 (1/s)",
+                });
+            }
+        }
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
         let dt = 1.0 / sample_rate;
         let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
         let input = fft.make_input_vec();
         let output = fft.make_output_vec();
         let scratch = fft.make_scratch_vec();
-        Self {
+        Ok(Self {
             len,
             sample_rate,
             window,
@@ -334,7 +356,7 @@ impl SpectralEstimator {
             input,
             output,
             scratch,
-        }
+        })
     }
 
     /// Segment length in samples.
@@ -378,7 +400,7 @@ impl SpectralEstimator {
     /// f[40] = 1.5;
     /// f[41] = 0.5;
     /// let gate = ForceGate::new(0.1, 0.0)?; // 6.4 samples at 64 Hz
-    /// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular).with_force_gate(gate);
+    /// let mut est = SpectralEstimator::new(64, 64.0, Window::Rectangular)?.with_force_gate(gate);
     /// let spectrum = est.transform_force(&f);
     /// // Only the pulse is left (offset removed from the quiet part): |F| = 1 · Δt everywhere.
     /// assert!((spectrum[7].norm() - 1.0 / 64.0).abs() < 1e-12);
@@ -471,6 +493,33 @@ mod tests {
     use super::*;
 
     #[test]
+    fn new_refuses_bad_plans_with_errors() {
+        for (len, fs, window) in [
+            (1, 1.0, Window::Rectangular),
+            (8, f64::NAN, Window::Rectangular),
+            (8, 0.0, Window::Hann),
+            (
+                8,
+                1.0,
+                Window::Exponential {
+                    decay_per_s: f64::NAN,
+                },
+            ),
+            (8, 1.0, Window::Exponential { decay_per_s: -1.0 }),
+            (
+                8,
+                1.0,
+                Window::Exponential {
+                    decay_per_s: f64::INFINITY,
+                },
+            ),
+        ] {
+            let e = SpectralEstimator::new(len, fs, window).unwrap_err();
+            assert_eq!(e.kind(), "invalid_argument", "{len} {fs} {window:?}");
+        }
+    }
+
+    #[test]
     fn matches_direct_dft_sum() {
         let n = 30;
         let fs = 10.0;
@@ -478,7 +527,7 @@ mod tests {
             .map(|m| ((m * m) % 7) as f64 - 0.3 * m as f64)
             .collect();
         let mean = x.iter().sum::<f64>() / n as f64;
-        let mut est = SpectralEstimator::new(n, fs, Window::Rectangular);
+        let mut est = SpectralEstimator::new(n, fs, Window::Rectangular).unwrap();
         let got = est.transform(&x).to_vec();
         for (k, g) in got.iter().enumerate() {
             let mut s = c64::new(0.0, 0.0);
@@ -492,14 +541,15 @@ mod tests {
 
     #[test]
     fn mean_is_removed() {
-        let mut est = SpectralEstimator::new(16, 1.0, Window::Hann);
+        let mut est = SpectralEstimator::new(16, 1.0, Window::Hann).unwrap();
         let x = vec![3.0; 16];
         assert!(est.transform(&x).iter().all(|v| v.norm() < 1e-12));
     }
 
     #[test]
     fn exponential_window_keeps_the_mean_and_decays() {
-        let mut est = SpectralEstimator::new(100, 100.0, Window::exponential_to(0.01, 1.0));
+        let mut est =
+            SpectralEstimator::new(100, 100.0, Window::exponential_to(0.01, 1.0)).unwrap();
         let x = vec![1.0; 100];
         // Σ e^{-a m Δt} Δt with a = ln 100: (1 − e^{-a})/(1 − e^{-aΔt}) · Δt.
         let a = 100f64.ln();
@@ -509,7 +559,7 @@ mod tests {
 
     #[test]
     fn hann_weights_and_power() {
-        let est = SpectralEstimator::new(8, 1.0, Window::Hann);
+        let est = SpectralEstimator::new(8, 1.0, Window::Hann).unwrap();
         assert!((est.window_power() - 3.0).abs() < 1e-12); // Σ sin⁴(πm/8) = 3N/8
         assert_eq!(est.lines(), 5);
         assert_eq!(est.window(), Window::Hann);

@@ -1028,3 +1028,43 @@ fn huge_lines_are_not_echoed() {
         );
     }
 }
+
+/// `text` of a simulated record with both force columns set to zero.
+fn without_force(text: &str) -> String {
+    let mut lines = text.lines();
+    let mut out = format!("{}\n", lines.next().unwrap());
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        out.push_str(&format!("{},0,0,{}\n", fields[0], fields[3..].join(",")));
+    }
+    out
+}
+
+#[test]
+fn a_dead_force_in_the_first_file_is_not_a_band_error() {
+    // Auto detection used to read the first file only: a flat force has no crest, so impacts
+    // were taken for random excitation and Welch segments left too few lines (`bad_band`).
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "2"]);
+    let dead = without_force(&std::fs::read_to_string(&files[0]).unwrap());
+    std::fs::write(&files[0], dead).unwrap();
+    let v = identify_json(&["--band", "8,49"], &files);
+    assert_eq!(v["excitation"], "impact", "{v}");
+    assert_eq!(v["n_records"], 4);
+    // With every force dead, the error names the first record and its force channel.
+    for f in &files[1..] {
+        let dead = without_force(&std::fs::read_to_string(f).unwrap());
+        std::fs::write(f, dead).unwrap();
+    }
+    let refs: Vec<&str> = files.iter().map(String::as_str).collect();
+    expect_failure(
+        &[&["identify", "--json", "--band", "8,49"], &refs[..]].concat(),
+        "dead_channel",
+    );
+    let out = run(&[&["identify", "--band", "8,49"], &refs[..]].concat());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&files[0]) && stderr.contains("force channel 0"),
+        "{stderr}"
+    );
+}

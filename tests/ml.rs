@@ -90,7 +90,7 @@ fn identifier(method: Method) -> Identifier {
 /// The Cramér–Rao bound for these records and noise levels: the exact (noise-free) period
 /// spectra, and white-noise covariances `σ² N Δt² / P` of the means over `P` periods.
 fn bound(clean: &[Record], sf: f64, sx: f64) -> Coefficients {
-    let mut est = SpectralEstimator::new(PERIOD, RATE, Window::Rectangular);
+    let mut est = SpectralEstimator::new(PERIOD, RATE, Window::Rectangular).expect("valid plan");
     let lines: Vec<usize> = (8..=49).collect();
     let spectra = |ch: &[f64], est: &mut SpectralEstimator| est.transform(&ch[..PERIOD]).to_vec();
     let (mut x, mut f) = (Vec::new(), Vec::new());

@@ -51,7 +51,7 @@ fn coordinate_transform_of_a_rigid_shaft() {
     assert!((q.mass()[(0, 1)] - 0.1).abs() < 1e-12);
     assert!((q.stiffness()[(0, 0)] - 3.0e4).abs() < 1e-9);
     // The record-level helpers agree with x_B = (x1 + x2)/2 here.
-    let xb = bearing_ident::records::two_plane_to_bearing(&[1.0], &[3.0], 0.0, 0.2, 0.1);
+    let xb = bearing_ident::records::two_plane_to_bearing(&[1.0], &[3.0], 0.0, 0.2, 0.1).unwrap();
     assert!((xb[0] - 2.0).abs() < 1e-15);
 }
 

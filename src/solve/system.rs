@@ -48,11 +48,10 @@ pub(super) fn check_lines(frf: &Frf) -> Result<()> {
     if lines >= required_lines(n) {
         return Ok(());
     }
-    let f = frf.freqs_hz();
     Err(Error::TooFewLines {
         lines,
         required: required_lines(n),
-        resolution_hz: if f.len() > 1 { f[1] - f[0] } else { f64::NAN },
+        resolution_hz: frf.line_spacing_hz(),
     })
 }
 

@@ -20,8 +20,8 @@ use bearing_ident::simulate::{
 };
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::{
-    Assignment, Band, Baseline, Coefficients, Estimator, Identification, Identifier, Method,
-    NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
+    Assignment, Band, Baseline, Channel, Coefficients, Error, Estimator, Identification,
+    Identifier, Method, NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
 };
 use clap::{Parser, Subcommand, ValueEnum};
 use faer::Mat;
@@ -379,11 +379,18 @@ fn parse_band(s: &str) -> Result<(f64, f64), Failure> {
 }
 
 /// Crest factor (peak / RMS about the mean) of a record's strongest force channel.
+/// The force is scaled by its largest magnitude first, so huge forces do not overflow; a flat
+/// force has crest factor 0.
 fn crest_factor(record: &Record) -> f64 {
     let f = record.force(record.dominant_force());
-    let mean = f.iter().sum::<f64>() / f.len() as f64;
-    let rms = (f.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
-    let peak = f.iter().map(|v| (v - mean).abs()).fold(0.0, f64::max);
+    let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    if scale <= 0.0 || !scale.is_finite() {
+        return 0.0;
+    }
+    let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
+    let centred = |v: &f64| v / scale - mean;
+    let rms = (f.iter().map(|v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
+    let peak = f.iter().map(|v| centred(v).abs()).fold(0.0, f64::max);
     if rms > 0.0 { peak / rms } else { 0.0 }
 }
 
@@ -724,13 +731,27 @@ fn baseline_from_json(text: &str) -> Result<Baseline, String> {
 }
 
 /// Reads the record files and identifies them; the excitation kind is decided from the first
-/// record.
+/// record with a force that is not flat.
 fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
     let start = Instant::now();
     let first = io::read_record(&args.files[0], &layout)?;
+    let mut crest = crest_factor(&first);
+    if args.excitation == ExcitationArg::Auto && crest <= 0.0 {
+        // A flat force (a hammer hit that did not register) says nothing of the excitation:
+        // decide from the first record with a force; with none, say so.
+        crest = args.files[1..]
+            .iter()
+            .map(|path| io::read_record(path, &layout).map(|r| crest_factor(&r)))
+            .find(|c| !matches!(c, Ok(c) if *c <= 0.0))
+            .transpose()?
+            .ok_or_else(|| Error::DeadChannel {
+                record: first.label().to_owned(),
+                channel: Channel::Force(0),
+                value: first.force(0)[0],
+            })?;
+    }
     let mut reading = start.elapsed();
-    let crest = crest_factor(&first);
     let excitation = match args.excitation {
         ExcitationArg::Auto if crest >= IMPACT_CREST => ExcitationArg::Impact,
         ExcitationArg::Auto => ExcitationArg::Random,
