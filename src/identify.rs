@@ -11,8 +11,8 @@ use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Band, Estimator, Frf, FrfBuilder};
 use crate::model::{Coefficients, Mode};
 use crate::per_frequency::PerFrequency;
-use crate::screening::{self, Checks, Screener};
 use crate::records::Record;
+use crate::screening::{self, Checks, Screener};
 use crate::solve::ml::{MlOptions, MlReport};
 use crate::solve::{self, Convergence, Fit, Iteration, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
@@ -520,8 +520,7 @@ impl Identifier {
         if kept.is_empty() {
             return Err(Error::NoRecords);
         }
-        let frf =
-            crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)?;
+        let frf = crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)?;
         let mut id = self.identify_frf(frf)?;
         id.warnings.splice(0..0, warnings);
         Ok(id)

@@ -443,7 +443,10 @@ impl Screener {
             .collect();
         let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
         for &r in &included {
-            groups.entry(self.summaries[r].pattern()).or_default().push(r);
+            groups
+                .entry(self.summaries[r].pattern())
+                .or_default()
+                .push(r);
         }
         let mut found = Vec::new();
         let log_floor = self.checks.level_factor.ln();
@@ -753,20 +756,34 @@ mod tests {
         let levels = [1.0, 1.1, 0.95, 1.05, 1.0, 1.02];
         for (k, a) in levels.iter().enumerate() {
             let p = k as f64;
-            let f1 = if k == 2 { wave(1e-3, p) } else { wave(2.0 * a, p) };
+            let f1 = if k == 2 {
+                wave(1e-3, p)
+            } else {
+                wave(2.0 * a, p)
+            };
             let x0 = if k == 4 {
                 wave(10e-6 * a, p)
             } else {
                 wave(1e-6 * a, p)
             };
-            let r = record(&format!("r{k}"), [wave(10.0 * a, p), f1], [x0, wave(1e-7, p)]);
+            let r = record(
+                &format!("r{k}"),
+                [wave(10.0 * a, p), f1],
+                [x0, wave(1e-7, p)],
+            );
             assert_eq!(s.push(&r), vec![]);
         }
         let found = s.across(&[]);
         assert_eq!(found.len(), 2, "{found:?}");
         assert!(matches!(
             &found[0],
-            (2, Warning::DeadChannel { channel: Channel::Force(1), .. })
+            (
+                2,
+                Warning::DeadChannel {
+                    channel: Channel::Force(1),
+                    ..
+                }
+            )
         ));
         assert!(matches!(
             &found[1],
@@ -782,8 +799,16 @@ mod tests {
     fn fewer_than_three_siblings_are_not_judged() {
         let mut s = Screener::new(Checks::default());
         for k in 0..2 {
-            let f1 = if k == 1 { wave(1e-6, 0.0) } else { wave(2.0, 0.0) };
-            let r = record(&format!("r{k}"), [wave(10.0, 0.0), f1], [wave(1e-6, 0.1), wave(1e-6, 0.2)]);
+            let f1 = if k == 1 {
+                wave(1e-6, 0.0)
+            } else {
+                wave(2.0, 0.0)
+            };
+            let r = record(
+                &format!("r{k}"),
+                [wave(10.0, 0.0), f1],
+                [wave(1e-6, 0.1), wave(1e-6, 0.2)],
+            );
             s.push(&r);
         }
         assert_eq!(s.across(&[]), vec![]);

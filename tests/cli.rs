@@ -786,9 +786,9 @@ fn dead_force_channel_is_screened_and_rejected() {
     assert!(out.status.success());
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(
-        table
-            .lines()
-            .any(|l| l.contains("warning:") && l.contains("impact-dof0-2") && l.contains("force channel 0")),
+        table.lines().any(|l| l.contains("warning:")
+            && l.contains("impact-dof0-2")
+            && l.contains("force channel 0")),
         "{table}"
     );
 

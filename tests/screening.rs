@@ -151,8 +151,10 @@ fn dead_force_channels_in_one_of_sixteen_impacts() {
         ]
     );
     assert!(
-        w.iter().any(|w| matches!(w, Warning::OutlierSet { records, far_lines, lines }
-            if records == &["impact-dof0-2", "impact-dof1-2"] && far_lines == lines)),
+        w.iter().any(
+            |w| matches!(w, Warning::OutlierSet { records, far_lines, lines }
+            if records == &["impact-dof0-2", "impact-dof1-2"] && far_lines == lines)
+        ),
         "{w:?}"
     );
     assert_eq!(warned.coefficients(), off.coefficients());
@@ -377,7 +379,10 @@ fn level_outliers_are_named_and_left_out() {
                     && *sigmas > 5.0)
         })
     };
-    assert!(level("impact-dof0-3", Channel::Displacement(0), 10.0), "{w:?}");
+    assert!(
+        level("impact-dof0-3", Channel::Displacement(0), 10.0),
+        "{w:?}"
+    );
     assert!(level("impact-dof1-2", Channel::Force(1), 0.03), "{w:?}");
     assert!(level("impact-dof1-2", Channel::Force(0), 0.03), "{w:?}");
     let before = worst_in_sigmas(&id, &truth);
@@ -498,35 +503,63 @@ fn clean_records_of_every_kind_raise_nothing() {
         let id = Identifier::new(8.0, 49.0)
             .identify(&impacts(0.05, seed))
             .unwrap();
-        assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "impact {seed}");
+        assert_eq!(
+            screening_warnings(&id),
+            Vec::<&Warning>::new(),
+            "impact {seed}"
+        );
         let id = welch()
             .screening(no_hits)
             .identify(&random_records(6, 10 * seed))
             .unwrap();
-        assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "random {seed}");
+        assert_eq!(
+            screening_warnings(&id),
+            Vec::<&Warning>::new(),
+            "random {seed}"
+        );
         let id = periodic()
             .screening(no_hits)
             .identify(&noisy(&multisine_records(4), 0.05, seed))
             .unwrap();
-        assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "multisine {seed}");
+        assert_eq!(
+            screening_warnings(&id),
+            Vec::<&Warning>::new(),
+            "multisine {seed}"
+        );
         let id = Identifier::new(8.0, 49.0)
             .screening(no_hits)
             .identify(&noisy(&sweep_records(), 0.05, seed))
             .unwrap();
-        assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "sweep {seed}");
+        assert_eq!(
+            screening_warnings(&id),
+            Vec::<&Warning>::new(),
+            "sweep {seed}"
+        );
         let id = Identifier::new(8.0, 49.0)
             .screening(no_hits)
             .identify_stepped_sine(&noisy(&stepped_records(), 0.05, seed), 0.05)
             .unwrap();
-        assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "stepped {seed}");
+        assert_eq!(
+            screening_warnings(&id),
+            Vec::<&Warning>::new(),
+            "stepped {seed}"
+        );
         checked += 5;
     }
     // Noise-free too: one-direction records hold an exactly zero force on the other axis.
     let id = periodic().identify(&multisine_records(3)).unwrap();
-    assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "multisine clean");
+    assert_eq!(
+        screening_warnings(&id),
+        Vec::<&Warning>::new(),
+        "multisine clean"
+    );
     let id = Identifier::new(8.0, 49.0)
         .identify_stepped_sine(&stepped_records(), 0.05)
         .unwrap();
-    assert_eq!(screening_warnings(&id), Vec::<&Warning>::new(), "stepped clean");
+    assert_eq!(
+        screening_warnings(&id),
+        Vec::<&Warning>::new(),
+        "stepped clean"
+    );
     assert_eq!(checked, 10);
 }
