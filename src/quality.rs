@@ -294,7 +294,12 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// [`CLIP_TOLERANCE`]` · R`; a run of at least [`ImpactChecks::clip_run`] samples is clipping
 /// provided `|e − mean x| ≥ `[`CLIP_SIDE_FRACTION`]` · R`, so a flat resting level that
 /// happens to be the extreme (a noise-free pre-trigger before a one-sided pulse) is not
-/// reported. A constant channel is not reported.
+/// reported. A constant channel is not reported. Nor is a run flanked on both sides by samples
+/// within one quantisation step of the extreme (the step being the smallest non-zero change
+/// between consecutive samples): a smooth peak of a quantised (ADC-coded) signal sits on its
+/// top code for a few samples, an overload is approached from well below (an overload barely
+/// past the level, its flanks within one step, is therefore not reported: it distorts by at
+/// most one step).
 ///
 /// Cost: one copy of the dominant force for the two medians (linear-time selection), two
 /// passes over it and two passes over every channel; nothing else is allocated per sample.
@@ -463,6 +468,12 @@ fn clipping(
         return;
     }
     let mean = sum / x.len() as f64;
+    // The quantisation step: the smallest non-zero change between consecutive samples.
+    let step = x
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|&d| d > 0.0)
+        .fold(f64::INFINITY, f64::min);
     let tol = CLIP_TOLERANCE * range;
     let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
     for (i, &v) in x.iter().enumerate() {
@@ -470,7 +481,20 @@ fn clipping(
         at_lo.push(i, v <= lo + tol);
     }
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
-        if run.longest >= checks.clip_run && (value - mean).abs() >= CLIP_SIDE_FRACTION * range {
+        // A smooth peak of a quantised signal sits on its top code for a few samples too, but
+        // is flanked on both sides by samples one step below: not an overload.
+        let end = run.longest_start + run.longest;
+        let flanks = [
+            run.longest_start.checked_sub(1).map(|i| x[i]),
+            x.get(end).copied(),
+        ];
+        let quantised_peak = flanks
+            .iter()
+            .all(|v| v.is_some_and(|v| (value - v).abs() <= step * (1.0 + 1e-9)));
+        if run.longest >= checks.clip_run
+            && !quantised_peak
+            && (value - mean).abs() >= CLIP_SIDE_FRACTION * range
+        {
             issues.push(ImpactIssue::Clipped {
                 channel,
                 value,

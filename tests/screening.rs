@@ -563,3 +563,34 @@ fn clean_records_of_every_kind_raise_nothing() {
     );
     assert_eq!(checked, 10);
 }
+
+/// A low-level sine coded by an ADC (amplitude 300 codes) sits on its top code for a few
+/// samples at every peak: not clipping. The same sine with its amplifier saturating at
+/// +250 codes is (its troughs, still smooth, are not).
+#[test]
+fn quantised_peaks_are_not_clipping() {
+    use bearing_ident::screening::Screener;
+    let (fs, n) = (2000.0, 4000);
+    let wave = |amplitude: f64, phase: f64| -> Vec<f64> {
+        (0..n)
+            .map(|m| {
+                let t = m as f64 / fs;
+                (amplitude * (2.0 * std::f64::consts::PI * 10.0 * t + phase).sin()).round()
+            })
+            .collect()
+    };
+    let x = wave(300.0, 0.0);
+    let record = Record::new("coded", fs, vec![wave(3000.0, 0.3)], vec![x.clone()]).unwrap();
+    let mut screener = Screener::new(Checks::without_double_hits());
+    assert_eq!(screener.push(&record), vec![]);
+    let clipped: Vec<f64> = x.iter().map(|v| v.min(250.0)).collect();
+    let record = Record::new("overload", fs, vec![wave(3000.0, 0.3)], vec![clipped]).unwrap();
+    assert_eq!(
+        screener.push(&record),
+        vec![Warning::Clipped {
+            record: "overload".into(),
+            channel: Channel::Displacement(0),
+            value: 250.0
+        },]
+    );
+}
