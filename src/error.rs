@@ -247,6 +247,13 @@ pub enum Error {
         /// What differs.
         what: &'static str,
     },
+    /// A saved baseline (the JSON of an earlier identification) cannot be read (feature
+    /// `json`, [`Baseline::from_json`](crate::Baseline::from_json)).
+    #[error("{message}")]
+    BadBaseline {
+        /// What is wrong, naming the key; at most about 80 characters of the input are quoted.
+        message: String,
+    },
     /// Maximum likelihood needs the noise covariances of the spectra, which only repeated
     /// periods give here.
     #[error(
@@ -540,7 +547,7 @@ impl Error {
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
-    /// `baseline_mismatch`.
+    /// `baseline_mismatch`, `bad_baseline`.
     ///
     /// # Examples
     /// ```
@@ -574,6 +581,7 @@ impl Error {
                 "singular"
             }
             Error::BaselineMismatch { .. } => "baseline_mismatch",
+            Error::BadBaseline { .. } => "bad_baseline",
             Error::MlNeedsRepeats => "ml_needs_repeats",
             Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
