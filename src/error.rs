@@ -295,7 +295,7 @@ pub enum Error {
         path: String,
         /// The column asked for.
         column: String,
-        /// The header's column names, comma-separated.
+        /// The header's column names, comma-separated (at most 80 characters, then `…`).
         header: String,
     },
     /// A CSV value is NaN or infinite.

@@ -119,6 +119,18 @@ pub fn read_record_from(
     read_csv(reader, label, layout, 0)
 }
 
+/// The most characters of a file's text (a field, the header) that an error message quotes;
+/// longer text is cut and ends in `…`.
+pub const QUOTE_CHARS: usize = 80;
+
+/// `text` cut to [`QUOTE_CHARS`] characters, with `…` when cut.
+fn quote(text: &str) -> String {
+    match text.char_indices().nth(QUOTE_CHARS) {
+        Some((end, _)) => format!("{}…", &text[..end]),
+        None => text.to_owned(),
+    }
+}
+
 /// Rows read before the channel buffers are sized from the file length.
 const SIZING_ROWS: usize = 64;
 
@@ -167,7 +179,7 @@ fn read_csv(
                 .ok_or_else(|| Error::MissingColumn {
                     path: label.to_owned(),
                     column: c.clone(),
-                    header: names.join(","),
+                    header: quote(&names.join(",")),
                 })
         })
         .collect::<Result<_>>()?;
@@ -215,7 +227,7 @@ fn read_csv(
                     line,
                     message: format!(
                         "column `{name}`: `{}` is not a number",
-                        String::from_utf8_lossy(field)
+                        quote(&String::from_utf8_lossy(field))
                     ),
                 })?;
             if !value.is_finite() {

@@ -254,7 +254,8 @@ impl Coefficients {
     /// system's and the dry structure's (`K_b = K_s − K_h`, `C_b = C_s − C_h`, `M_b = M_s − M_h`).
     ///
     /// # Errors
-    /// [`Error::DofCountMismatch`] if the sizes differ.
+    /// [`Error::DofCountMismatch`] if the sizes differ; [`Error::NonFiniteCoefficient`] if a
+    /// difference overflows.
     ///
     /// # Examples
     /// ```
@@ -274,11 +275,12 @@ impl Coefficients {
                 right: baseline.dofs(),
             });
         }
-        Ok(Coefficients {
-            mass: &self.mass - &baseline.mass,
-            damping: &self.damping - &baseline.damping,
-            stiffness: &self.stiffness - &baseline.stiffness,
-        })
+        // Differences of finite numbers can overflow (1e308 − (−1e308)): checked like input.
+        Coefficients::new(
+            &self.mass - &baseline.mass,
+            &self.damping - &baseline.damping,
+            &self.stiffness - &baseline.stiffness,
+        )
     }
 }
 
