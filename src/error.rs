@@ -271,6 +271,13 @@ pub enum Error {
         /// What differs.
         what: &'static str,
     },
+    /// A saved baseline (the JSON of an earlier identification) cannot be read (feature
+    /// `json`, [`Baseline::from_json`](crate::Baseline::from_json)).
+    #[error("{message}")]
+    BadBaseline {
+        /// What is wrong, naming the key; at most about 80 characters of the input are quoted.
+        message: String,
+    },
     /// Maximum likelihood needs the noise covariances of the spectra, which only repeated
     /// periods give here.
     #[error(
@@ -312,7 +319,7 @@ pub enum Error {
         path: String,
         /// The column asked for.
         column: String,
-        /// The header's column names, comma-separated.
+        /// The header's column names, comma-separated (at most 80 characters, then `…`).
         header: String,
     },
     /// A CSV value is NaN or infinite.
@@ -958,6 +965,7 @@ impl Error {
             }
             Error::CsvLimit { .. } | Error::TooLarge { .. } => "too_large",
             Error::BaselineMismatch { .. } => "baseline_mismatch",
+            Error::BadBaseline { .. } => "bad_baseline",
             Error::MlNeedsRepeats => "ml_needs_repeats",
             Error::Plot { .. } => "plot_error",
             Error::CoefficientShape { .. }
@@ -1194,7 +1202,9 @@ mod tests {
         let kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
         assert!(kinds.len() >= 25, "found only {kinds:?}");
         let readme = include_str!("../README.md");
-        let table = &readme[readme.find("Warnings do not stop a run").expect("warnings table")..];
+        let table = &readme[readme
+            .find("Warnings do not stop a run")
+            .expect("warnings table")..];
         for kind in kinds {
             assert!(
                 table.contains(&format!("`{kind}`")),

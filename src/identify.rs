@@ -1284,15 +1284,20 @@ impl Identification {
     /// result.
     ///
     /// # Errors
-    /// [`Error::BaselineMismatch`] if the two differ in degrees of freedom, band, lines used,
-    /// estimator or window (an exponential window must have the same decay).
+    /// [`Error::BaselineMismatch`] if the two differ in degrees of freedom (the baseline's
+    /// standard deviations included), band, lines used, estimator or window (an exponential
+    /// window must have the same decay); [`Error::NonFiniteCoefficient`] if a difference
+    /// overflows.
     pub fn subtract_baseline(
         &self,
         baseline: impl Into<Baseline>,
     ) -> Result<(Coefficients, Option<Coefficients>)> {
         let baseline: Baseline = baseline.into();
         let mismatch = |what| Err(Error::BaselineMismatch { what });
-        if self.coefficients().dofs() != baseline.coefficients.dofs() {
+        let std_dofs = baseline.std_dev.as_ref().map(Coefficients::dofs);
+        if self.coefficients().dofs() != baseline.coefficients.dofs()
+            || std_dofs.is_some_and(|n| n != baseline.coefficients.dofs())
+        {
             return mismatch("degrees of freedom");
         }
         if self.band != baseline.band {

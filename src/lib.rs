@@ -66,11 +66,13 @@
 //! ## Feature flags
 //! The core depends only on faer, num-complex, realfft, thiserror and rand. Edges are opt-in:
 //! - `csv` — [`io`]: read and write records as CSV files;
+//! - `json` — [`Baseline::from_json`]: a dry-structure baseline read back from a saved
+//!   identification (implies `serde`);
 //! - `serde` — `Serialize` for [`Identification`], [`Coefficients`] and [`Mode`];
 //! - `plot` — [`plot`]: SVG figures of an identification (flexibility, impedance, coherence
 //!   and conditioning, per-frequency coefficients, time records, IVF convergence) and a static
 //!   HTML report, drawn by plotters' SVG backend (no system libraries);
-//! - `cli` — the `bearing-ident` command-line tool (implies `csv`, `serde` and `plot`);
+//! - `cli` — the `bearing-ident` command-line tool (implies `csv`, `json`, `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build.
 //!
@@ -95,6 +97,8 @@ pub mod gate;
 pub mod identify;
 #[cfg(feature = "csv")]
 pub mod io;
+#[cfg(feature = "json")]
+pub mod json;
 mod linalg;
 pub mod model;
 pub mod per_frequency;

@@ -170,7 +170,8 @@ impl ForceGate {
         }
     }
 
-    /// First sample index at which the gate is closed, for segments sampled `dt` apart.
+    /// First sample index at which the gate is closed, for segments sampled `dt` apart
+    /// (saturating: a gate longer than any record closes at `usize::MAX`).
     fn closed_from(self, dt: f64) -> usize {
         // `as` saturates: a gate longer than any record stays open over all of it.
         (((self.open_s + self.taper_s) / dt).floor() as usize).saturating_add(1)

@@ -20,8 +20,8 @@ use bearing_ident::simulate::{
 };
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::{
-    Assignment, Band, Baseline, Channel, Coefficients, Error, Estimator, Identification,
-    Identifier, Method, NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
+    Assignment, Baseline, Channel, Coefficients, Error, Estimator, Identification, Identifier,
+    Method, NonConvergence, Record, Screening, Segmentation, Uncertainty, Window,
 };
 use clap::{Parser, Subcommand, ValueEnum};
 use faer::Mat;
@@ -651,84 +651,14 @@ fn baseline(
         });
     }
     let text = String::from_utf8_lossy(&bytes);
-    baseline_from_json(&text).map_err(|what| Failure {
-        kind: "bad_baseline",
-        message: format!("--baseline {}: {what}", path.display()),
+    Baseline::from_json(&text).map_err(|e| Failure {
+        kind: e.kind(),
+        message: format!("--baseline {}: {e}", path.display()),
     })
 }
 
 /// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
 const MAX_BASELINE_BYTES: u64 = 1 << 24;
-
-/// A [`Baseline`] from the JSON of `identify --json`.
-fn baseline_from_json(text: &str) -> Result<Baseline, String> {
-    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| excerpt(&e.to_string()))?;
-    let matrix = |key: &str| -> Result<Option<Mat<f64>>, String> {
-        let Some(rows) = v.get(key).filter(|r| !r.is_null()) else {
-            return Ok(None);
-        };
-        let rows: Vec<Vec<f64>> = serde_json::from_value(rows.clone())
-            .map_err(|e| format!("`{key}`: {}", excerpt(&e.to_string())))?;
-        let n = rows.len();
-        if n == 0 || rows.iter().any(|r| r.len() != n) {
-            return Err(format!("`{key}`: expected a square matrix (list of rows)"));
-        }
-        Ok(Some(Mat::from_fn(n, n, |i, j| rows[i][j])))
-    };
-    let need = |key: &str| matrix(key)?.ok_or_else(|| format!("no `{key}`"));
-    let coefficients =
-        Coefficients::new(need("M")?, need("C")?, need("K")?).map_err(|e| e.to_string())?;
-    let std = match (matrix("M_std")?, matrix("C_std")?, matrix("K_std")?) {
-        (Some(m), Some(c), Some(k)) => Some(Coefficients::new(m, c, k).map_err(|e| e.to_string())?),
-        _ => None,
-    };
-    let band: Vec<f64> = v
-        .get("band_hz")
-        .and_then(|b| serde_json::from_value(b.clone()).ok())
-        .filter(|b: &Vec<f64>| b.len() == 2)
-        .ok_or("no `band_hz` [LO, HI]")?;
-    let band = Band::new(band[0], band[1]).map_err(|e| e.to_string())?;
-    let freqs: Vec<f64> = v
-        .get("freqs_hz")
-        .and_then(|b| serde_json::from_value(b.clone()).ok())
-        .ok_or("no `freqs_hz`")?;
-    let estimator = match v.get("estimator").and_then(|e| e.as_str()) {
-        Some("paired") => Estimator::PairedSets,
-        Some("h1") => Estimator::H1,
-        Some("h2") => Estimator::H2,
-        Some("hv") => Estimator::Hv,
-        other => {
-            return Err(format!(
-                "unknown `estimator` {}",
-                excerpt(&format!("{other:?}"))
-            ));
-        }
-    };
-    let window = match v.get("window").and_then(|e| e.as_str()) {
-        Some("rect") => Window::Rectangular,
-        Some("hann") => Window::Hann,
-        Some("exp") => Window::Exponential {
-            decay_per_s: v
-                .get("window_decay_per_s")
-                .and_then(serde_json::Value::as_f64)
-                .ok_or("no `window_decay_per_s` for the exponential window")?,
-        },
-        other => {
-            return Err(format!(
-                "unknown `window` {}",
-                excerpt(&format!("{other:?}"))
-            ));
-        }
-    };
-    Ok(Baseline::new(
-        coefficients,
-        std,
-        band,
-        freqs,
-        estimator,
-        window,
-    ))
-}
 
 /// Reads the record files and identifies them; the excitation kind is decided from the first
 /// record with a force that is not flat.
