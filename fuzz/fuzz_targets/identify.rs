@@ -31,8 +31,20 @@ impl Value {
             Value::Decimal(m, e) => f64::from(m) * 10f64.powi(i32::from(e % 40)),
             Value::Raw(v) => v,
             Value::Zero => 0.0,
-            Value::Huge(neg) => if neg { -1e308 } else { 1e308 },
-            Value::Tiny(neg) => if neg { -5e-324 } else { 5e-324 },
+            Value::Huge(neg) => {
+                if neg {
+                    -1e308
+                } else {
+                    1e308
+                }
+            }
+            Value::Tiny(neg) => {
+                if neg {
+                    -5e-324
+                } else {
+                    5e-324
+                }
+            }
         }
     }
 }
@@ -152,7 +164,11 @@ fn assert_finite(what: &str, c: &Coefficients) {
     for (name, m) in [("M", c.mass()), ("C", c.damping()), ("K", c.stiffness())] {
         for i in 0..m.nrows() {
             for j in 0..m.ncols() {
-                assert!(m[(i, j)].is_finite(), "{what} {name}[{i}][{j}] = {}", m[(i, j)]);
+                assert!(
+                    m[(i, j)].is_finite(),
+                    "{what} {name}[{i}][{j}] = {}",
+                    m[(i, j)]
+                );
             }
         }
     }
@@ -170,7 +186,10 @@ fuzz_target!(|input: Input| {
         .filter_map(|(r, rec)| {
             let len = rec.len.map_or(len, |l| usize::from(l % 505) + 8);
             let forces = rec.forces[..n].iter().map(|c| c.samples(len)).collect();
-            let disps = rec.displacements[..n].iter().map(|c| c.samples(len)).collect();
+            let disps = rec.displacements[..n]
+                .iter()
+                .map(|c| c.samples(len))
+                .collect();
             let rate = rec.rate.map_or(rate, Value::get);
             Record::new(format!("r{r}"), rate, forces, disps).ok()
         })
@@ -184,13 +203,19 @@ fuzz_target!(|input: Input| {
     let window = match input.window {
         WindowIn::Rectangular => Window::Rectangular,
         WindowIn::Hann => Window::Hann,
-        WindowIn::Exponential(a) => Window::Exponential { decay_per_s: a.get() },
+        WindowIn::Exponential(a) => Window::Exponential {
+            decay_per_s: a.get(),
+        },
         WindowIn::ExponentialTo(end) => Window::exponential_to(end.get(), duration),
     };
     let segmentation = match input.segmentation {
         SegmentationIn::Whole => Segmentation::WholeRecord,
-        SegmentationIn::Welch(l) => Segmentation::Welch { len: usize::from(l % 600) },
-        SegmentationIn::Periods(l) => Segmentation::Periods { len: usize::from(l % 600) },
+        SegmentationIn::Welch(l) => Segmentation::Welch {
+            len: usize::from(l % 600),
+        },
+        SegmentationIn::Periods(l) => Segmentation::Periods {
+            len: usize::from(l % 600),
+        },
     };
     let uncertainty = match input.uncertainty {
         UncertaintyIn::None => Uncertainty::None,
@@ -207,10 +232,18 @@ fuzz_target!(|input: Input| {
         ScreeningIn::Warn(a, b, c) => Screening::Warn(checks(a, b, c)),
         ScreeningIn::Reject(a, b, c) => Screening::Reject(checks(a, b, c)),
     };
-    let estimator = [Estimator::PairedSets, Estimator::H1, Estimator::H2, Estimator::Hv]
-        [usize::from(input.estimator % 4)];
-    let method = [Method::Direct, Method::LeastSquares, Method::Ivf, Method::Ml]
-        [usize::from(input.method % 4)];
+    let estimator = [
+        Estimator::PairedSets,
+        Estimator::H1,
+        Estimator::H2,
+        Estimator::Hv,
+    ][usize::from(input.estimator % 4)];
+    let method = [
+        Method::Direct,
+        Method::LeastSquares,
+        Method::Ivf,
+        Method::Ml,
+    ][usize::from(input.method % 4)];
     let mut identifier = Identifier::new(edge(&input.low), edge(&input.high))
         .estimator(estimator)
         .method(method)
