@@ -355,25 +355,12 @@ impl Identifier {
             return self.finish(builder, pulses.into_iter().collect());
         };
         // Every record is at hand: decide all but the per-line test before the spectra.
-        let mut screener = Screener::new(checks);
-        let mut findings: Vec<Vec<Warning>> = records.iter().map(|r| screener.push(r)).collect();
-        let excluded: Vec<bool> = findings.iter().map(|f| reject && !f.is_empty()).collect();
-        for (r, w) in screener.across(&excluded) {
-            findings[r].push(w);
-        }
-        let kept: Vec<bool> = findings.iter().map(|f| !reject || f.is_empty()).collect();
+        let (kept, mut warnings) = screen_batch(records, checks, reject);
         if kept.iter().all(|&k| k) {
             builder.push_all(records)?;
         } else {
-            let kept: Vec<Record> = records
-                .iter()
-                .zip(&kept)
-                .filter(|(_, k)| **k)
-                .map(|(r, _)| r.clone())
-                .collect();
-            builder.push_all(&kept)?;
+            builder.push_all(&kept_records(records, &kept))?;
         }
-        let mut warnings = reported(screener.summaries(), findings, reject);
         self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
         warnings.extend(pulses);
         self.finish(builder, warnings)
@@ -567,21 +554,8 @@ impl Identifier {
         let (kept, warnings) = match self.checks() {
             None => (records.to_vec(), Vec::new()),
             Some((checks, reject)) => {
-                let mut screener = Screener::new(checks);
-                let mut findings: Vec<Vec<Warning>> =
-                    records.iter().map(|r| screener.push(r)).collect();
-                let excluded: Vec<bool> =
-                    findings.iter().map(|f| reject && !f.is_empty()).collect();
-                for (r, w) in screener.across(&excluded) {
-                    findings[r].push(w);
-                }
-                let kept = records
-                    .iter()
-                    .zip(&findings)
-                    .filter(|(_, f)| !reject || f.is_empty())
-                    .map(|(r, _)| r.clone())
-                    .collect();
-                (kept, reported(screener.summaries(), findings, reject))
+                let (kept, warnings) = screen_batch(records, checks, reject);
+                (kept_records(records, &kept), warnings)
             }
         };
         if kept.is_empty() {
@@ -1033,6 +1007,30 @@ fn line_spacing(freqs_hz: &[f64]) -> Option<f64> {
         .map(|w| w[1] - w[0])
         .filter(|d| *d > 0.0)
         .min_by(f64::total_cmp)
+}
+
+/// Screens records that are all at hand: which to keep (all unless `reject`) and the warnings,
+/// in record order (the per-line test of paired sets is separate, see
+/// [`screening::outlier_sets`]).
+fn screen_batch(records: &[Record], checks: Checks, reject: bool) -> (Vec<bool>, Vec<Warning>) {
+    let mut screener = Screener::new(checks);
+    let mut findings: Vec<Vec<Warning>> = records.iter().map(|r| screener.push(r)).collect();
+    let excluded: Vec<bool> = findings.iter().map(|f| reject && !f.is_empty()).collect();
+    for (r, w) in screener.across(&excluded) {
+        findings[r].push(w);
+    }
+    let kept = findings.iter().map(|f| !reject || f.is_empty()).collect();
+    (kept, reported(screener.summaries(), findings, reject))
+}
+
+/// The records marked in `kept`.
+fn kept_records(records: &[Record], kept: &[bool]) -> Vec<Record> {
+    records
+        .iter()
+        .zip(kept)
+        .filter(|(_, k)| **k)
+        .map(|(r, _)| r.clone())
+        .collect()
 }
 
 /// The screening's warnings in record order, each faulty record's findings followed, under

@@ -3,34 +3,22 @@
 //! The command-line tool writes an [`Identification`](crate::Identification) as one flat JSON
 //! object (`identify --json`, see its `Serialize` impl); [`Baseline::from_json`] reads the
 //! parts a baseline subtraction needs back from it. Every problem is an
-//! [`Error::BadBaseline`] that names the key and quotes at most [`QUOTE_CHARS`] characters of
-//! the input.
+//! [`Error::BadBaseline`] that names the key and quotes at most
+//! [`QUOTE_CHARS`](crate::error::QUOTE_CHARS) characters of the input.
 
 use faer::Mat;
 use serde_json::Value;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, excerpt};
 use crate::frf::{Band, Estimator};
 use crate::identify::Baseline;
 use crate::model::Coefficients;
 use crate::spectra::Window;
 
-/// The most characters of a message taken from the input (a parser's complaint, a value) that
-/// an [`Error::BadBaseline`] carries; longer ones are cut and end in `…`.
-pub const QUOTE_CHARS: usize = 80;
-
-/// `text` cut to [`QUOTE_CHARS`] characters, with `…` when cut.
-fn quote(text: &str) -> String {
-    match text.char_indices().nth(QUOTE_CHARS) {
-        Some((end, _)) => format!("{}…", &text[..end]),
-        None => text.to_owned(),
-    }
-}
-
-/// An [`Error::BadBaseline`] saying `message`, cut to [`QUOTE_CHARS`] characters.
+/// An [`Error::BadBaseline`] saying `message`, cut by [`excerpt`].
 fn bad(message: impl AsRef<str>) -> Error {
     Error::BadBaseline {
-        message: quote(message.as_ref()),
+        message: excerpt(message.as_ref()),
     }
 }
 
