@@ -111,6 +111,7 @@ pub mod simulate;
 pub mod solve;
 pub mod spectra;
 pub mod stepped;
+pub mod tolerance;
 
 pub use conditioning::ConditionLimits;
 pub use error::{Block, Channel, Error, Result, Warning};
