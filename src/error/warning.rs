@@ -1,0 +1,455 @@
+//! [`Warning`]: what a user should know about a run that did not stop it, with the numbers.
+
+use std::fmt;
+
+use super::{Block, Channel};
+
+/// Something a user should know about an identification that did not stop it.
+///
+/// Warnings travel with the result (see
+/// [`Identification::warnings`](crate::identify::Identification::warnings)); each says what was
+/// seen, with the numbers.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// Some lines have a condition number above the warning threshold.
+    IllConditioned {
+        /// Lines above the threshold.
+        lines: usize,
+        /// Lines in the band.
+        of: usize,
+        /// Frequency of the worst line (Hz).
+        worst_hz: f64,
+        /// Condition number of the worst line.
+        worst: f64,
+        /// The warning threshold.
+        threshold: f64,
+    },
+    /// Lines were dropped because the multiple coherence of some output was below the
+    /// threshold.
+    LowCoherence {
+        /// Lines dropped.
+        lines: usize,
+        /// The threshold.
+        threshold: f64,
+    },
+    /// The jackknife had fewer than 3 replicates; the sandwich standard deviations are
+    /// reported instead.
+    FewReplicates {
+        /// Replicates available (paired sets or records).
+        replicates: usize,
+    },
+    /// Lines of the band were dropped because a matrix could not be inverted.
+    DroppedLines {
+        /// Frequencies of the dropped lines (Hz).
+        freqs_hz: Vec<f64>,
+    },
+    /// Records left out of the paired sets (unequal counts per direction).
+    UnpairedRecords {
+        /// Labels of the records left out.
+        records: Vec<String>,
+    },
+    /// An iterative fit stopped at its iteration limit before meeting its tolerance.
+    NotConverged {
+        /// Iterations run.
+        iterations: usize,
+        /// Block-wise relative change at the last iteration.
+        change: f64,
+    },
+    /// An iterative fit diverged; the result is its best iterate.
+    Diverged {
+        /// Iterations run before divergence was detected.
+        iterations: usize,
+        /// The iterate returned (0 = the least-squares start).
+        fallback_iteration: usize,
+    },
+    /// An impact record holds a second hammer pulse (see
+    /// [`quality::check_record`](crate::quality::check_record)).
+    DoubleHit {
+        /// Label of the record.
+        record: String,
+        /// Time of the second pulse's peak (s from the record's first sample).
+        second_s: f64,
+        /// Its peak over the main peak.
+        ratio: f64,
+    },
+    /// A channel of a record sits at its extreme value for several samples: the ADC or
+    /// amplifier was overloaded (see [`quality::check_record`](crate::quality::check_record)).
+    Clipped {
+        /// Label of the record.
+        record: String,
+        /// The clipped channel.
+        channel: Channel,
+        /// The clipping level (N or m).
+        value: f64,
+    },
+    /// A record was left out of the identification because it failed a quality check.
+    Rejected {
+        /// Label of the record.
+        record: String,
+        /// Why, in words (for example the issues found).
+        reason: String,
+    },
+    /// Maximum likelihood kept its IVF start.
+    MlFellBack {
+        /// Why.
+        reason: String,
+    },
+    // The fit gate (see `crate::gate`).
+    /// The fitted model does not explain an element of the measured flexibility that carries
+    /// signal (see [`gate::FitGate`](crate::gate::FitGate)).
+    PoorFit {
+        /// Row of the element.
+        row: usize,
+        /// Column of the element.
+        col: usize,
+        /// Its flexibility `r²`.
+        r2: f64,
+        /// The threshold.
+        threshold: f64,
+    },
+    /// A diagonal entry of `M`, `C` or `K` is negative: not physical for a test system.
+    NegativeDiagonal {
+        /// The matrix.
+        block: Block,
+        /// The degree of freedom.
+        dof: usize,
+        /// The entry.
+        value: f64,
+    },
+    /// The fitted model has a mode with negative damping.
+    UnstableMode {
+        /// Its natural frequency (Hz).
+        frequency_hz: f64,
+        /// Its damping ratio (negative).
+        damping_ratio: f64,
+    },
+    /// Jackknife replicates gave the same fit: they carry the same data (records passed more
+    /// than once?) and the error bars understate the error.
+    DependentReplicates {
+        /// Replicates (paired sets or records).
+        replicates: usize,
+        /// Distinct fits among them.
+        distinct: usize,
+    },
+    /// Resampled standard deviations of diagonal entries are zero.
+    ZeroSpread {
+        /// Diagonal entries with zero spread.
+        entries: usize,
+        /// Diagonal entries in all.
+        of: usize,
+    },
+    /// The exponential window decays faster than the lowest band frequency (see
+    /// [`gate::window`](crate::gate::window)).
+    WindowTooShort {
+        /// The window's decay rate (1/s).
+        decay_per_s: f64,
+        /// $2\pi f_{low}$ (1/s).
+        limit_per_s: f64,
+    },
+    /// The force gate closes before the force pulse has ended.
+    ForceGateShort {
+        /// Records whose pulse outlasts the gate.
+        records: usize,
+        /// Time the gate stays open (s).
+        gate_s: f64,
+        /// Latest end of a pulse (s from the record's start).
+        pulse_end_s: f64,
+    },
+    /// Welch segments too short for a mode's half-power bandwidth (leakage bias at the peak).
+    CoarseResolution {
+        /// Line spacing (Hz).
+        spacing_hz: f64,
+        /// The mode's natural frequency (Hz).
+        mode_hz: f64,
+        /// Its half-power bandwidth `2ζ f_n` (Hz).
+        half_power_hz: f64,
+        /// Predicted relative peak bias `(Δf/B_r)²/3`.
+        peak_bias: f64,
+    },
+    /// Few lines for the unknowns: little redundancy to average noise or show a misfit.
+    FewLines {
+        /// Lines fitted.
+        lines: usize,
+        /// Lines wanted.
+        needed: usize,
+    },
+    // ---- Record screening (`crate::screening`) ----
+    /// A channel holds one value throughout (no variation beyond rounding): a dead,
+    /// disconnected or unpowered sensor (see [`screening`](crate::screening)).
+    FlatChannel {
+        /// Label of the record.
+        record: String,
+        /// The flat channel.
+        channel: Channel,
+        /// The value it holds (N or m).
+        value: f64,
+    },
+    /// A channel's RMS (mean removed) is far below the same channel's median RMS in its
+    /// sibling records (see [`screening`](crate::screening)).
+    DeadChannel {
+        /// Label of the record.
+        record: String,
+        /// The channel.
+        channel: Channel,
+        /// Its RMS (N or m).
+        rms: f64,
+        /// The median RMS of the same channel over the siblings (N or m).
+        median_rms: f64,
+    },
+    /// A channel's level is an outlier among its sibling records: its log RMS is far from
+    /// their median in robust standard deviations (see [`screening`](crate::screening)).
+    LevelOutlier {
+        /// Label of the record.
+        record: String,
+        /// The channel.
+        channel: Channel,
+        /// Its RMS (N or m).
+        rms: f64,
+        /// The median RMS of the same channel over the siblings (N or m).
+        median_rms: f64,
+        /// `|ln rms − median ln rms| / σ̂` with `σ̂ = 1.4826 · MAD` of the siblings' log RMS
+        /// (infinite when the siblings agree exactly).
+        sigmas: f64,
+    },
+    /// A record holds exactly the same samples as an earlier one (the same file passed twice,
+    /// say, whatever the labels).
+    DuplicateRecord {
+        /// Label of the later record.
+        record: String,
+        /// Label of the earlier record with the same samples.
+        of: String,
+    },
+    /// A paired set's impedance is far from the other sets' at most band lines (see
+    /// [`screening::outlier_sets`](crate::screening::outlier_sets)).
+    OutlierSet {
+        /// Labels of the set's records, one per direction.
+        records: Vec<String>,
+        /// Lines where the set is far out.
+        far_lines: usize,
+        /// Lines tested.
+        lines: usize,
+    },
+    // ---- end of record screening ----
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::IllConditioned {
+                lines,
+                of,
+                worst_hz,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "{lines} of {of} lines have a condition number above {threshold:.3e} \
+                 (worst {worst:.3e} at {worst_hz:.3} Hz): excitations close to dependent"
+            ),
+            Warning::LowCoherence { lines, threshold } => write!(
+                f,
+                "{lines} lines dropped with a multiple coherence below {threshold}"
+            ),
+            Warning::FewReplicates { replicates } => write!(
+                f,
+                "only {replicates} replicates for the jackknife (3 needed): sandwich standard deviations reported"
+            ),
+            Warning::DroppedLines { freqs_hz } => write!(
+                f,
+                "{} lines dropped (singular matrices) at {:?} Hz",
+                freqs_hz.len(),
+                freqs_hz
+            ),
+            Warning::UnpairedRecords { records } => write!(
+                f,
+                "{} records left out of the paired sets: {}",
+                records.len(),
+                records.join(", ")
+            ),
+            Warning::NotConverged { iterations, change } => write!(
+                f,
+                "not converged after {iterations} iterations (relative change {change:.3e})"
+            ),
+            Warning::Diverged {
+                iterations,
+                fallback_iteration,
+            } => write!(
+                f,
+                "diverged after {iterations} iterations; returning iterate {fallback_iteration}"
+            ),
+            Warning::DoubleHit {
+                record,
+                second_s,
+                ratio,
+            } => write!(
+                f,
+                "record `{record}`: double hit, a second pulse at {second_s:.4} s of {ratio:.2} × the main peak"
+            ),
+            Warning::Clipped {
+                record,
+                channel,
+                value,
+            } => write!(f, "record `{record}`: {channel} clipped at {value:.4e}"),
+            Warning::Rejected { record, reason } => {
+                write!(f, "record `{record}` rejected: {reason}")
+            }
+            Warning::MlFellBack { reason } => {
+                write!(f, "maximum likelihood kept the IVF result: {reason}")
+            }
+            Warning::PoorFit {
+                row,
+                col,
+                r2,
+                threshold,
+            } => write!(
+                f,
+                "poor fit of flexibility element ({row},{col}): r² = {r2:.3} below {threshold}"
+            ),
+            Warning::NegativeDiagonal { block, dof, value } => write!(
+                f,
+                "{block}[{dof}][{dof}] = {value:.4e} is negative: not physical for a test system"
+            ),
+            Warning::UnstableMode {
+                frequency_hz,
+                damping_ratio,
+            } => write!(
+                f,
+                "the fitted model is unstable: mode at {frequency_hz:.3} Hz with damping ratio {damping_ratio:.3}"
+            ),
+            Warning::DependentReplicates {
+                replicates,
+                distinct,
+            } => write!(
+                f,
+                "only {distinct} of {replicates} replicates give distinct fits: records passed more than once? \
+                 error bars understate the error"
+            ),
+            Warning::ZeroSpread { entries, of } => write!(
+                f,
+                "{entries} of {of} diagonal coefficients have zero resampled spread: the replicates are identical"
+            ),
+            Warning::WindowTooShort {
+                decay_per_s,
+                limit_per_s,
+            } => write!(
+                f,
+                "exponential window decays at {decay_per_s:.4e} 1/s, faster than the lowest band frequency \
+                 ({limit_per_s:.4e} rad/s): it leaves too little of the record"
+            ),
+            Warning::ForceGateShort {
+                records,
+                gate_s,
+                pulse_end_s,
+            } => write!(
+                f,
+                "force gate open {gate_s:.4e} s closes before the pulse ends (up to {pulse_end_s:.4} s) in {records} records"
+            ),
+            Warning::CoarseResolution {
+                spacing_hz,
+                mode_hz,
+                half_power_hz,
+                peak_bias,
+            } => write!(
+                f,
+                "line spacing {spacing_hz:.4} Hz is coarse for the mode at {mode_hz:.3} Hz \
+                 (half-power bandwidth {half_power_hz:.3} Hz): predicted peak bias {:.1} %",
+                100.0 * peak_bias
+            ),
+            Warning::FewLines { lines, needed } => write!(
+                f,
+                "only {lines} lines in the band ({needed} wanted): little redundancy in the fit"
+            ),
+            // ---- Record screening ----
+            Warning::FlatChannel {
+                record,
+                channel,
+                value,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is flat, every sample at {value:.4e} \
+                 (a dead or disconnected sensor)"
+            ),
+            Warning::DeadChannel {
+                record,
+                channel,
+                rms,
+                median_rms,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is dead, RMS {rms:.3e} is {:.1e} × the median \
+                 {median_rms:.3e} of its sibling records",
+                rms / median_rms
+            ),
+            Warning::LevelOutlier {
+                record,
+                channel,
+                rms,
+                median_rms,
+                sigmas,
+            } => write!(
+                f,
+                "record `{record}`: {channel} level is an outlier, RMS {rms:.3e} is {:.3} × the \
+                 median {median_rms:.3e} of its sibling records ({sigmas:.1} robust σ)",
+                rms / median_rms
+            ),
+            Warning::DuplicateRecord { record, of } if record == of => write!(
+                f,
+                "record `{record}` passed again: the same samples as its first copy"
+            ),
+            Warning::DuplicateRecord { record, of } => write!(
+                f,
+                "record `{record}` holds the same samples as record `{of}` (the same data twice)"
+            ),
+            Warning::OutlierSet {
+                records,
+                far_lines,
+                lines,
+            } => write!(
+                f,
+                "paired set ({}): impedance far from the other sets' at {far_lines} of {lines} lines",
+                records.join(", ")
+            ),
+        }
+    }
+}
+
+impl Warning {
+    /// A stable snake_case name of the kind of warning, for scripts and logs (the CLI's JSON
+    /// lists them as `warning_kinds`, in the order of `warnings`).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Warning;
+    /// assert_eq!(Warning::FewReplicates { replicates: 2 }.kind(), "few_replicates");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Warning::IllConditioned { .. } => "ill_conditioned",
+            Warning::LowCoherence { .. } => "low_coherence",
+            Warning::FewReplicates { .. } => "few_replicates",
+            Warning::DroppedLines { .. } => "dropped_lines",
+            Warning::UnpairedRecords { .. } => "unpaired_records",
+            Warning::NotConverged { .. } => "not_converged",
+            Warning::Diverged { .. } => "diverged",
+            Warning::DoubleHit { .. } => "double_hit",
+            Warning::Clipped { .. } => "clipped",
+            Warning::Rejected { .. } => "rejected",
+            Warning::MlFellBack { .. } => "ml_fell_back",
+            Warning::PoorFit { .. } => "poor_fit",
+            Warning::NegativeDiagonal { .. } => "negative_diagonal",
+            Warning::UnstableMode { .. } => "unstable_mode",
+            Warning::DependentReplicates { .. } => "dependent_replicates",
+            Warning::ZeroSpread { .. } => "zero_spread",
+            Warning::WindowTooShort { .. } => "window_too_short",
+            Warning::ForceGateShort { .. } => "force_gate_short",
+            Warning::CoarseResolution { .. } => "coarse_resolution",
+            Warning::FewLines { .. } => "few_lines",
+            Warning::FlatChannel { .. } => "flat_channel",
+            Warning::DeadChannel { .. } => "dead_channel",
+            Warning::LevelOutlier { .. } => "level_outlier",
+            Warning::DuplicateRecord { .. } => "duplicate_record",
+            Warning::OutlierSet { .. } => "outlier_set",
+        }
+    }
+}
