@@ -31,6 +31,7 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, c64};
 
 use crate::error::{Error, Result};
+use crate::frf::{Frf, FrfBuilder, PeriodStatistics};
 use crate::linalg::Inverter;
 use crate::model::Coefficients;
 
@@ -396,6 +397,36 @@ fn std_dev(cov: &[Mat<f64>]) -> Result<Coefficients> {
     let n = cov.len();
     let stacked = Mat::from_fn(3 * n, n, |r, b| cov[b][(r, r)].max(0.0).sqrt());
     Coefficients::from_stacked(stacked.as_ref())
+}
+
+impl MlData {
+    /// From the per-period statistics of periodic records, the frf stage's output
+    /// ([`FrfBuilder`]).
+    ///
+    /// # Errors
+    /// As [`MlData::new`].
+    pub(crate) fn from_statistics(statistics: PeriodStatistics) -> Result<Self> {
+        let PeriodStatistics {
+            freqs_hz,
+            x,
+            f,
+            cx,
+            cf,
+            cxf,
+        } = statistics;
+        Self::new(freqs_hz, &x, &f, &cx, &cf, &cxf)
+    }
+}
+
+impl FrfBuilder {
+    /// [`MlData`] from the records pushed, on the lines of `frf`: the builder's period
+    /// statistics handed to this solver (the estimator stage itself knows no solver).
+    ///
+    /// # Errors
+    /// As [`MlData::new`]; [`Error::MlNeedsRepeats`] without repeated periods.
+    pub(crate) fn ml_data(&self, frf: &Frf) -> Result<MlData> {
+        MlData::from_statistics(self.period_statistics(frf)?)
+    }
 }
 
 /// The Cramér–Rao lower bound on the standard deviations of every coefficient of `system`
