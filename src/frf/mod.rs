@@ -47,7 +47,7 @@ pub use builder::FrfBuilder;
 pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub use paired::paired_sets;
-pub(crate) use paired::{PairedKernel, SetImpedances, Share};
+pub(crate) use paired::{PairedKernel, Share};
 pub use crate::records::common_shape;
 pub(crate) use statistics::PeriodStatistics;
 
@@ -517,6 +517,7 @@ impl Frf {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::records::Record;
     use crate::spectra::{Segmentation, Window};
 
     #[test]
