@@ -11,8 +11,8 @@ use crate::error::{Channel, Error, Result};
 /// Smallest number of samples a record may have.
 pub const MIN_SAMPLES: usize = 8;
 
-pub use crate::tolerance::TIME_GRID_TOLERANCE;
 use crate::tolerance::RATE_ROUNDING;
+pub use crate::tolerance::TIME_GRID_TOLERANCE;
 
 /// Whether sampling rates `a` and `b` (Hz) of records of `len` samples are the same rate.
 ///

@@ -41,19 +41,13 @@ pub const FREQUENCY_STEP: f64 = 1e-15;
 /// eigensolver with an imaginary part at rounding level, far below this.
 pub const OSCILLATORY_ROOT: f64 = 1e-9;
 
-
-
 // ---------------------------------------------------------------------------------------------
 // Identification, screening, gates and quality checks (identify, screening, gate, quality).
 // ---------------------------------------------------------------------------------------------
 
-
-
 // ---------------------------------------------------------------------------------------------
 // Simulation and figures (simulate, plot).
 // ---------------------------------------------------------------------------------------------
-
-
 
 // ---------------------------------------------------------------------------------------------
 // Excitation detection and the command-line tool (excitation, bin).

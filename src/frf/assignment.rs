@@ -27,7 +27,12 @@ impl Assignment {
         self.resolve_with(&labels, &dominant, dofs)
     }
 
-    pub(super) fn resolve_with(&self, labels: &[&str], dominant: &[usize], dofs: usize) -> Result<Vec<usize>> {
+    pub(super) fn resolve_with(
+        &self,
+        labels: &[&str],
+        dominant: &[usize],
+        dofs: usize,
+    ) -> Result<Vec<usize>> {
         match self {
             Assignment::DominantForce => Ok(dominant.to_vec()),
             Assignment::Explicit(a) => {

@@ -182,3 +182,50 @@ impl FrfBuilder {
         frf
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Noise-free cross-spectra of `x = G f` for a known 2 × 2 `G` and a Hermitian positive
+    /// definite `S_ff`: `S_xf = G S_ff`, `S_xx = G S_ff Gᴴ`. Every estimator of the family must
+    /// return `G` and `H = G⁻¹`.
+    #[test]
+    fn every_line_estimator_recovers_a_known_flexibility() {
+        let n = 2;
+        let c = c64::new;
+        let g = [c(2.0, 0.5), c(-0.25, 0.1), c(0.5, -0.3), c(1.0, 0.2)]; // column-major
+        let sff = [c(3.0, 0.0), c(0.5, -0.4), c(0.5, 0.4), c(2.0, 0.0)];
+        let mut sxf = vec![c(0.0, 0.0); 4];
+        linalg::mul_into(&g, &sff, &mut sxf, n);
+        let gh: Vec<c64> = (0..4).map(|k| g[(k % 2) * 2 + k / 2].conj()).collect();
+        let mut sxx = vec![c(0.0, 0.0); 4];
+        linalg::mul_into(&sxf, &gh, &mut sxx, n);
+        let mut inv = sff.to_vec();
+        assert!(linalg::Inverter::new(n).invert(&mut inv));
+        let sums = LineSums {
+            n,
+            sff: &sff,
+            sff_inv: &inv,
+            sxf: &sxf,
+            sxx: &sxx,
+        };
+        for estimator in [Estimator::H1, Estimator::H2, Estimator::Hv] {
+            let mut work = LineWork::new(n);
+            assert!(line_estimator(estimator).estimate(&sums, &mut work));
+            for k in 0..4 {
+                assert!((work.g[k] - g[k]).norm() < 1e-12, "{estimator:?} G[{k}]");
+            }
+            let mut gh = vec![c(0.0, 0.0); 4];
+            linalg::mul_into(&work.g, &work.h, &mut gh, n);
+            for (k, v) in gh.iter().enumerate() {
+                let one = if k % 3 == 0 { 1.0 } else { 0.0 };
+                assert!((v - c(one, 0.0)).norm() < 1e-12, "{estimator:?} GH[{k}]");
+            }
+        }
+        // A singular S_xx: H2 cannot form H and says so.
+        let zero = [c(0.0, 0.0); 4];
+        let singular = LineSums { sxx: &zero, ..sums };
+        assert!(!H2.estimate(&singular, &mut LineWork::new(n)));
+    }
+}

@@ -41,6 +41,7 @@ mod variance;
 
 use faer::{Mat, MatRef, c64};
 
+pub use crate::records::common_shape;
 pub use assignment::Assignment;
 pub use band::Band;
 pub use builder::FrfBuilder;
@@ -48,7 +49,6 @@ pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub use paired::paired_sets;
 pub(crate) use paired::{PairedKernel, Share};
-pub use crate::records::common_shape;
 pub(crate) use statistics::PeriodStatistics;
 
 use crate::error::{Error, Result};

@@ -292,3 +292,83 @@ pub fn paired_sets(
     b.push_all(records)?;
     b.finish(&Assignment::Explicit(excitation.to_vec()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frf::tests::static_records;
+
+    /// The frf path (`H_s · (w/Σw)`) and the stepped-sine path (`H_s / S`) of the one kernel
+    /// give bit for bit the same impedance and condition number when `S` is a power of two,
+    /// and the same to rounding otherwise; and the builder's paired finish is that kernel.
+    #[test]
+    fn frf_and_stepped_shares_of_the_kernel_agree() {
+        let n = 2;
+        let c = |k: usize| c64::new((k as f64 * 0.37).sin() + 2.0, (k as f64 * 0.91).cos());
+        let columns: Vec<(Vec<c64>, Vec<c64>)> = (0..8)
+            .map(|r| {
+                (
+                    (0..n).map(|i| c(r * 7 + i)).collect(),
+                    (0..n)
+                        .map(|i| c(r * 5 + i + 1) * (1.0 + r as f64))
+                        .collect(),
+                )
+            })
+            .collect();
+        let columns = &columns;
+        for sets in 1..=4 {
+            let run = |share: Share| {
+                let mut h = vec![c64::new(0.0, 0.0); n * n];
+                let sets_iter = (0..sets).map(|s| {
+                    let set = (0..n).map(move |j| {
+                        let (f, x) = &columns[s * n + j];
+                        (f.as_slice(), x.as_slice())
+                    });
+                    (set, share)
+                });
+                let worst = PairedKernel::new(n).average(sets_iter, &mut h, |_| {});
+                (h, worst.unwrap())
+            };
+            let (frf, cf) = run(Share::Times(1.0 / sets as f64));
+            let (stepped, cs) = run(Share::Over(sets as f64));
+            assert_eq!(cf.to_bits(), cs.to_bits());
+            for (a, b) in frf.iter().zip(&stepped) {
+                if sets.is_power_of_two() {
+                    assert_eq!(
+                        (a.re.to_bits(), a.im.to_bits()),
+                        (b.re.to_bits(), b.im.to_bits())
+                    );
+                } else {
+                    assert!((a - b).norm() <= 1e-14 * a.norm());
+                }
+            }
+        }
+        // End to end: the builder's paired finish is the kernel on its band-line spectra.
+        let recs = static_records([[2.0, 0.5], [-0.25, 1.0]]);
+        let band = Band::new(1.0, 10.0).unwrap();
+        let frf = paired_sets(&recs, &[0, 1], band, Window::Rectangular).unwrap();
+        let mut b = FrfBuilder::new(
+            Estimator::PairedSets,
+            band,
+            Segmentation::WholeRecord,
+            Window::Rectangular,
+        );
+        b.push_all(&recs).unwrap();
+        let mut kernel = PairedKernel::new(n);
+        for l in 0..frf.line_count() {
+            let mut h = vec![c64::new(0.0, 0.0); n * n];
+            let columns = (0..n).map(|r| b.spectra_at(r, l, n).unwrap());
+            let worst = kernel.average([(columns, Share::Over(1.0))], &mut h, |_| {});
+            assert_eq!(
+                worst.unwrap().to_bits(),
+                frf.condition_numbers()[l].to_bits()
+            );
+            let expect = frf.impedance(l);
+            for j in 0..n {
+                for i in 0..n {
+                    assert_eq!(h[i + j * n], expect[(i, j)]);
+                }
+            }
+        }
+    }
+}

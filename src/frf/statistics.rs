@@ -4,8 +4,8 @@
 
 use faer::{Mat, c64};
 
-use super::builder::{Contribution, FrfBuilder};
 use super::Frf;
+use super::builder::{Contribution, FrfBuilder};
 use crate::error::{Error, Result};
 use crate::spectra::Segmentation;
 
