@@ -3,7 +3,7 @@
 use crate::error::{Error, Result};
 use crate::records::Record;
 
-/// Which excitation (degree of freedom) each record belongs to, for [`Estimator::PairedSets`].
+/// Which excitation (degree of freedom) each record belongs to, for [`Estimator::PairedSets`](super::Estimator::PairedSets).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum Assignment {

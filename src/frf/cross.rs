@@ -213,8 +213,8 @@ mod tests {
         for estimator in [Estimator::H1, Estimator::H2, Estimator::Hv] {
             let mut work = LineWork::new(n);
             assert!(line_estimator(estimator).estimate(&sums, &mut work));
-            for k in 0..4 {
-                assert!((work.g[k] - g[k]).norm() < 1e-12, "{estimator:?} G[{k}]");
+            for (k, (a, b)) in work.g.iter().zip(&g).enumerate() {
+                assert!((a - b).norm() < 1e-12, "{estimator:?} G[{k}]");
             }
             let mut gh = vec![c(0.0, 0.0); 4];
             linalg::mul_into(&work.g, &work.h, &mut gh, n);

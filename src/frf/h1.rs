@@ -23,8 +23,8 @@ impl LineEstimator for H1 {
 /// $G = S_{xf} S_{ff}^{-1}$, $H = G^{-1}$.
 ///
 /// # Errors
-/// Shape errors from [`common_shape`]; [`Error::InvalidParameter`] for a bad Welch segment
-/// length; [`Error::BandAboveNyquist`].
+/// Shape errors from [`common_shape`]; [`Error::InvalidParameter`](crate::Error::InvalidParameter) for a bad Welch segment
+/// length; [`Error::BandAboveNyquist`](crate::Error::BandAboveNyquist).
 pub fn h1(
     records: &[Record],
     band: Band,
