@@ -1,6 +1,6 @@
 //! [`PeriodStatistics`]: the mean spectra of periodic records and the noise covariances of
 //! those means, an output of this stage for the maximum-likelihood fit
-//! ([`solve::ml`](crate::solve::ml) receives them; this stage knows no solver).
+//! (the fit receives them; this stage knows no solver).
 
 use faer::{Mat, c64};
 
