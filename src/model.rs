@@ -239,7 +239,7 @@ impl Coefficients {
         let mut modes: Vec<Mode> = self
             .eigenvalues()?
             .into_iter()
-            .filter(|l| l.im > 1e-9 * l.norm())
+            .filter(|l| l.im > crate::tolerance::OSCILLATORY_ROOT * l.norm())
             .map(|l| Mode {
                 natural_frequency_hz: l.norm() / (2.0 * PI),
                 damped_frequency_hz: l.im / (2.0 * PI),

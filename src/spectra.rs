@@ -36,8 +36,8 @@ pub enum Window {
     /// force and response alike, for lightly damped records that do not decay inside the
     /// record. Windowed data belong to the system $Z(s + a)$: fitted coefficients are
     /// `M_w = M`, `C_w = C + 2aM`, `K_w = K + aC + a²M`, which
-    /// [`Identifier`](crate::Identifier) undoes exactly (see
-    /// [`Fit::corrected_for_window`](crate::solve::Fit::corrected_for_window)). The segment
+    /// [`Identifier`](crate::Identifier) undoes exactly (the fit's `corrected_for_window`,
+    /// a later stage). The segment
     /// mean is **not** removed under this window (a removed constant would turn into a
     /// decaying exponential and leak into every line): remove offsets, e.g. the pre-trigger
     /// mean, before.

@@ -23,12 +23,12 @@
 use std::f64::consts::PI;
 
 use faer::c64;
-use realfft::RealFftPlanner;
 
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Estimator, Frf};
-use crate::linalg;
-use crate::records::{MIN_SAMPLES, Record};
+use crate::frf::{Assignment, Estimator, Frf, PairedKernel, Share};
+use crate::records::{MIN_SAMPLES, Record, finite_positive, require_finite_positive};
+use crate::spectra::{SpectralEstimator, Window};
+use crate::tolerance::{FLAT_SIGNAL, FREQUENCY_STEP};
 
 /// Smallest pivot of the Jacobi-scaled normal equations (a correlation matrix) accepted: below
 /// it (a condition number above about `10⁸`) the sine, cosine and offset are too nearly
@@ -65,7 +65,7 @@ fn symmetrise(a: &mut [f64], k: usize) {
 /// scaled system falls below [`MIN_PIVOT`].
 fn solve_normal(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
     let scale: Vec<f64> = (0..k).map(|i| a[i * k + i].sqrt()).collect();
-    if scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+    if scale.iter().any(|s| !finite_positive(*s)) {
         return false;
     }
     for i in 0..k {
@@ -133,15 +133,7 @@ fn fit_sine(signal: &[f64], w: f64) -> Option<([f64; 3], f64)> {
 }
 
 fn check_rate(sample_rate: f64) -> Result<()> {
-    if sample_rate.is_finite() && sample_rate > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            name: "sample rate",
-            value: sample_rate,
-            expected: "finite and positive (Hz)",
-        })
-    }
+    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")
 }
 
 fn check_signal(signal: &[f64]) -> Result<()> {
@@ -190,7 +182,7 @@ fn check_signal(signal: &[f64]) -> Result<()> {
 pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
     check_rate(sample_rate)?;
     check_signal(signal)?;
-    if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < sample_rate / 2.0) {
+    if !(finite_positive(freq_hz) && freq_hz < sample_rate / 2.0) {
         return Err(Error::InvalidParameter {
             name: "phasor frequency",
             value: freq_hz,
@@ -232,41 +224,61 @@ pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
-    check_rate(sample_rate)?;
-    check_signal(signal)?;
-    let len = signal.len();
-    // Flat: no swing beyond rounding of its level (a constant, or zero).
-    let flat = Error::InvalidParameter {
-        name: "signal",
-        value: 0.0,
-        expected: "a sine drive, not a flat signal",
-    };
-    let (lo, hi) = signal
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
-    if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
-        return Err(flat);
+    DriveFrequency::default().estimate(signal, sample_rate)
+}
+
+/// [`drive_frequency`] for many records: the Hann-windowed FFT ([`SpectralEstimator`]) is
+/// planned once per record length and sampling rate and reused while they stay the same.
+#[derive(Debug, Default)]
+struct DriveFrequency {
+    /// The plan and the sampling rate it was made for.
+    spectral: Option<(f64, SpectralEstimator)>,
+}
+
+impl DriveFrequency {
+    /// As [`drive_frequency`].
+    fn estimate(&mut self, signal: &[f64], sample_rate: f64) -> Result<f64> {
+        check_rate(sample_rate)?;
+        check_signal(signal)?;
+        let len = signal.len();
+        // Flat: no swing beyond rounding of its level (a constant, or zero).
+        let flat = Error::InvalidParameter {
+            name: "signal",
+            value: 0.0,
+            expected: "a sine drive, not a flat signal",
+        };
+        let (lo, hi) = signal
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        if hi - lo <= FLAT_SIGNAL * lo.abs().max(hi.abs()) {
+            return Err(flat);
+        }
+        let planned = self
+            .spectral
+            .as_ref()
+            .is_some_and(|(rate, e)| e.len() == len && rate.to_bits() == sample_rate.to_bits());
+        if !planned {
+            let spectral = SpectralEstimator::new(len, sample_rate, Window::Hann)?;
+            self.spectral = Some((sample_rate, spectral));
+        }
+        let (_, spectral) = self.spectral.as_mut().expect("planned above");
+        // Mean removed, Hann window, one-sided DFT.
+        let power: Vec<f64> = spectral
+            .transform(signal)
+            .iter()
+            .map(|v| v.norm_sqr())
+            .collect();
+        refine(signal, &power, sample_rate).ok_or(flat)
     }
-    let mean = signal.iter().sum::<f64>() / len as f64;
-    let mut input: Vec<f64> = signal
-        .iter()
-        .enumerate()
-        .map(|(m, v)| {
-            let hann = 0.5 - 0.5 * (2.0 * PI * m as f64 / len as f64).cos();
-            (v - mean) * hann
-        })
-        .collect();
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
-    let mut spectrum = fft.make_output_vec();
-    fft.process(&mut input, &mut spectrum)
-        .map_err(|_| Error::InvalidParameter {
-            name: "signal length",
-            value: len as f64,
-            expected: "a length the real FFT accepts",
-        })?;
-    let power: Vec<f64> = spectrum.iter().map(|v| v.norm_sqr()).collect();
+}
+
+/// The frequency (Hz) of the sine in `signal` from its windowed `power` spectrum: the peak
+/// line refined by a parabola through the log powers, then by Gauss–Newton on the sine fit.
+/// `None` for a spectrum with no power.
+fn refine(signal: &[f64], power: &[f64], sample_rate: f64) -> Option<f64> {
+    let len = signal.len();
     let (peak, &top) = power
         .iter()
         .enumerate()
@@ -274,7 +286,7 @@ pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
         .max_by(|a, b| a.1.total_cmp(b.1))
         .unwrap_or((0, &0.0));
     if top <= 0.0 {
-        return Err(flat);
+        return None;
     }
     // Parabola through the log powers of the peak and its neighbours.
     let mut line = peak as f64;
@@ -288,7 +300,7 @@ pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
     let nyquist_w = PI;
     let mut w = 2.0 * PI * line / len as f64;
     let Some((mut coef, mut rss)) = fit_sine(signal, w) else {
-        return Ok(w * sample_rate / (2.0 * PI));
+        return Some(w * sample_rate / (2.0 * PI));
     };
     for _ in 0..NEWTON_STEPS {
         // Gauss–Newton on (a, b, d, w): Jacobian columns cos, sin, 1, m(−a sin + b cos).
@@ -319,11 +331,11 @@ pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
             }
             step *= 0.5;
         }
-        if !accepted || step.abs() <= 1e-15 * w {
+        if !accepted || step.abs() <= FREQUENCY_STEP * w {
             break;
         }
     }
-    Ok(w * sample_rate / (2.0 * PI))
+    Some(w * sample_rate / (2.0 * PI))
 }
 
 /// Impedances and flexibilities at the drive frequencies of a stepped-sine test.
@@ -406,11 +418,12 @@ pub fn stepped_sine(
         forces: Vec<c64>,
         displacements: Vec<c64>,
     }
+    let mut finder = DriveFrequency::default();
     let phasors: Vec<Phasors> = records
         .iter()
         .map(|r| {
             let fs = r.sample_rate();
-            let freq_hz = drive_frequency(r.force(r.dominant_force()), fs)?;
+            let freq_hz = finder.estimate(r.force(r.dominant_force()), fs)?;
             let at = |x: &[f64]| phasor(x, freq_hz, fs);
             Ok(Phasors {
                 freq_hz,
@@ -439,11 +452,7 @@ pub fn stepped_sine(
         }
     }
 
-    let nn = n * n;
-    let zero = c64::new(0.0, 0.0);
-    let (mut x, mut f, mut hs) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
-    let (mut scratch, mut sigma) = (vec![zero; nn], vec![0.0; n]);
-    let mut inverter = linalg::Inverter::new(n);
+    let mut kernel = PairedKernel::new(n);
     let mut lines: Vec<(f64, Option<Vec<c64>>, f64)> = Vec::with_capacity(steps.len());
     let mut unpaired = Vec::new();
     let mut averages = usize::MAX;
@@ -468,31 +477,20 @@ pub fn stepped_sine(
                 .iter()
                 .flat_map(|d| d[sets..].iter().map(|&r| records[r].label().to_owned())),
         );
-        let mut h = vec![zero; nn];
-        let mut worst = 0.0_f64;
-        let mut singular = false;
-        for s in 0..sets {
-            for (j, dir) in by_direction.iter().enumerate() {
+        let mut h = vec![c64::new(0.0, 0.0); n * n];
+        let by_direction = &by_direction;
+        let phasors = &phasors;
+        let set_columns = (0..sets).map(|s| {
+            let columns = by_direction.iter().map(move |dir| {
                 let p = &phasors[dir[s]];
-                x[j * n..(j + 1) * n].copy_from_slice(&p.displacements);
-                f[j * n..(j + 1) * n].copy_from_slice(&p.forces);
-            }
-            worst = worst.max(linalg::condition_number_with(
-                &x,
-                n,
-                &mut scratch,
-                &mut sigma,
-            ));
-            if !inverter.invert(&mut x) {
-                singular = true;
-                break;
-            }
-            linalg::mul_into(&f, &x, &mut hs, n);
-            for (a, b) in h.iter_mut().zip(&hs) {
-                *a += b / sets as f64;
-            }
+                (p.forces.as_slice(), p.displacements.as_slice())
+            });
+            (columns, Share::Over(sets as f64))
+        });
+        match kernel.average(set_columns, &mut h, |_| {}) {
+            Some(worst) => lines.push((freq_hz, Some(h), worst)),
+            None => lines.push((freq_hz, None, 0.0)),
         }
-        lines.push((freq_hz, (!singular).then_some(h), worst));
     }
     Ok(Frf::from_impedance_lines(
         n,

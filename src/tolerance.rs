@@ -6,6 +6,41 @@
 // Records, time grids, bands and spectra (records, spectra, frf, stepped, conditioning, solve).
 // ---------------------------------------------------------------------------------------------
 
+/// How far a sample's time may sit from its place on a uniform grid, as a fraction of one
+/// sampling step: the CSV reader ([`io`](crate::io), feature `csv`) accepts a time column whose
+/// every sample is within this tolerance of the grid through its first and last time, and the
+/// same tolerance decides when two records' sampling rates agree
+/// ([`sample_rates_agree`](crate::records::sample_rates_agree)).
+///
+/// Why 1 %: data loggers stamp samples from one clock, so real jitter is far smaller; a
+/// column off by more is not uniformly sampled (dropped or repeated samples). Over a record
+/// the tolerance moves the highest band line by at most about 2 % of a line spacing, which the
+/// spectra do not notice.
+pub const TIME_GRID_TOLERANCE: f64 = 0.01;
+
+/// Relative slack added to the agreement of two sampling rates for the rounding of
+/// `(N − 1)/(t_{N−1} − t_0)` ([`sample_rates_agree`](crate::records::sample_rates_agree)).
+pub const RATE_ROUNDING: f64 = 1e-12;
+
+/// A DFT line within this fraction of the line spacing of a band edge counts as inside
+/// ([`Band::lines`](crate::frf::Band::lines)): edges typed in Hz rarely fall exactly on
+/// `k · f_s / N` in floating point, and a line `10⁻⁶` of a spacing away is the edge.
+pub const BAND_EDGE_SLACK: f64 = 1e-6;
+
+/// A signal whose swing `max − min` is at most this fraction of its largest magnitude is flat
+/// (a constant, or zero, up to rounding of its level) for
+/// [`drive_frequency`](crate::stepped::drive_frequency).
+pub const FLAT_SIGNAL: f64 = 1e-12;
+
+/// A Gauss–Newton frequency step of [`drive_frequency`](crate::stepped::drive_frequency)
+/// below this fraction of the frequency is rounding: the refinement stops.
+pub const FREQUENCY_STEP: f64 = 1e-15;
+
+/// An eigenvalue `λ` of the state matrix is an oscillatory root when `Im λ > 10⁻⁹ |λ|`
+/// ([`Coefficients::modes`](crate::model::Coefficients::modes)): real roots come out of the
+/// eigensolver with an imaginary part at rounding level, far below this.
+pub const OSCILLATORY_ROOT: f64 = 1e-9;
+
 // ---------------------------------------------------------------------------------------------
 // Identification, screening, gates and quality checks (identify, screening, gate, quality).
 // ---------------------------------------------------------------------------------------------

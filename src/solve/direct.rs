@@ -37,7 +37,7 @@ fn r_squared(data: &[f64], fitted: impl Fn(usize) -> f64) -> f64 {
 
 pub(super) fn fit(frf: &Frf) -> Result<Fit> {
     let n = frf.dofs();
-    let lines = frf.lines();
+    let lines = frf.line_count();
     check_lines(frf)?;
     let w: Vec<f64> = frf
         .freqs_hz()

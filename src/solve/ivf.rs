@@ -7,7 +7,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, c64};
 
 use super::system::Stacked;
-use super::{Convergence, Fit, Method, finish, ls};
+use super::{Convergence, Fit, Method, block_change, finish, ls};
 use crate::error::{Error, Result};
 use crate::frf::Frf;
 use crate::linalg::Inverter;
@@ -79,19 +79,12 @@ impl Iteration {
     }
 }
 
-fn block_change(new: MatRef<'_, f64>, old: MatRef<'_, f64>, block: usize, n: usize) -> f64 {
-    let (mut diff, mut norm) = (0.0, 0.0);
-    for j in 0..n {
-        for i in block * n..(block + 1) * n {
-            diff += (new[(i, j)] - old[(i, j)]).powi(2);
-            norm += new[(i, j)].powi(2);
-        }
-    }
-    if norm > 0.0 {
-        (diff / norm).sqrt()
-    } else {
-        diff.sqrt()
-    }
+/// [`block_change`] of block `block` (0: `M`, 1: `C`, 2: `K`) of the stacked `3n × n` `Θ`,
+/// column by column.
+fn stacked_change(new: MatRef<'_, f64>, old: MatRef<'_, f64>, block: usize, n: usize) -> f64 {
+    block_change(
+        (0..n).flat_map(|j| (block * n..(block + 1) * n).map(move |i| (new[(i, j)], old[(i, j)]))),
+    )
 }
 
 /// The IVF iteration as a value: built once from an [`Frf`] (the least-squares start, the
@@ -237,9 +230,9 @@ impl IvfSolver {
         }
         let n = sys.n;
         let step = Iteration {
-            mass_change: block_change(self.next.as_ref(), self.theta.as_ref(), 0, n),
-            damping_change: block_change(self.next.as_ref(), self.theta.as_ref(), 1, n),
-            stiffness_change: block_change(self.next.as_ref(), self.theta.as_ref(), 2, n),
+            mass_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 0, n),
+            damping_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 1, n),
+            stiffness_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 2, n),
             residual_norm: sys.residual_norm_into(
                 self.next.as_ref(),
                 self.theta_s.as_mut(),

@@ -30,9 +30,12 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, c64};
 
+use super::{block_change, std_from};
 use crate::error::{Error, Result};
+use crate::frf::{Frf, FrfBuilder, PeriodStatistics};
 use crate::linalg::Inverter;
 use crate::model::Coefficients;
+use crate::records::finite_positive;
 
 /// Mean spectra and their noise covariances per line: what the maximum-likelihood fit and the
 /// Cramér–Rao bound need. Build with [`MlData::new`] (your own), [`MlData::planned`] (for test
@@ -101,7 +104,7 @@ impl MlData {
         };
         for k in 0..lines {
             let w = data.freqs_hz[k];
-            if !(w.is_finite() && w > 0.0) {
+            if !finite_positive(w) {
                 return Err(bad("frequency", w, "finite and positive (Hz)"));
             }
             let shapes_ok = [&x[k], &f[k]]
@@ -391,11 +394,34 @@ fn column_covariances(fisher: &Mat<f64>, n: usize) -> Option<Vec<Mat<f64>>> {
     )
 }
 
-/// Standard deviations from per-column covariances.
-fn std_dev(cov: &[Mat<f64>]) -> Result<Coefficients> {
-    let n = cov.len();
-    let stacked = Mat::from_fn(3 * n, n, |r, b| cov[b][(r, r)].max(0.0).sqrt());
-    Coefficients::from_stacked(stacked.as_ref())
+impl MlData {
+    /// From the per-period statistics of periodic records, the frf stage's output
+    /// ([`FrfBuilder`]).
+    ///
+    /// # Errors
+    /// As [`MlData::new`].
+    pub(crate) fn from_statistics(statistics: PeriodStatistics) -> Result<Self> {
+        let PeriodStatistics {
+            freqs_hz,
+            x,
+            f,
+            cx,
+            cf,
+            cxf,
+        } = statistics;
+        Self::new(freqs_hz, &x, &f, &cx, &cf, &cxf)
+    }
+}
+
+impl FrfBuilder {
+    /// [`MlData`] from the records pushed, on the lines of `frf`: the builder's period
+    /// statistics handed to this solver (the estimator stage itself knows no solver).
+    ///
+    /// # Errors
+    /// As [`MlData::new`]; [`Error::MlNeedsRepeats`] without repeated periods.
+    pub(crate) fn ml_data(&self, frf: &Frf) -> Result<MlData> {
+        MlData::from_statistics(self.period_statistics(frf)?)
+    }
 }
 
 /// The Cramér–Rao lower bound on the standard deviations of every coefficient of `system`
@@ -454,7 +480,7 @@ pub fn crlb(system: &Coefficients, data: &MlData) -> Result<Coefficients> {
     let cov = column_covariances(&eval.fisher, n).ok_or(Error::Singular {
         what: "Fisher information",
     })?;
-    std_dev(&cov)
+    std_from(&cov)
 }
 
 /// The outcome of [`fit`].
@@ -538,7 +564,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         let trial: Vec<f64> = (0..p).map(|i| theta[i] + step[(i, 0)]).collect();
         match evaluate(data, &trial, None) {
             Some(next) if next.cost <= current.cost => {
-                let change = block_change(&trial, &theta, n);
+                let change = largest_change(&trial, &theta, n);
                 theta = trial;
                 current = next;
                 lambda = (lambda / 10.0).max(1e-12);
@@ -580,19 +606,13 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
     })
 }
 
-/// Largest block-wise relative change `‖ΔB‖/‖B‖` over `M`, `C`, `K`.
-fn block_change(new: &[f64], old: &[f64], n: usize) -> f64 {
+/// Largest [`block_change`] over `M`, `C`, `K` of the parameters `t·n² + a·n + b`.
+fn largest_change(new: &[f64], old: &[f64], n: usize) -> f64 {
     let nn = n * n;
     (0..3)
         .map(|t| {
             let r = t * nn..(t + 1) * nn;
-            let d: f64 = new[r.clone()]
-                .iter()
-                .zip(&old[r.clone()])
-                .map(|(a, b)| (a - b).powi(2))
-                .sum();
-            let s: f64 = new[r].iter().map(|a| a * a).sum();
-            (d / s.max(f64::MIN_POSITIVE)).sqrt()
+            block_change(new[r.clone()].iter().copied().zip(old[r].iter().copied()))
         })
         .fold(0.0, f64::max)
 }

@@ -60,6 +60,36 @@ impl Method {
     }
 }
 
+impl std::str::FromStr for Method {
+    type Err = crate::Error;
+
+    /// Parses the [`Method::name`]: `"direct"`, `"ls"`, `"ivf"` or `"ml"` (the command-line
+    /// tool's `--method` values).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Method;
+    /// assert_eq!("ls".parse::<Method>()?, Method::LeastSquares);
+    /// assert!("newton".parse::<Method>().is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn from_str(s: &str) -> Result<Self> {
+        [
+            Method::Direct,
+            Method::LeastSquares,
+            Method::Ivf,
+            Method::Ml,
+        ]
+        .into_iter()
+        .find(|m| m.name() == s)
+        .ok_or(crate::Error::InvalidParameter {
+            name: "method",
+            value: f64::NAN,
+            expected: "one of direct, ls, ivf, ml",
+        })
+    }
+}
+
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -135,6 +165,22 @@ pub struct Fit {
     std_dev: Option<Coefficients>,
     covariance: Option<Vec<Mat<f64>>>,
     direct: Option<DirectFit>,
+}
+
+/// Relative change `‖new − old‖ / ‖new‖` (Frobenius) of one block of `Θ` given as its
+/// `(new, old)` pairs, summed in the order given; the absolute change `‖new − old‖` when the
+/// new block is zero. The one convergence measure of the iterative fits (IVF, ML).
+fn block_change(pairs: impl IntoIterator<Item = (f64, f64)>) -> f64 {
+    let (mut diff, mut norm) = (0.0, 0.0);
+    for (new, old) in pairs {
+        diff += (new - old).powi(2);
+        norm += new.powi(2);
+    }
+    if norm > 0.0 {
+        (diff / norm).sqrt()
+    } else {
+        diff.sqrt()
+    }
 }
 
 /// Standard deviations (square roots of the diagonals) of per-column covariances of `Θ`.
@@ -480,5 +526,28 @@ mod tests {
         assert!(!d.is_converged());
         assert_eq!(d.iterations(), 5);
         assert_eq!(Method::LeastSquares.to_string(), "ls");
+    }
+
+    #[test]
+    fn method_names_round_trip() {
+        for m in [
+            Method::Direct,
+            Method::LeastSquares,
+            Method::Ivf,
+            Method::Ml,
+        ] {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+        }
+        assert!(matches!(
+            "LS".parse::<Method>(),
+            Err(crate::Error::InvalidParameter { name: "method", .. })
+        ));
+    }
+
+    #[test]
+    fn block_change_is_relative_and_absolute_at_zero() {
+        assert!((block_change([(3.0, 0.0), (4.0, 0.0)]) - 1.0).abs() < 1e-15);
+        assert!((block_change([(2.0, 1.0)]) - 0.5).abs() < 1e-15);
+        assert!((block_change([(0.0, 3.0), (0.0, 4.0)]) - 5.0).abs() < 1e-15);
     }
 }

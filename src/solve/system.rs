@@ -44,7 +44,7 @@ pub(super) fn fill_line(mut dst: MatMut<'_, f64>, g: &[c64], w: f64, n: usize, s
 
 /// [`Error::TooFewLines`] unless `frf` holds [`required_lines`] lines.
 pub(super) fn check_lines(frf: &Frf) -> Result<()> {
-    let (n, lines) = (frf.dofs(), frf.lines());
+    let (n, lines) = (frf.dofs(), frf.line_count());
     if lines >= required_lines(n) {
         return Ok(());
     }
@@ -59,7 +59,7 @@ impl Stacked {
     pub fn new(frf: &Frf, method: &'static str) -> Result<Self> {
         check_lines(frf)?;
         let n = frf.dofs();
-        let lines = frf.lines();
+        let lines = frf.line_count();
         let omegas: Vec<f64> = frf
             .freqs_hz()
             .iter()

@@ -1,0 +1,572 @@
+//! [`FrfBuilder`]: records in one at a time, each turned at once into what its estimator needs
+//! (band-line spectra for paired sets, per-record cross-spectral sums otherwise) and merged into
+//! running totals. The finishes live beside their estimators ([`paired`](super::paired),
+//! [`cross`](super::cross)).
+
+use faer::c64;
+
+use super::{Assignment, Band, Estimator, Frf};
+use crate::error::{Channel, Error, Result};
+use crate::records::{Record, check_against, common_shape};
+use crate::spectra::{ForceGate, Segmentation, SpectralEstimator, Window};
+
+/// What one record contributes to an estimator, computed independently of the others (so that
+/// records can be transformed in parallel and merged in order, bit for bit the same).
+#[derive(Debug, Clone)]
+pub(super) enum Contribution {
+    /// Band-line spectra `[line][channel]` for paired sets.
+    Spectra {
+        forces: Vec<c64>,
+        displacements: Vec<c64>,
+    },
+    /// This record's sums over its segments of `F Fᴴ`, `X Fᴴ` and `X Xᴴ`, `[line][n × n]`,
+    /// and of `F` and `X`, `[line][n]` (the first moments maximum likelihood needs).
+    Cross {
+        sff: Vec<c64>,
+        sxf: Vec<c64>,
+        sxx: Vec<c64>,
+        sf: Vec<c64>,
+        sx: Vec<c64>,
+    },
+}
+
+/// Everything an [`FrfBuilder`] has gathered from one record.
+#[derive(Debug, Clone)]
+pub(super) struct Gathered {
+    pub(super) label: String,
+    pub(super) dominant: usize,
+    pub(super) contribution: Contribution,
+}
+
+/// The fixed settings of a builder once the first record has fixed the shape.
+#[derive(Debug, Clone)]
+pub(super) struct Plan {
+    pub(super) n: usize,
+    pub(super) sample_rate: f64,
+    pub(super) len: usize,
+    pub(super) seg_len: usize,
+    pub(super) lines: Vec<usize>,
+    pub(super) resolution_hz: f64,
+}
+
+/// Collects records one at a time into what an estimator needs — band-line spectra for paired
+/// sets, accumulated cross-spectra for H1 — and keeps no time data, so memory does not grow with
+/// record length and, for H1, not with the number of records either.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::frf::{Assignment, Band, Estimator, FrfBuilder};
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// use bearing_ident::spectra::{Segmentation, Window};
+/// let records = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+/// let mut builder = FrfBuilder::new(
+///     Estimator::PairedSets, Band::new(8.0, 49.0)?, Segmentation::WholeRecord, Window::Rectangular);
+/// for r in &records {
+///     builder.push(r)?; // each record may be dropped after this
+/// }
+/// let frf = builder.finish(&Assignment::DominantForce)?;
+/// assert_eq!(frf.lines(), 49);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct FrfBuilder {
+    pub(super) estimator: Estimator,
+    pub(super) band: Band,
+    pub(super) segmentation: Segmentation,
+    pub(super) window: Window,
+    pub(super) dofs: Option<usize>,
+    pub(super) force_gate: Option<ForceGate>,
+    pub(super) plan: Option<(Plan, SpectralEstimator)>,
+    pub(super) gathered: Vec<Gathered>,
+    /// Cross-spectral totals, merged record by record.
+    pub(super) sff: Vec<c64>,
+    pub(super) sxf: Vec<c64>,
+    pub(super) sxx: Vec<c64>,
+    pub(super) averages: usize,
+    /// Keep each H1 record's own sums too (for leave-one-out replicates).
+    pub(super) keep_partials: bool,
+    /// The first record with every force or every displacement channel flat.
+    pub(super) dead: Option<Error>,
+}
+
+impl FrfBuilder {
+    /// A builder for `estimator` over `band`. Paired sets always use whole records.
+    pub fn new(
+        estimator: Estimator,
+        band: Band,
+        segmentation: Segmentation,
+        window: Window,
+    ) -> Self {
+        let segmentation = match estimator {
+            Estimator::PairedSets => Segmentation::WholeRecord,
+            _ => segmentation,
+        };
+        Self {
+            estimator,
+            band,
+            segmentation,
+            window,
+            dofs: None,
+            force_gate: None,
+            plan: None,
+            gathered: Vec::new(),
+            sff: Vec::new(),
+            sxf: Vec::new(),
+            sxx: Vec::new(),
+            averages: 0,
+            keep_partials: false,
+            dead: None,
+        }
+    }
+
+    /// Requires every record to have `n` degrees of freedom (default: the first record's).
+    pub fn dofs(mut self, n: usize) -> Self {
+        self.dofs = Some(n);
+        self
+    }
+
+    /// Gates every force channel with `gate` ([`ForceGate`]) before its transform.
+    pub fn force_gate(mut self, gate: ForceGate) -> Self {
+        self.force_gate = Some(gate);
+        self
+    }
+
+    /// Keeps every H1 record's own cross-spectra as well as the totals, so that
+    /// [`FrfBuilder::finish_leaving_out`] can drop one (memory then grows with the records).
+    pub(crate) fn keeping_partials(mut self) -> Self {
+        self.keep_partials = true;
+        self
+    }
+
+    /// Number of leave-one-out replicates: paired sets (paired), records (H1, which needs
+    /// [`FrfBuilder::keeping_partials`]; 0 without).
+    pub(crate) fn replicates(&self, assignment: &Assignment) -> Result<usize> {
+        match self.estimator {
+            Estimator::PairedSets => {
+                let n = self.plan.as_ref().map_or(0, |(p, _)| p.n);
+                let excitation = self.excitations(assignment)?;
+                Ok((0..n)
+                    .map(|d| excitation.iter().filter(|&&e| e == d).count())
+                    .min()
+                    .unwrap_or(0))
+            }
+            _ if self.keep_partials => Ok(self.gathered.len()),
+            _ => Ok(0),
+        }
+    }
+
+    /// [`FrfBuilder::finish`] with replicate `r` (paired set `r`, or record `r` of a
+    /// cross-spectral estimator, which needs [`FrfBuilder::keeping_partials`]) counted
+    /// `weights[r]` times: 0 leaves it out (jackknife), bootstrap counts resample. No error
+    /// bars are computed for weighted finishes.
+    pub(crate) fn finish_weighted(&self, assignment: &Assignment, weights: &[f64]) -> Result<Frf> {
+        let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
+        if self.estimator == Estimator::PairedSets {
+            self.finish_paired(plan, &self.excitations(assignment)?, Some(weights))
+        } else {
+            Ok(self.finish_cross(plan, Some(weights)))
+        }
+    }
+
+    /// Number of records pushed.
+    pub fn records(&self) -> usize {
+        self.gathered.len()
+    }
+
+    /// Label of record `index` (push order).
+    pub(crate) fn label(&self, index: usize) -> &str {
+        &self.gathered[index].label
+    }
+
+    /// Whether every record pushed can be taken out again by [`FrfBuilder::remove`]: always
+    /// for paired sets (each record's spectra are kept), for cross-spectral estimators only
+    /// with [`FrfBuilder::keeping_partials`].
+    pub(crate) fn can_remove(&self) -> bool {
+        !self.estimator.is_cross_spectral() || self.keep_partials
+    }
+
+    /// Takes the records at `indices` (push order) back out, as if they had never been pushed:
+    /// cross-spectral totals are summed again from the remaining records' partials, in order,
+    /// so the result is bit for bit that of pushing only the others. Does nothing unless
+    /// [`FrfBuilder::can_remove`].
+    pub(crate) fn remove(&mut self, indices: &[usize]) {
+        if !self.can_remove() || indices.is_empty() {
+            return;
+        }
+        let mut index = 0;
+        self.gathered.retain(|_| {
+            index += 1;
+            !indices.contains(&(index - 1))
+        });
+        if !self.estimator.is_cross_spectral() {
+            self.averages = self.gathered.len();
+            return;
+        }
+        let Some((plan, _)) = self.plan.as_ref() else {
+            return;
+        };
+        let segments = self.segmentation.starts(plan.len).count();
+        let zero = c64::new(0.0, 0.0);
+        for totals in [&mut self.sff, &mut self.sxf, &mut self.sxx] {
+            totals.fill(zero);
+        }
+        for g in &self.gathered {
+            if let Contribution::Cross { sff, sxf, sxx, .. } = &g.contribution {
+                for (totals, part) in [
+                    (&mut self.sff, sff),
+                    (&mut self.sxf, sxf),
+                    (&mut self.sxx, sxx),
+                ] {
+                    totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
+                }
+            }
+        }
+        self.averages = segments * self.gathered.len();
+    }
+
+    /// Checks `record` against the first one and fixes the plan on the first call.
+    fn check(&mut self, record: &Record) -> Result<()> {
+        match &self.plan {
+            None => {
+                let n = self.dofs.unwrap_or(record.dofs());
+                common_shape(std::slice::from_ref(record), Some(n))?;
+                let seg_len = self.segmentation.segment_len(record.len())?;
+                let lines = self.band.lines(record.sample_rate(), seg_len)?;
+                let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window)?;
+                let plan = Plan {
+                    n,
+                    sample_rate: record.sample_rate(),
+                    len: record.len(),
+                    seg_len,
+                    resolution_hz: spectral.resolution_hz(),
+                    lines,
+                };
+                let size = plan.lines.len() * n * n;
+                if self.estimator.is_cross_spectral() {
+                    self.sff = vec![c64::new(0.0, 0.0); size];
+                    self.sxf = vec![c64::new(0.0, 0.0); size];
+                    self.sxx = vec![c64::new(0.0, 0.0); size];
+                }
+                let spectral = match self.force_gate {
+                    Some(gate) => spectral.with_force_gate(gate),
+                    None => spectral,
+                };
+                self.plan = Some((plan, spectral));
+                Ok(())
+            }
+            Some((plan, _)) => check_against(record, plan.n, plan.sample_rate, plan.len),
+        }
+    }
+
+    /// Adds one record.
+    ///
+    /// # Errors
+    /// [`Error::DofMismatch`], [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`]
+    /// against the first record (rates compared by
+    /// [`sample_rates_agree`](crate::records::sample_rates_agree)); on the first record,
+    /// [`Error::BandAboveNyquist`] and [`Error::InvalidParameter`] for a bad Welch segment
+    /// length; [`Error::SpectrumOverflow`] naming the record, channel and line when its
+    /// spectra or cross-spectra (or the running totals) overflow.
+    pub fn push(&mut self, record: &Record) -> Result<()> {
+        self.check(record)?;
+        let (plan, spectral) = self.plan.as_mut().expect("set by check");
+        let contribution = contribute(self.estimator, self.segmentation, plan, spectral, record)?;
+        self.merge(record, contribution)
+    }
+
+    /// Adds every record of a slice. With the `rayon` feature the records are transformed in
+    /// parallel and merged in order: the result is bit for bit that of [`FrfBuilder::push`] in
+    /// a loop.
+    ///
+    /// # Errors
+    /// As [`FrfBuilder::push`], for the first record that fails.
+    pub fn push_all(&mut self, records: &[Record]) -> Result<()> {
+        let Some(first) = records.first() else {
+            return Ok(());
+        };
+        self.check(first)?;
+        for r in &records[1..] {
+            self.check(r)?;
+        }
+        let (plan, spectral) = self.plan.as_mut().expect("set by check");
+        let (estimator, segmentation) = (self.estimator, self.segmentation);
+        #[cfg(feature = "rayon")]
+        let contributions: Vec<Result<Contribution>> = {
+            use rayon::prelude::*;
+            let (plan, spectral) = (&*plan, &*spectral);
+            records
+                .par_iter()
+                .map_init(
+                    || spectral.clone(),
+                    |est, r| contribute(estimator, segmentation, plan, est, r),
+                )
+                .collect()
+        };
+        #[cfg(not(feature = "rayon"))]
+        let contributions: Vec<Result<Contribution>> = records
+            .iter()
+            .map(|r| contribute(estimator, segmentation, plan, spectral, r))
+            .collect();
+        for (r, c) in records.iter().zip(contributions) {
+            self.merge(r, c?)?;
+        }
+        Ok(())
+    }
+
+    /// Adds `contribution` to what was gathered.
+    ///
+    /// # Errors
+    /// [`Error::SpectrumOverflow`] when the accumulated cross-spectra overflow with this
+    /// record; [`Error::DeadChannel`] is only noted here (see [`FrfBuilder::finish`]).
+    fn merge(&mut self, record: &Record, contribution: Contribution) -> Result<()> {
+        if self.dead.is_none() {
+            self.dead = dead_channel(record);
+        }
+        let contribution = match contribution {
+            Contribution::Cross {
+                sff,
+                sxf,
+                sxx,
+                sf,
+                sx,
+            } => {
+                for (totals, part) in [
+                    (&mut self.sff, &sff),
+                    (&mut self.sxf, &sxf),
+                    (&mut self.sxx, &sxx),
+                ] {
+                    totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
+                }
+                if let Some((plan, _)) = &self.plan {
+                    let nn = plan.n * plan.n;
+                    for (totals, channel) in [
+                        (&self.sff, Channel::Force as fn(usize) -> Channel),
+                        (&self.sxf, Channel::Displacement),
+                        (&self.sxx, Channel::Displacement),
+                    ] {
+                        overflow_check(
+                            record,
+                            plan,
+                            "accumulated cross-spectrum",
+                            totals,
+                            nn,
+                            channel,
+                        )?;
+                    }
+                }
+                self.averages += self.segmentation.starts(record.len()).count();
+                if self.keep_partials {
+                    Contribution::Cross {
+                        sff,
+                        sxf,
+                        sxx,
+                        sf,
+                        sx,
+                    }
+                } else {
+                    // Only the totals are kept.
+                    Contribution::Cross {
+                        sff: Vec::new(),
+                        sxf: Vec::new(),
+                        sxx: Vec::new(),
+                        sf: Vec::new(),
+                        sx: Vec::new(),
+                    }
+                }
+            }
+            spectra => {
+                self.averages += 1;
+                spectra
+            }
+        };
+        self.gathered.push(Gathered {
+            label: record.label().to_owned(),
+            dominant: record.dominant_force(),
+            contribution,
+        });
+        Ok(())
+    }
+
+    /// The first record pushed whose force channels, or whose displacement channels, are all
+    /// flat (constant over the whole record), as [`Error::DeadChannel`]: the true cause when
+    /// an identification cannot go on (rank-deficient excitations or a singular fit).
+    pub fn dead_channel(&self) -> Option<Error> {
+        self.dead.clone()
+    }
+
+    /// The excitation of every record pushed, by `assignment`.
+    ///
+    /// # Errors
+    /// As [`Assignment::resolve`].
+    pub fn excitations(&self, assignment: &Assignment) -> Result<Vec<usize>> {
+        let n = self.plan.as_ref().map_or(0, |(p, _)| p.n);
+        let labels: Vec<&str> = self.gathered.iter().map(|g| g.label.as_str()).collect();
+        let dominant: Vec<usize> = self.gathered.iter().map(|g| g.dominant).collect();
+        assignment.resolve_with(&labels, &dominant, n)
+    }
+
+    /// Impedances and flexibilities from everything pushed.
+    ///
+    /// # Errors
+    /// [`Error::NoRecords`] if nothing was pushed; for paired sets, the assignment errors and
+    /// [`Error::RankDeficient`] when some direction has no record;
+    /// [`Error::NonFiniteResult`] at the first line whose impedance, flexibility or coherence
+    /// is not finite. (A record with all its forces or displacements flat is kept aside as
+    /// [`FrfBuilder::dead_channel`] for the caller to report.)
+    pub fn finish(&self, assignment: &Assignment) -> Result<Frf> {
+        let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
+        let frf = if self.estimator == Estimator::PairedSets {
+            self.finish_paired(plan, &self.excitations(assignment)?, None)?
+        } else {
+            self.finish_cross(plan, None)
+        };
+        frf.check_finite()?;
+        Ok(frf)
+    }
+}
+
+/// One record's contribution: its band-line spectra (paired) or its segment sums (H1).
+fn contribute(
+    estimator: Estimator,
+    segmentation: Segmentation,
+    plan: &Plan,
+    spectral: &mut SpectralEstimator,
+    record: &Record,
+) -> Result<Contribution> {
+    let (n, lines) = (plan.n, &plan.lines);
+    let zero = c64::new(0.0, 0.0);
+    let mut forces = vec![zero; lines.len() * n];
+    let mut displacements = vec![zero; lines.len() * n];
+    let mut transform = |start: usize, forces: &mut [c64], displacements: &mut [c64]| {
+        let seg = start..start + plan.seg_len;
+        for c in 0..n {
+            let spec = spectral.transform_force(&record.force(c)[seg.clone()]);
+            for (l, &k) in lines.iter().enumerate() {
+                forces[l * n + c] = spec[k];
+            }
+            let spec = spectral.transform(&record.displacement(c)[seg.clone()]);
+            for (l, &k) in lines.iter().enumerate() {
+                displacements[l * n + c] = spec[k];
+            }
+        }
+        for (values, channel) in [
+            (&*forces, Channel::Force as fn(usize) -> Channel),
+            (&*displacements, Channel::Displacement),
+        ] {
+            overflow_check(record, plan, "spectrum", values, n, channel)?;
+        }
+        Ok::<(), Error>(())
+    };
+    match estimator {
+        Estimator::PairedSets => {
+            transform(0, &mut forces, &mut displacements)?;
+            Ok(Contribution::Spectra {
+                forces,
+                displacements,
+            })
+        }
+        _ => {
+            let nn = n * n;
+            let mut sff = vec![zero; lines.len() * nn];
+            let mut sxf = vec![zero; lines.len() * nn];
+            let mut sxx = vec![zero; lines.len() * nn];
+            let mut sf = vec![zero; lines.len() * n];
+            let mut sx = vec![zero; lines.len() * n];
+            for start in segmentation.starts(record.len()) {
+                transform(start, &mut forces, &mut displacements)?;
+                for (t, v) in sf.iter_mut().zip(&forces) {
+                    *t += v;
+                }
+                for (t, v) in sx.iter_mut().zip(&displacements) {
+                    *t += v;
+                }
+                for l in 0..lines.len() {
+                    let (fl, xl) = (
+                        &forces[l * n..(l + 1) * n],
+                        &displacements[l * n..(l + 1) * n],
+                    );
+                    let (sf, sx, ss) = (
+                        &mut sff[l * nn..(l + 1) * nn],
+                        &mut sxf[l * nn..(l + 1) * nn],
+                        &mut sxx[l * nn..(l + 1) * nn],
+                    );
+                    for j in 0..n {
+                        let (fj, xj) = (fl[j].conj(), xl[j].conj());
+                        for i in 0..n {
+                            sf[i + j * n] += fl[i] * fj;
+                            sx[i + j * n] += xl[i] * fj;
+                            ss[i + j * n] += xl[i] * xj;
+                        }
+                    }
+                }
+            }
+            for (values, channel) in [
+                (&sff, Channel::Force as fn(usize) -> Channel),
+                (&sxf, Channel::Displacement),
+                (&sxx, Channel::Displacement),
+            ] {
+                overflow_check(record, plan, "cross-spectrum", values, nn, channel)?;
+            }
+            Ok(Contribution::Cross {
+                sff,
+                sxf,
+                sxx,
+                sf,
+                sx,
+            })
+        }
+    }
+}
+
+/// [`Error::DeadChannel`] if every force channel, or every displacement channel, of `record`
+/// is constant over the whole record.
+fn dead_channel(record: &Record) -> Option<Error> {
+    let flat = |v: &[f64]| v.iter().all(|x| (x - v[0]).abs() <= 0.0);
+    let n = record.dofs();
+    let forces = (0..n).all(|c| flat(record.force(c)));
+    let displacements = (0..n).all(|c| flat(record.displacement(c)));
+    let channel = match (forces, displacements) {
+        (true, _) => Channel::Force(0),
+        (false, true) => Channel::Displacement(0),
+        (false, false) => return None,
+    };
+    let value = match channel {
+        Channel::Force(c) => record.force(c)[0],
+        Channel::Displacement(c) => record.displacement(c)[0],
+    };
+    Some(Error::DeadChannel {
+        record: record.label().to_owned(),
+        channel,
+        value,
+    })
+}
+
+/// [`Error::SpectrumOverflow`] at the first non-finite value of `values` (`[line][stride]`;
+/// within a line, value `v` belongs to `channel(v % n)`, the row of an `n × n` matrix).
+fn overflow_check(
+    record: &Record,
+    plan: &Plan,
+    stage: &'static str,
+    values: &[c64],
+    stride: usize,
+    channel: fn(usize) -> Channel,
+) -> Result<()> {
+    let Some(at) = values
+        .iter()
+        .position(|z| !(z.re.is_finite() && z.im.is_finite()))
+    else {
+        return Ok(());
+    };
+    let channel = channel(at % stride % plan.n);
+    let samples = match channel {
+        Channel::Force(c) => record.force(c),
+        Channel::Displacement(c) => record.displacement(c),
+    };
+    Err(Error::SpectrumOverflow {
+        record: record.label().to_owned(),
+        stage,
+        channel,
+        freq_hz: plan.lines[at / stride] as f64 * plan.resolution_hz,
+        peak: samples.iter().fold(0.0, |m, v| m.max(v.abs())),
+    })
+}

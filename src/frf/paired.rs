@@ -1,0 +1,374 @@
+//! Paired sets (the seed's eq. 9): per set of `n` records, one per independent excitation,
+//! $H_s = [F^1 \cdots F^n]_s\,[X^1 \cdots X^n]_s^{-1}$, averaged over the sets.
+//!
+//! [`PairedKernel`] is the one place this product and average are computed: the DFT lines of
+//! [`FrfBuilder`] and the drive frequencies of [`stepped_sine`](crate::stepped::stepped_sine)
+//! both go through it.
+
+use faer::{Mat, c64};
+
+use super::builder::{Contribution, FrfBuilder, Plan};
+use super::coherence::SpectraCoherence;
+use super::variance::set_scatter;
+use super::{Assignment, Band, Estimator, Frf};
+use crate::error::{Error, Result};
+use crate::linalg;
+use crate::records::{Record, common_shape};
+use crate::spectra::{Segmentation, Window};
+
+/// How one set's impedance enters the average `H = Σ_s share_s H_s`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Share {
+    /// `H_s · w` (a normalised weight, `1/S` for a plain mean).
+    Times(f64),
+    /// `H_s / d` (`d = S` for a plain mean).
+    Over(f64),
+}
+
+/// The paired-set kernel, with its buffers for `n` degrees of freedom: per set,
+/// `cond(X_s)`, `X_s⁻¹` and `H_s = F_s X_s⁻¹`, and their average over the sets of a line.
+#[derive(Debug)]
+pub(crate) struct PairedKernel {
+    n: usize,
+    x: Vec<c64>,
+    f: Vec<c64>,
+    hs: Vec<c64>,
+    scratch: Vec<c64>,
+    sigma: Vec<f64>,
+    inverter: linalg::Inverter,
+}
+
+impl PairedKernel {
+    pub(crate) fn new(n: usize) -> Self {
+        let (zero, nn) = (c64::new(0.0, 0.0), n * n);
+        Self {
+            n,
+            x: vec![zero; nn],
+            f: vec![zero; nn],
+            hs: vec![zero; nn],
+            scratch: vec![zero; nn],
+            sigma: vec![0.0; n],
+            inverter: linalg::Inverter::new(n),
+        }
+    }
+
+    /// Loads one set: column `j` of `F_s` and `X_s` from `columns[j] = (forces, displacements)`
+    /// of the record driving direction `j` (each `n` values).
+    fn load<'a>(&mut self, columns: impl IntoIterator<Item = (&'a [c64], &'a [c64])>) {
+        let n = self.n;
+        for (j, (f, x)) in columns.into_iter().enumerate() {
+            self.x[j * n..(j + 1) * n].copy_from_slice(x);
+            self.f[j * n..(j + 1) * n].copy_from_slice(f);
+        }
+    }
+
+    /// `H_s = F_s X_s⁻¹` of the loaded set, `None` when `X_s` is singular.
+    fn impedance(&mut self) -> Option<&[c64]> {
+        if !self.inverter.invert(&mut self.x) {
+            return None;
+        }
+        linalg::mul_into(&self.f, &self.x, &mut self.hs, self.n);
+        Some(&self.hs)
+    }
+
+    /// `H_s = F_s X_s⁻¹` of one set (columns as [`PairedKernel::average`]), `None` when `X_s`
+    /// is singular.
+    pub(crate) fn set_impedance<'a>(
+        &mut self,
+        columns: impl IntoIterator<Item = (&'a [c64], &'a [c64])>,
+    ) -> Option<&[c64]> {
+        self.load(columns);
+        self.impedance()
+    }
+
+    /// The average `h = Σ_s share_s H_s` over `sets` at one line, each set given by its
+    /// columns (`(forces, displacements)` per direction) and its [`Share`]; `each` sees every
+    /// set's `H_s` in turn. Returns the worst `cond(X_s)`, or `None` (with `h` partly summed)
+    /// as soon as some `X_s` is singular.
+    pub(crate) fn average<'a, C>(
+        &mut self,
+        sets: impl IntoIterator<Item = (C, Share)>,
+        h: &mut [c64],
+        mut each: impl FnMut(&[c64]),
+    ) -> Option<f64>
+    where
+        C: IntoIterator<Item = (&'a [c64], &'a [c64])>,
+    {
+        h.fill(c64::new(0.0, 0.0));
+        let mut worst = 0.0_f64;
+        for (columns, share) in sets {
+            self.load(columns);
+            worst = worst.max(linalg::condition_number_with(
+                &self.x,
+                self.n,
+                &mut self.scratch,
+                &mut self.sigma,
+            ));
+            let hs = self.impedance()?;
+            match share {
+                Share::Times(w) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b * w),
+                Share::Over(d) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b / d),
+            }
+            each(hs);
+        }
+        Some(worst)
+    }
+}
+
+/// Each paired set's own impedance per band line ([`FrfBuilder::set_impedances`]).
+#[derive(Debug, Clone)]
+pub(crate) struct SetImpedances {
+    /// Records (push order) of each set, one per direction.
+    pub(crate) records: Vec<Vec<usize>>,
+    /// `[set][line]`: `H_s`, `None` where the set's displacements are singular.
+    pub(crate) impedances: Vec<Vec<Option<Mat<c64>>>>,
+}
+
+/// Records (push order) per direction.
+fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
+    let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (r, &e) in excitation.iter().enumerate() {
+        by_direction[e].push(r);
+    }
+    by_direction
+}
+
+impl FrfBuilder {
+    /// Band-line spectra `(forces, displacements)` of record `r` at line `l`.
+    fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
+        match &self.gathered[r].contribution {
+            Contribution::Spectra {
+                forces,
+                displacements,
+            } => Some((
+                &forces[l * n..(l + 1) * n],
+                &displacements[l * n..(l + 1) * n],
+            )),
+            Contribution::Cross { .. } => None,
+        }
+    }
+
+    /// Each paired set's own impedance `H_s = F_s X_s⁻¹` on every band line, `None` where
+    /// `X_s` is singular, with the records (push order) of each set, one per direction.
+    /// Empty unless paired sets.
+    ///
+    /// # Errors
+    /// As [`FrfBuilder::excitations`].
+    pub(crate) fn set_impedances(&self, assignment: &Assignment) -> Result<SetImpedances> {
+        let mut out = SetImpedances {
+            records: Vec::new(),
+            impedances: Vec::new(),
+        };
+        let Some((plan, _)) = self.plan.as_ref() else {
+            return Ok(out);
+        };
+        if self.estimator != Estimator::PairedSets {
+            return Ok(out);
+        }
+        let n = plan.n;
+        let by_direction = by_direction(&self.excitations(assignment)?, n);
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        let mut kernel = PairedKernel::new(n);
+        for s in 0..sets {
+            let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
+            let mut lines = Vec::with_capacity(plan.lines.len());
+            for l in 0..plan.lines.len() {
+                let columns: Option<Vec<_>> =
+                    records.iter().map(|&r| self.spectra_at(r, l, n)).collect();
+                let Some(columns) = columns else {
+                    return Ok(out);
+                };
+                lines.push(
+                    kernel
+                        .set_impedance(columns)
+                        .map(|h| Mat::from_fn(n, n, |i, j| h[i + j * n])),
+                );
+            }
+            out.records.push(records);
+            out.impedances.push(lines);
+        }
+        Ok(out)
+    }
+
+    /// Paired sets from the gathered band-line spectra, replicate (set) `s` weighted by
+    /// `weights[s]` when given.
+    pub(super) fn finish_paired(
+        &self,
+        plan: &Plan,
+        excitation: &[usize],
+        weights: Option<&[f64]>,
+    ) -> Result<Frf> {
+        let n = plan.n;
+        let by_direction = by_direction(excitation, n);
+        let rank = by_direction.iter().filter(|d| !d.is_empty()).count();
+        if rank < n {
+            return Err(Error::RankDeficient { rank, dofs: n });
+        }
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        let mut frf = Frf::empty(n, Estimator::PairedSets);
+        frf.spacing_hz = Some(plan.resolution_hz);
+        let weight = |s: usize| weights.map_or(1.0, |w| w.get(s).copied().unwrap_or(0.0));
+        let used: Vec<usize> = (0..sets).filter(|&s| weight(s) > 0.0).collect();
+        let total_weight: f64 = used.iter().map(|&s| weight(s)).sum();
+        frf.averages = used.len();
+        frf.unpaired = by_direction
+            .iter()
+            .flat_map(|d| d[sets..].iter().map(|&r| self.gathered[r].label.clone()))
+            .collect();
+        let spectra = |r: usize, l: usize| {
+            self.spectra_at(r, l, n)
+                .expect("paired builders gather spectra")
+        };
+        let spectra = &spectra;
+        // Scatter of the per-set impedances, for the error bars of the unweighted finish.
+        let with_variance = weights.is_none() && used.len() >= 2;
+        let nn = n * n;
+        let zero = c64::new(0.0, 0.0);
+        let (mut h, mut g) = (vec![zero; nn], vec![zero; nn]);
+        let mut kernel = PairedKernel::new(n);
+        let mut inverter = linalg::Inverter::new(n);
+        let mut coherence = SpectraCoherence::new(n);
+        let mut per_set = Vec::with_capacity(if with_variance { used.len() * nn } else { 0 });
+        let mut variance = vec![0.0; nn];
+        for (l, &k) in plan.lines.iter().enumerate() {
+            let freq = k as f64 * plan.resolution_hz;
+            per_set.clear();
+            let sets_at_line = used.iter().map(|&s| {
+                let columns = by_direction.iter().map(move |dir| spectra(dir[s], l));
+                (columns, Share::Times(weight(s) / total_weight))
+            });
+            let keep = |hs: &[c64]| {
+                if with_variance {
+                    per_set.extend_from_slice(hs);
+                }
+            };
+            let Some(worst) = kernel.average(sets_at_line, &mut h, keep) else {
+                frf.dropped_hz.push(freq);
+                continue;
+            };
+            g.copy_from_slice(&h);
+            if inverter.invert(&mut g) {
+                frf.push_line(freq, &h, &g, worst);
+                if with_variance {
+                    set_scatter(&per_set, &h, &mut variance);
+                    frf.impedance_variance.extend_from_slice(&variance);
+                }
+                // Coherence from the cross-spectra of all records at this line.
+                coherence.line(
+                    (0..self.gathered.len()).map(|r| spectra(r, l)),
+                    &mut inverter,
+                );
+                frf.push_coherence(&coherence.multiple, &coherence.ordinary);
+            } else {
+                frf.dropped_hz.push(freq);
+            }
+        }
+        Ok(frf)
+    }
+}
+
+/// Impedance by paired sets (seed eq. 9): whole-record spectra, `H = F X⁻¹` per set, averaged.
+///
+/// `excitation[r]` is the excitation (degree of freedom) of record `r` (see
+/// [`Assignment::resolve`]). Sets are formed in record order; when directions have unequal
+/// counts the extra records are left out and listed in [`Frf::unpaired`].
+///
+/// # Errors
+/// Shape errors from [`common_shape`]; [`Error::BandAboveNyquist`]; the assignment errors;
+/// [`Error::RankDeficient`] when some direction has no record at all.
+pub fn paired_sets(
+    records: &[Record],
+    excitation: &[usize],
+    band: Band,
+    window: Window,
+) -> Result<Frf> {
+    common_shape(records, None)?;
+    let mut b = FrfBuilder::new(
+        Estimator::PairedSets,
+        band,
+        Segmentation::WholeRecord,
+        window,
+    );
+    b.push_all(records)?;
+    b.finish(&Assignment::Explicit(excitation.to_vec()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frf::tests::static_records;
+
+    /// The frf path (`H_s · (w/Σw)`) and the stepped-sine path (`H_s / S`) of the one kernel
+    /// give bit for bit the same impedance and condition number when `S` is a power of two,
+    /// and the same to rounding otherwise; and the builder's paired finish is that kernel.
+    #[test]
+    fn frf_and_stepped_shares_of_the_kernel_agree() {
+        let n = 2;
+        let c = |k: usize| c64::new((k as f64 * 0.37).sin() + 2.0, (k as f64 * 0.91).cos());
+        let columns: Vec<(Vec<c64>, Vec<c64>)> = (0..8)
+            .map(|r| {
+                (
+                    (0..n).map(|i| c(r * 7 + i)).collect(),
+                    (0..n)
+                        .map(|i| c(r * 5 + i + 1) * (1.0 + r as f64))
+                        .collect(),
+                )
+            })
+            .collect();
+        let columns = &columns;
+        for sets in 1..=4 {
+            let run = |share: Share| {
+                let mut h = vec![c64::new(0.0, 0.0); n * n];
+                let sets_iter = (0..sets).map(|s| {
+                    let set = (0..n).map(move |j| {
+                        let (f, x) = &columns[s * n + j];
+                        (f.as_slice(), x.as_slice())
+                    });
+                    (set, share)
+                });
+                let worst = PairedKernel::new(n).average(sets_iter, &mut h, |_| {});
+                (h, worst.unwrap())
+            };
+            let (frf, cf) = run(Share::Times(1.0 / sets as f64));
+            let (stepped, cs) = run(Share::Over(sets as f64));
+            assert_eq!(cf.to_bits(), cs.to_bits());
+            for (a, b) in frf.iter().zip(&stepped) {
+                if sets.is_power_of_two() {
+                    assert_eq!(
+                        (a.re.to_bits(), a.im.to_bits()),
+                        (b.re.to_bits(), b.im.to_bits())
+                    );
+                } else {
+                    assert!((a - b).norm() <= 1e-14 * a.norm());
+                }
+            }
+        }
+        // End to end: the builder's paired finish is the kernel on its band-line spectra.
+        let recs = static_records([[2.0, 0.5], [-0.25, 1.0]]);
+        let band = Band::new(1.0, 10.0).unwrap();
+        let frf = paired_sets(&recs, &[0, 1], band, Window::Rectangular).unwrap();
+        let mut b = FrfBuilder::new(
+            Estimator::PairedSets,
+            band,
+            Segmentation::WholeRecord,
+            Window::Rectangular,
+        );
+        b.push_all(&recs).unwrap();
+        let mut kernel = PairedKernel::new(n);
+        for l in 0..frf.line_count() {
+            let mut h = vec![c64::new(0.0, 0.0); n * n];
+            let columns = (0..n).map(|r| b.spectra_at(r, l, n).unwrap());
+            let worst = kernel.average([(columns, Share::Over(1.0))], &mut h, |_| {});
+            assert_eq!(
+                worst.unwrap().to_bits(),
+                frf.condition_numbers()[l].to_bits()
+            );
+            let expect = frf.impedance(l);
+            for j in 0..n {
+                for i in 0..n {
+                    assert_eq!(h[i + j * n], expect[(i, j)]);
+                }
+            }
+        }
+    }
+}
