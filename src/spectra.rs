@@ -48,11 +48,48 @@ pub enum Window {
 }
 
 impl Window {
+    /// The exponential window $w(t) = e^{-a t}$ with decay `a = decay_per_s` (1/s).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `decay_per_s` is finite and `≥ 0`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// let w = Window::exponential(3.0)?;
+    /// assert_eq!(w.decay_per_s(), Some(3.0));
+    /// assert!(Window::exponential(f64::NAN).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn exponential(decay_per_s: f64) -> Result<Window> {
+        Window::Exponential { decay_per_s }.checked()
+    }
+
+    /// The window itself if its parameters are valid (an exponential window's decay finite
+    /// and `≥ 0`); the one check every user of a window ([`SpectralEstimator::new`], the
+    /// identifier's settings) makes.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an exponential window's decay that is NaN, negative or
+    /// infinite.
+    pub(crate) fn checked(self) -> Result<Window> {
+        if let Some(a) = self.decay_per_s() {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::InvalidParameter {
+                    name: "exponential window decay",
+                    value: a,
+                    expected: "finite and ≥ 0 (1/s)",
+                });
+            }
+        }
+        Ok(self)
+    }
+
     /// The exponential window that falls to `end_value` (e.g. 0.01) at `duration_s`:
     /// `a = −ln(end_value) / duration_s`. A decay that is not finite and `≥ 0` (an
     /// `end_value` outside `(0, 1]`, a `duration_s` of 0) is refused with
     /// [`Error::InvalidParameter`] where the window is used ([`SpectralEstimator::new`],
-    /// `Identifier::identify`).
+    /// `Identifier::check`); [`Window::exponential`] refuses it at once.
     ///
     /// # Examples
     /// ```
@@ -332,15 +369,7 @@ impl SpectralEstimator {
                 expected: "finite and positive (Hz)",
             });
         }
-        if let Some(a) = window.decay_per_s() {
-            if !(a.is_finite() && a >= 0.0) {
-                return Err(Error::InvalidParameter {
-                    name: "exponential window decay",
-                    value: a,
-                    expected: "finite and ≥ 0 (1/s)",
-                });
-            }
-        }
+        let window = window.checked()?;
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
         let dt = 1.0 / sample_rate;
         let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
