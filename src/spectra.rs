@@ -290,6 +290,66 @@ impl Segmentation {
     }
 }
 
+impl Segmentation {
+    /// Short name: `"whole"`, `"welch"` or `"periods"` (the JSON output's `segmentation`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Segmentation::WholeRecord => "whole",
+            Segmentation::Welch { .. } => "welch",
+            Segmentation::Periods { .. } => "periods",
+        }
+    }
+}
+
+/// `whole`, `welch:LEN` or `periods:LEN` (samples per segment), the form
+/// [`Segmentation::from_str`](std::str::FromStr::from_str) reads.
+impl std::fmt::Display for Segmentation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Segmentation::WholeRecord => f.write_str("whole"),
+            Segmentation::Welch { len } | Segmentation::Periods { len } => {
+                write!(f, "{}:{len}", self.name())
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for Segmentation {
+    type Err = Error;
+
+    /// Parses `whole`, `welch:LEN` or `periods:LEN` (a [`Segmentation::name`], with the
+    /// segment length in samples after a colon for the segmented ones), as printed by
+    /// `Display`. The length is checked against a record by [`Segmentation::segment_len`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the accepted forms.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Segmentation;
+    /// assert_eq!("welch:512".parse::<Segmentation>()?, Segmentation::Welch { len: 512 });
+    /// assert_eq!("whole".parse::<Segmentation>()?, Segmentation::WholeRecord);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn from_str(s: &str) -> Result<Self> {
+        let bad = || Error::InvalidParameter {
+            name: "segmentation",
+            value: f64::NAN,
+            expected: "whole, welch:LEN or periods:LEN (samples)",
+        };
+        let (name, len) = match s.split_once(':') {
+            Some((name, len)) => (name, Some(len.parse::<usize>().map_err(|_| bad())?)),
+            None => (s, None),
+        };
+        match (name, len) {
+            ("whole", None) => Ok(Segmentation::WholeRecord),
+            ("welch", Some(len)) => Ok(Segmentation::Welch { len }),
+            ("periods", Some(len)) => Ok(Segmentation::Periods { len }),
+            _ => Err(bad()),
+        }
+    }
+}
+
 /// A spectral estimator planned for one segment length: mean removal, window, real FFT.
 ///
 /// # Examples
@@ -521,6 +581,34 @@ impl SpectralEstimator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn segmentation_round_trips_through_its_string_form() {
+        for seg in [
+            Segmentation::WholeRecord,
+            Segmentation::Welch { len: 512 },
+            Segmentation::Periods { len: 200 },
+        ] {
+            assert_eq!(seg.to_string().parse::<Segmentation>().unwrap(), seg);
+            assert!(seg.to_string().starts_with(seg.name()));
+        }
+        for bad in ["", "welch", "whole:8", "periods:x", "hann", "welch:-1"] {
+            let e = bad.parse::<Segmentation>().unwrap_err();
+            assert_eq!(e.kind(), "invalid_argument", "{bad}");
+        }
+    }
+
+    #[test]
+    fn exponential_refuses_bad_decays() {
+        for a in [f64::NAN, -1.0, f64::INFINITY] {
+            let e = Window::exponential(a).unwrap_err();
+            assert!(
+                matches!(e, Error::InvalidParameter { name: "exponential window decay", .. }),
+                "{a}"
+            );
+        }
+        assert!(Window::exponential(0.0).is_ok());
+    }
 
     #[test]
     fn new_refuses_bad_plans_with_errors() {

@@ -253,6 +253,9 @@ pub(crate) fn reason(warning: &Warning) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Channel;
+    use crate::records::Record;
+    use faer::{Mat, c64};
 
     fn record(label: &str, f: [Vec<f64>; 2], x: [Vec<f64>; 2]) -> Record {
         let [f0, f1] = f;
