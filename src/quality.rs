@@ -486,9 +486,11 @@ fn clipping(
             run.longest_start.checked_sub(1).map(|i| x[i]),
             x.get(end).copied(),
         ];
-        let quantised_peak = flanks
-            .iter()
-            .all(|v| v.is_some_and(|v| (value - v).abs() <= step * (1.0 + crate::tolerance::QUANTISATION_STEP)));
+        let quantised_peak = flanks.iter().all(|v| {
+            v.is_some_and(|v| {
+                (value - v).abs() <= step * (1.0 + crate::tolerance::QUANTISATION_STEP)
+            })
+        });
         if run.longest >= checks.clip_run
             && !quantised_peak
             && (value - mean).abs() >= CLIP_SIDE_FRACTION * range

@@ -603,7 +603,13 @@ mod tests {
         for a in [f64::NAN, -1.0, f64::INFINITY] {
             let e = Window::exponential(a).unwrap_err();
             assert!(
-                matches!(e, Error::InvalidParameter { name: "exponential window decay", .. }),
+                matches!(
+                    e,
+                    Error::InvalidParameter {
+                        name: "exponential window decay",
+                        ..
+                    }
+                ),
                 "{a}"
             );
         }

@@ -51,7 +51,6 @@ pub const CLIP_LEVEL: f64 = 1e-9;
 /// difference are computed from the same samples and differ by rounding only.
 pub const QUANTISATION_STEP: f64 = 1e-9;
 
-
 // ---------------------------------------------------------------------------------------------
 // Simulation and figures (simulate, plot).
 // ---------------------------------------------------------------------------------------------

@@ -62,7 +62,6 @@ impl From<&Identification> for Baseline {
     }
 }
 
-
 impl Identification {
     /// The bearing's own coefficients: this (lubricated) system minus a dry-structure
     /// `baseline` identified the same way, `K_b = K_s − K_h`, `C_b = C_s − C_h`,

@@ -15,6 +15,8 @@ use crate::tolerance;
 
 use super::diagnostics::flexibility_r2;
 use super::screen::{kept_records, observe, reported, screen_batch};
+#[cfg(doc)]
+use super::{NonConvergence, Screening, Uncertainty};
 use super::{Identification, Identifier, Settings};
 
 impl Identifier {

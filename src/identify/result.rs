@@ -209,4 +209,3 @@ impl Identification {
         &self.warnings
     }
 }
-

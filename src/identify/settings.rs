@@ -329,7 +329,10 @@ mod tests {
             invalid(id().method(Method::Ml).uncertainty(Uncertainty::Jackknife)),
             "uncertainty with method ml"
         );
-        let boot = |replicates| Uncertainty::Bootstrap { replicates, seed: 0 };
+        let boot = |replicates| Uncertainty::Bootstrap {
+            replicates,
+            seed: 0,
+        };
         assert_eq!(invalid(id().uncertainty(boot(19))), "bootstrap replicates");
         assert!(matches!(
             id().uncertainty(boot(MAX_BOOTSTRAP_DRAWS + 1)).check(),
@@ -344,12 +347,18 @@ mod tests {
         assert_eq!(invalid(id().window(nan)), "exponential window decay");
         assert_eq!(invalid(id().tolerance(0.0)), "ivf tolerance");
         assert_eq!(invalid(id().max_iterations(0)), "ivf max iterations");
-        assert_eq!(invalid(id().fit_gate(FitGate { min_r2: 2.0 })), "minimum r²");
+        assert_eq!(
+            invalid(id().fit_gate(FitGate { min_r2: 2.0 })),
+            "minimum r²"
+        );
         let bad = Checks {
             dead_ratio: 2.0,
             ..Checks::default()
         };
-        assert_eq!(invalid(id().screening(Screening::Reject(bad))), "dead_ratio");
+        assert_eq!(
+            invalid(id().screening(Screening::Reject(bad))),
+            "dead_ratio"
+        );
         assert!(id().screening(Screening::Off).check().is_ok());
         let limits = ConditionLimits {
             warn: 10.0,
@@ -366,9 +375,7 @@ mod tests {
 
     #[test]
     fn the_first_fault_is_the_error() {
-        let id = Identifier::new(8.0, 49.0)
-            .min_coherence(2.0)
-            .tolerance(0.0);
+        let id = Identifier::new(8.0, 49.0).min_coherence(2.0).tolerance(0.0);
         assert_eq!(invalid(id), "minimum coherence");
     }
 

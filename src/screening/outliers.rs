@@ -17,7 +17,7 @@ pub struct OutlierSet {
 }
 
 /// The sets whose impedance is far from the others' at most lines (see the
-/// [module docs](self)): `impedances[set][line]` is the set's own `n × n` impedance at a band
+/// [module docs](crate::screening)): `impedances[set][line]` is the set's own `n × n` impedance at a band
 /// line (`None` where it could not be computed). Lines where fewer than 3 sets have one are
 /// not tested.
 ///

@@ -115,7 +115,7 @@ impl Screener {
         found
     }
 
-    /// Screens every record pushed against its siblings (see the [module docs](self)): dead
+    /// Screens every record pushed against its siblings (see the [module docs](crate::screening)): dead
     /// channels and level outliers, as `(record index, warning)` in record order. Records
     /// with `excluded[r]` (left out already) are neither judged nor counted among siblings;
     /// `excluded` shorter than the records pushed excludes nothing beyond its end. Channels

@@ -1,6 +1,6 @@
 //! How the standard deviations of the coefficients are estimated ([`Uncertainty`]): the
 //! first-order sandwich (or, for ML, the inverse Fisher information) carried by the fit itself,
-//! the jackknife ([`jackknife`](self) file) and the bootstrap (`bootstrap.rs`) over replicates,
+//! the jackknife (`jackknife.rs`) and the bootstrap (`bootstrap.rs`) over replicates,
 //! with 95 % intervals from Student's t (`student_t.rs`).
 
 mod bootstrap;
