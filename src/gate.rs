@@ -29,10 +29,7 @@ use crate::frf::{Band, Frf};
 use crate::model::Coefficients;
 use crate::spectra::{ForceGate, Segmentation, Window};
 
-/// Relative agreement below which two fits, or a standard deviation and zero, are taken as the
-/// same: far above the rounding of a fit (about 1e-13 relative) and far below any measured
-/// scatter.
-pub const ALIKE: f64 = 1e-9;
+pub use crate::tolerance::ALIKE;
 
 /// An off-diagonal flexibility element carries signal when its RMS over the band is at least
 /// this fraction of the geometric mean of the two diagonal elements' RMS; below it, its `r²`

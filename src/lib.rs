@@ -44,7 +44,9 @@
 //! 6. [`solve`] — the direct, least-squares and IVF fits; [`gate`] — the checks of a finished
 //!    fit and of its settings (poor `r²`, unphysical or unstable models, dependent replicates,
 //!    degenerate windows, gates and resolutions), each a [`Warning`];
-//! 7. [`identify`] — the [`Identifier`] façade and its [`Identification`] result;
+//! 7. [`identify`] — the [`Identifier`] façade, its checked settings
+//!    ([`identify::Settings`]), the error bars ([`Uncertainty`]) and its [`Identification`]
+//!    result;
 //! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
 //!    coefficients.
 //!

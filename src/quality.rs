@@ -43,9 +43,7 @@ pub const NOISE_SIGMAS: f64 = 8.0;
 /// return level.
 pub const QUIET_SAMPLES: usize = 3;
 
-/// Samples count as "at the extreme" when within this fraction of the channel's range
-/// (`max − min`) of the channel's maximum or minimum.
-pub const CLIP_TOLERANCE: f64 = 1e-9;
+pub use crate::tolerance::CLIP_LEVEL as CLIP_TOLERANCE;
 
 /// An extreme counts as a clipping level only if it lies at least this fraction of the
 /// channel's range away from the channel's mean: a flat stretch at the resting level (the
@@ -488,9 +486,11 @@ fn clipping(
             run.longest_start.checked_sub(1).map(|i| x[i]),
             x.get(end).copied(),
         ];
-        let quantised_peak = flanks
-            .iter()
-            .all(|v| v.is_some_and(|v| (value - v).abs() <= step * (1.0 + 1e-9)));
+        let quantised_peak = flanks.iter().all(|v| {
+            v.is_some_and(|v| {
+                (value - v).abs() <= step * (1.0 + crate::tolerance::QUANTISATION_STEP)
+            })
+        });
         if run.longest >= checks.clip_run
             && !quantised_peak
             && (value - mean).abs() >= CLIP_SIDE_FRACTION * range

@@ -48,11 +48,48 @@ pub enum Window {
 }
 
 impl Window {
+    /// The exponential window $w(t) = e^{-a t}$ with decay `a = decay_per_s` (1/s).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `decay_per_s` is finite and `≥ 0`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// let w = Window::exponential(3.0)?;
+    /// assert_eq!(w.decay_per_s(), Some(3.0));
+    /// assert!(Window::exponential(f64::NAN).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn exponential(decay_per_s: f64) -> Result<Window> {
+        Window::Exponential { decay_per_s }.checked()
+    }
+
+    /// The window itself if its parameters are valid (an exponential window's decay finite
+    /// and `≥ 0`); the one check every user of a window ([`SpectralEstimator::new`], the
+    /// identifier's settings) makes.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an exponential window's decay that is NaN, negative or
+    /// infinite.
+    pub(crate) fn checked(self) -> Result<Window> {
+        if let Some(a) = self.decay_per_s() {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::InvalidParameter {
+                    name: "exponential window decay",
+                    value: a,
+                    expected: "finite and ≥ 0 (1/s)",
+                });
+            }
+        }
+        Ok(self)
+    }
+
     /// The exponential window that falls to `end_value` (e.g. 0.01) at `duration_s`:
     /// `a = −ln(end_value) / duration_s`. A decay that is not finite and `≥ 0` (an
     /// `end_value` outside `(0, 1]`, a `duration_s` of 0) is refused with
     /// [`Error::InvalidParameter`] where the window is used ([`SpectralEstimator::new`],
-    /// `Identifier::identify`).
+    /// `Identifier::check`); [`Window::exponential`] refuses it at once.
     ///
     /// # Examples
     /// ```
@@ -253,6 +290,66 @@ impl Segmentation {
     }
 }
 
+impl Segmentation {
+    /// Short name: `"whole"`, `"welch"` or `"periods"` (the JSON output's `segmentation`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Segmentation::WholeRecord => "whole",
+            Segmentation::Welch { .. } => "welch",
+            Segmentation::Periods { .. } => "periods",
+        }
+    }
+}
+
+/// `whole`, `welch:LEN` or `periods:LEN` (samples per segment), the form
+/// [`Segmentation::from_str`](std::str::FromStr::from_str) reads.
+impl std::fmt::Display for Segmentation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Segmentation::WholeRecord => f.write_str("whole"),
+            Segmentation::Welch { len } | Segmentation::Periods { len } => {
+                write!(f, "{}:{len}", self.name())
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for Segmentation {
+    type Err = Error;
+
+    /// Parses `whole`, `welch:LEN` or `periods:LEN` (a [`Segmentation::name`], with the
+    /// segment length in samples after a colon for the segmented ones), as printed by
+    /// `Display`. The length is checked against a record by [`Segmentation::segment_len`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the accepted forms.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Segmentation;
+    /// assert_eq!("welch:512".parse::<Segmentation>()?, Segmentation::Welch { len: 512 });
+    /// assert_eq!("whole".parse::<Segmentation>()?, Segmentation::WholeRecord);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn from_str(s: &str) -> Result<Self> {
+        let bad = || Error::InvalidParameter {
+            name: "segmentation",
+            value: f64::NAN,
+            expected: "whole, welch:LEN or periods:LEN (samples)",
+        };
+        let (name, len) = match s.split_once(':') {
+            Some((name, len)) => (name, Some(len.parse::<usize>().map_err(|_| bad())?)),
+            None => (s, None),
+        };
+        match (name, len) {
+            ("whole", None) => Ok(Segmentation::WholeRecord),
+            ("welch", Some(len)) => Ok(Segmentation::Welch { len }),
+            ("periods", Some(len)) => Ok(Segmentation::Periods { len }),
+            _ => Err(bad()),
+        }
+    }
+}
+
 /// A spectral estimator planned for one segment length: mean removal, window, real FFT.
 ///
 /// # Examples
@@ -332,15 +429,7 @@ impl SpectralEstimator {
                 expected: "finite and positive (Hz)",
             });
         }
-        if let Some(a) = window.decay_per_s() {
-            if !(a.is_finite() && a >= 0.0) {
-                return Err(Error::InvalidParameter {
-                    name: "exponential window decay",
-                    value: a,
-                    expected: "finite and ≥ 0 (1/s)",
-                });
-            }
-        }
+        let window = window.checked()?;
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
         let dt = 1.0 / sample_rate;
         let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
@@ -492,6 +581,40 @@ impl SpectralEstimator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn segmentation_round_trips_through_its_string_form() {
+        for seg in [
+            Segmentation::WholeRecord,
+            Segmentation::Welch { len: 512 },
+            Segmentation::Periods { len: 200 },
+        ] {
+            assert_eq!(seg.to_string().parse::<Segmentation>().unwrap(), seg);
+            assert!(seg.to_string().starts_with(seg.name()));
+        }
+        for bad in ["", "welch", "whole:8", "periods:x", "hann", "welch:-1"] {
+            let e = bad.parse::<Segmentation>().unwrap_err();
+            assert_eq!(e.kind(), "invalid_argument", "{bad}");
+        }
+    }
+
+    #[test]
+    fn exponential_refuses_bad_decays() {
+        for a in [f64::NAN, -1.0, f64::INFINITY] {
+            let e = Window::exponential(a).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    Error::InvalidParameter {
+                        name: "exponential window decay",
+                        ..
+                    }
+                ),
+                "{a}"
+            );
+        }
+        assert!(Window::exponential(0.0).is_ok());
+    }
 
     #[test]
     fn new_refuses_bad_plans_with_errors() {

@@ -45,6 +45,45 @@ pub const OSCILLATORY_ROOT: f64 = 1e-9;
 // Identification, screening, gates and quality checks (identify, screening, gate, quality).
 // ---------------------------------------------------------------------------------------------
 
+/// Relative agreement below which two fits, or a standard deviation and zero, are taken as the
+/// same: far above the rounding of a fit (about 1e-13 relative) and far below any measured
+/// scatter. Used for dependent jackknife replicates and zero spread
+/// ([`gate::distinct_fits`](crate::gate::distinct_fits),
+/// [`gate::zero_spread`](crate::gate::zero_spread)); also at its old path `gate::ALIKE`.
+pub const ALIKE: f64 = 1e-9;
+
+/// Slack, relative to the band's upper edge, by which a line of a ready-made FRF
+/// ([`Identifier::identify_frf`](crate::Identifier::identify_frf)) may lie outside the band
+/// and still be used: a frequency written in decimal or computed from a sample rate lands
+/// within rounding (about 1e-15 relative) of the edge it was meant to be, far inside this,
+/// while any real line spacing is far outside it.
+pub const READY_FRF_BAND_EDGE: f64 = 1e-9;
+
+/// Relative agreement (of the larger of `|f|` and 1 Hz) at which a baseline's line frequencies
+/// count as the system's ([`Identification::subtract_baseline`](crate::Identification::subtract_baseline)):
+/// lines read back from JSON carry at most a rounding of the printed value.
+pub const BASELINE_LINE: f64 = 1e-9;
+
+/// Relative agreement (of the larger of `|a|` and `1e-12` 1/s) at which a baseline's
+/// exponential-window decay counts as the system's: the decay read back from JSON differs
+/// from the one used by rounding only.
+pub const BASELINE_DECAY: f64 = 1e-9;
+
+/// A channel is flat when `max − min ≤ FLAT_CHANNEL · max(|max|, |min|)`: one value up to
+/// rounding (exactly zero for an all-zero channel). Also at its old path
+/// `screening::FLAT_TOLERANCE`.
+pub const FLAT_CHANNEL: f64 = 1e-12;
+
+/// Samples count as "at the extreme" when within this fraction of the channel's range
+/// (`max − min`) of the channel's maximum or minimum (clipping). Also at its old path
+/// `quality::CLIP_TOLERANCE`.
+pub const CLIP_LEVEL: f64 = 1e-9;
+
+/// Relative slack on the quantisation step when deciding that a clipped-looking run is a
+/// smooth peak on its top code, flanked by samples one step below: the step and the
+/// difference are computed from the same samples and differ by rounding only.
+pub const QUANTISATION_STEP: f64 = 1e-9;
+
 // ---------------------------------------------------------------------------------------------
 // Simulation and figures (simulate, plot).
 // ---------------------------------------------------------------------------------------------

@@ -17,7 +17,7 @@
 //!   excitation at all). A single flat force channel next to live ones is the undriven
 //!   direction of a one-shaker test as often as a fault, so it is judged against its siblings
 //!   (below) instead;
-//! - **clipping** ([`Warning::Clipped`], [`quality::check_record`]): a run of
+//! - **clipping** ([`Warning::Clipped`], [`quality::check_record`](crate::quality::check_record)): a run of
 //!   [`Checks::clip_run`] samples at a channel's extreme, away from its mean, on every
 //!   excitation;
 //! - **double hit** ([`Warning::DoubleHit`]), with [`Checks::impact`] set, on impulsive
@@ -27,7 +27,7 @@
 //!
 //! Across records, once all have arrived ([`Screener::across`]), each record against its
 //! **siblings**, the records excited the same way: a record whose dominant force
-//! ([`Record::dominant_force`]) has at least [`DOMINANCE`] times the RMS of every other force
+//! ([`Record::dominant_force`](crate::Record::dominant_force)) has at least [`DOMINANCE`] times the RMS of every other force
 //! channel is excited in that one direction (impacts, a shaker per direction) and its siblings
 //! are the records excited in the same direction; the others (multi-input random) are
 //! siblings of one another. A record with fewer than [`MIN_SIBLINGS`] siblings (itself
@@ -78,18 +78,18 @@
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
 
-use std::collections::{BTreeMap, HashMap};
-use std::hash::{DefaultHasher, Hash, Hasher};
+mod outliers;
+mod screener;
+mod summary;
 
-use faer::{Mat, c64};
+pub use outliers::{OutlierSet, outlier_sets};
+pub use screener::Screener;
+pub use summary::Summary;
 
-use crate::error::{Channel, Error, Result, Warning};
-use crate::quality::{self, ImpactChecks};
-use crate::records::Record;
+use crate::error::{Error, Result, Warning};
+use crate::quality::ImpactChecks;
 
-/// A channel is flat when `max − min ≤ FLAT_TOLERANCE · max(|max|, |min|)`: one value up to
-/// rounding (exactly zero for an all-zero channel).
-pub const FLAT_TOLERANCE: f64 = 1e-12;
+pub use crate::tolerance::FLAT_CHANNEL as FLAT_TOLERANCE;
 
 /// Sibling groups smaller than this are not judged across records.
 pub const MIN_SIBLINGS: usize = 3;
@@ -114,7 +114,7 @@ const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Checks {
-    /// The double-hit check of impact records ([`quality::check_record`]); `None` skips it.
+    /// The double-hit check of impact records ([`quality::check_record`](crate::quality::check_record)); `None` skips it.
     /// Its `clip_run` is not used ([`Checks::clip_run`] is). It applies only to impulsive
     /// records (crest factor ≥ `min_crest_factor`), so leaving it on for other excitations is
     /// harmless. Default `Some(ImpactChecks::default())`.
@@ -227,314 +227,6 @@ impl Checks {
     }
 }
 
-/// What the screening keeps of one record: RMS per channel (mean removed), a hash of its
-/// samples, its dominant force.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Summary {
-    label: String,
-    dominant: usize,
-    force_rms: Vec<f64>,
-    displacement_rms: Vec<f64>,
-    hash: u64,
-    /// Channels reported flat on arrival.
-    flat: Vec<Channel>,
-}
-
-impl Summary {
-    /// The summary of `record`.
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::Record;
-    /// use bearing_ident::screening::Summary;
-    /// let f: Vec<f64> = (0..16).map(|m| if m % 2 == 0 { 3.0 } else { -1.0 }).collect();
-    /// let r = Record::new("a", 1.0, vec![f.clone()], vec![f])?;
-    /// assert!((Summary::new(&r).rms(bearing_ident::Channel::Force(0)) - 2.0).abs() < 1e-12);
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    pub fn new(record: &Record) -> Self {
-        let mut hasher = DefaultHasher::new();
-        record.len().hash(&mut hasher);
-        let n = record.dofs();
-        for c in 0..n {
-            for ch in [record.force(c), record.displacement(c)] {
-                for v in ch {
-                    v.to_bits().hash(&mut hasher);
-                }
-            }
-        }
-        Self {
-            label: record.label().to_owned(),
-            dominant: record.dominant_force(),
-            force_rms: (0..n).map(|c| rms(record.force(c))).collect(),
-            displacement_rms: (0..n).map(|c| rms(record.displacement(c))).collect(),
-            hash: hasher.finish(),
-            flat: Vec::new(),
-        }
-    }
-
-    /// How the record was excited: the dominant force channel when its RMS is at least
-    /// [`DOMINANCE`] times every other force channel's (one direction at a time: impacts, a
-    /// shaker per direction), else `n` (all inputs alike: multi-input random).
-    fn pattern(&self) -> usize {
-        let d = self.dominant;
-        let top = self.force_rms[d];
-        let alone = self
-            .force_rms
-            .iter()
-            .enumerate()
-            .all(|(c, &v)| c == d || top >= DOMINANCE * v);
-        if alone { d } else { self.force_rms.len() }
-    }
-
-    /// The record's label.
-    pub fn label(&self) -> &str {
-        &self.label
-    }
-
-    /// The RMS of a channel about its mean (N or m).
-    ///
-    /// # Panics
-    /// If the channel is not one of the record's.
-    pub fn rms(&self, channel: Channel) -> f64 {
-        match channel {
-            Channel::Force(c) => self.force_rms[c],
-            Channel::Displacement(c) => self.displacement_rms[c],
-        }
-    }
-
-    fn channels(&self) -> impl Iterator<Item = Channel> + use<> {
-        let n = self.force_rms.len();
-        (0..n)
-            .map(Channel::Force)
-            .chain((0..n).map(Channel::Displacement))
-    }
-}
-
-/// RMS of `x` about its mean.
-fn rms(x: &[f64]) -> f64 {
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
-}
-
-/// The value of a flat channel, `None` if it varies.
-fn flat(x: &[f64]) -> Option<f64> {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
-    (hi - lo <= FLAT_TOLERANCE * hi.abs().max(lo.abs())).then_some(0.5 * (lo + hi))
-}
-
-/// Screens records one at a time, keeping only their [`Summary`], then across them.
-///
-/// # Examples
-/// The same record passed twice under two labels:
-/// ```
-/// use bearing_ident::screening::{Checks, Screener};
-/// use bearing_ident::simulate::{ImpactTest, seed_rig};
-/// use bearing_ident::Warning;
-/// let records = ImpactTest { per_direction: 1, noise: 0.05, ..ImpactTest::seed_rig() }
-///     .run(&seed_rig())?;
-/// let r = &records[0];
-/// let copy = bearing_ident::Record::new("copy.csv", r.sample_rate(),
-///     vec![r.force(0).to_vec(), r.force(1).to_vec()],
-///     vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])?;
-/// let mut screener = Screener::new(Checks::default());
-/// assert!(screener.push(&records[0]).is_empty());
-/// assert!(screener.push(&records[1]).is_empty());
-/// assert_eq!(
-///     screener.push(&copy),
-///     vec![Warning::DuplicateRecord { record: "copy.csv".into(), of: "impact-dof0-0".into() }]
-/// );
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-#[derive(Debug, Clone)]
-pub struct Screener {
-    checks: Checks,
-    summaries: Vec<Summary>,
-    first_with: HashMap<u64, usize>,
-}
-
-impl Screener {
-    /// A screener with `checks` (validate them first: [`Checks::validate`]; invalid
-    /// thresholds give meaningless findings, never a panic).
-    pub fn new(checks: Checks) -> Self {
-        Self {
-            checks,
-            summaries: Vec::new(),
-            first_with: HashMap::new(),
-        }
-    }
-
-    /// The summaries of the records pushed, in order.
-    pub fn summaries(&self) -> &[Summary] {
-        &self.summaries
-    }
-
-    /// Screens `record` on its own and against the earlier ones' hashes, and keeps its
-    /// summary: flat channels, clipping, a double hit, a duplicate of an earlier record (in
-    /// that order). Empty if it passes.
-    pub fn push(&mut self, record: &Record) -> Vec<Warning> {
-        let label = record.label();
-        let mut found = Vec::new();
-        let n = record.dofs();
-        let forces_flat: Vec<Option<f64>> = (0..n).map(|c| flat(record.force(c))).collect();
-        if forces_flat.iter().all(Option::is_some) {
-            for (c, v) in forces_flat.iter().enumerate() {
-                found.push(Warning::FlatChannel {
-                    record: label.to_owned(),
-                    channel: Channel::Force(c),
-                    value: v.unwrap_or_default(),
-                });
-            }
-        }
-        for c in 0..n {
-            if let Some(value) = flat(record.displacement(c)) {
-                found.push(Warning::FlatChannel {
-                    record: label.to_owned(),
-                    channel: Channel::Displacement(c),
-                    value,
-                });
-            }
-        }
-        // Clipping on every excitation; the double hit only with the impact checks (and even
-        // then only on impulsive records).
-        let impact = self.checks.impact.unwrap_or(ImpactChecks {
-            min_crest_factor: f64::INFINITY,
-            ..ImpactChecks::default()
-        });
-        let impact = ImpactChecks {
-            clip_run: self.checks.clip_run,
-            ..impact
-        };
-        let issues = quality::check_record(record, &impact);
-        found.extend(quality::warnings(record, &issues));
-        let mut summary = Summary::new(record);
-        summary.flat = found
-            .iter()
-            .filter_map(|w| match w {
-                Warning::FlatChannel { channel, .. } => Some(*channel),
-                _ => None,
-            })
-            .collect();
-        match self.first_with.get(&summary.hash) {
-            Some(&first) => found.push(Warning::DuplicateRecord {
-                record: label.to_owned(),
-                of: self.summaries[first].label.clone(),
-            }),
-            None => {
-                self.first_with.insert(summary.hash, self.summaries.len());
-            }
-        }
-        self.summaries.push(summary);
-        found
-    }
-
-    /// Screens every record pushed against its siblings (see the [module docs](self)): dead
-    /// channels and level outliers, as `(record index, warning)` in record order. Records
-    /// with `excluded[r]` (left out already) are neither judged nor counted among siblings;
-    /// `excluded` shorter than the records pushed excludes nothing beyond its end. Channels
-    /// already reported flat are not judged again.
-    pub fn across(&self, excluded: &[bool]) -> Vec<(usize, Warning)> {
-        let included: Vec<usize> = (0..self.summaries.len())
-            .filter(|&r| !excluded.get(r).copied().unwrap_or(false))
-            .collect();
-        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-        for &r in &included {
-            groups
-                .entry(self.summaries[r].pattern())
-                .or_default()
-                .push(r);
-        }
-        let mut found = Vec::new();
-        let log_floor = self.checks.level_factor.ln();
-        let mut cache: HashMap<(Option<usize>, Channel), Siblings> = HashMap::new();
-        for &r in &included {
-            let summary = &self.summaries[r];
-            let key = summary.pattern();
-            let (key, siblings, with_level) = match &groups[&key] {
-                g if g.len() >= MIN_SIBLINGS => (Some(key), g, true),
-                _ if included.len() >= MIN_SIBLINGS => (None, &included, false),
-                _ => continue,
-            };
-            for channel in summary.channels() {
-                if summary.flat.contains(&channel) {
-                    continue;
-                }
-                let s = cache
-                    .entry((key, channel))
-                    .or_insert_with(|| self.siblings(siblings, channel));
-                if s.median_rms <= 0.0 {
-                    continue;
-                }
-                let rms = summary.rms(channel);
-                let record = summary.label.clone();
-                let median_rms = s.median_rms;
-                if rms < self.checks.dead_ratio * median_rms {
-                    found.push((
-                        r,
-                        Warning::DeadChannel {
-                            record,
-                            channel,
-                            rms,
-                            median_rms,
-                        },
-                    ));
-                    continue;
-                }
-                let off = (rms.ln() - s.centre).abs();
-                if with_level && off > log_floor && off > self.checks.level_sigmas * s.sigma {
-                    found.push((
-                        r,
-                        Warning::LevelOutlier {
-                            record,
-                            channel,
-                            rms,
-                            median_rms,
-                            sigmas: off / s.sigma,
-                        },
-                    ));
-                }
-            }
-        }
-        found
-    }
-
-    /// The statistics of `channel` over the records `siblings`.
-    fn siblings(&self, siblings: &[usize], channel: Channel) -> Siblings {
-        let values: Vec<f64> = siblings
-            .iter()
-            .map(|&r| self.summaries[r].rms(channel))
-            .collect();
-        let median_rms = median(&mut values.clone());
-        let mut logs: Vec<f64> = values
-            .iter()
-            .filter(|&&v| v >= self.checks.dead_ratio * median_rms && v > 0.0)
-            .map(|v| v.ln())
-            .collect();
-        let centre = median(&mut logs);
-        logs.iter_mut().for_each(|l| *l = (*l - centre).abs());
-        Siblings {
-            median_rms,
-            centre,
-            sigma: MAD_TO_SIGMA * median(&mut logs),
-        }
-    }
-}
-
-/// A channel's level over a record's siblings.
-#[derive(Debug, Clone, Copy)]
-struct Siblings {
-    /// Median RMS.
-    median_rms: f64,
-    /// Median log RMS of the live ones.
-    centre: f64,
-    /// `1.4826 · MAD` of their log RMS.
-    sigma: f64,
-}
-
 /// The (upper) median of `values`, reordering them; NaN for none.
 fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
@@ -542,90 +234,6 @@ fn median(values: &mut [f64]) -> f64 {
     }
     let mid = values.len() / 2;
     *values.select_nth_unstable_by(mid, f64::total_cmp).1
-}
-
-/// A paired set found far from the others by [`outlier_sets`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct OutlierSet {
-    /// Index of the set.
-    pub set: usize,
-    /// Lines where it is far out.
-    pub far_lines: usize,
-    /// Lines tested (where at least 3 sets have an impedance).
-    pub lines: usize,
-}
-
-/// The sets whose impedance is far from the others' at most lines (see the
-/// [module docs](self)): `impedances[set][line]` is the set's own `n × n` impedance at a band
-/// line (`None` where it could not be computed). Lines where fewer than 3 sets have one are
-/// not tested.
-///
-/// # Examples
-/// Four sets agree within 1 %, the fifth has its columns swapped:
-/// ```
-/// use bearing_ident::screening::{Checks, OutlierSet, outlier_sets};
-/// use faer::{Mat, c64};
-/// let h = |k: f64, swap: bool| -> Option<Mat<c64>> {
-///     let m = [[146e3 * k, 22e3], [11e3, 169e3 * k]];
-///     Some(Mat::from_fn(2, 2, |i, j| c64::new(m[i][if swap { 1 - j } else { j }], 800.0)))
-/// };
-/// let sets: Vec<Vec<Option<Mat<c64>>>> = (0..5)
-///     .map(|s| (0..10).map(|l| h(1.0 + 0.002 * ((s * 3 + l) % 5) as f64, s == 4)).collect())
-///     .collect();
-/// assert_eq!(
-///     outlier_sets(&sets, &Checks::default()),
-///     vec![OutlierSet { set: 4, far_lines: 10, lines: 10 }]
-/// );
-/// ```
-pub fn outlier_sets(impedances: &[Vec<Option<Mat<c64>>>], checks: &Checks) -> Vec<OutlierSet> {
-    let sets = impedances.len();
-    if sets < 3 {
-        return Vec::new();
-    }
-    let lines = impedances.iter().map(Vec::len).min().unwrap_or(0);
-    let (mut far, mut tested) = (vec![0; sets], vec![0; sets]);
-    for l in 0..lines {
-        let present: Vec<(usize, &Mat<c64>)> = impedances
-            .iter()
-            .enumerate()
-            .filter_map(|(s, h)| h[l].as_ref().map(|h| (s, h)))
-            .collect();
-        if present.len() < 3 {
-            continue;
-        }
-        let n = present[0].1.nrows();
-        let centre = Mat::from_fn(n, n, |i, j| {
-            let mut re: Vec<f64> = present.iter().map(|(_, h)| h[(i, j)].re).collect();
-            let mut im: Vec<f64> = present.iter().map(|(_, h)| h[(i, j)].im).collect();
-            c64::new(median(&mut re), median(&mut im))
-        });
-        let floor = checks.set_floor * centre.norm_l2();
-        let mut far_here = vec![false; present.len()];
-        for j in 0..n {
-            for i in 0..n {
-                let distances: Vec<f64> = present
-                    .iter()
-                    .map(|(_, h)| (h[(i, j)] - centre[(i, j)]).norm())
-                    .collect();
-                let sigma = MAD_TO_SIGMA * median(&mut distances.clone());
-                for (f, d) in far_here.iter_mut().zip(&distances) {
-                    *f |= *d > checks.set_sigmas * sigma && *d > floor;
-                }
-            }
-        }
-        for ((s, _), f) in present.iter().zip(far_here) {
-            tested[*s] += 1;
-            far[*s] += usize::from(f);
-        }
-    }
-    (0..sets)
-        .filter(|&s| tested[s] > 0 && far[s] as f64 > checks.set_fraction * tested[s] as f64)
-        .map(|s| OutlierSet {
-            set: s,
-            far_lines: far[s],
-            lines: tested[s],
-        })
-        .collect()
 }
 
 /// A short phrase for `warning` as the reason a record was rejected.
@@ -645,6 +253,9 @@ pub(crate) fn reason(warning: &Warning) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Channel;
+    use crate::records::Record;
+    use faer::{Mat, c64};
 
     fn record(label: &str, f: [Vec<f64>; 2], x: [Vec<f64>; 2]) -> Record {
         let [f0, f1] = f;

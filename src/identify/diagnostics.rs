@@ -1,0 +1,155 @@
+//! The diagnostics of a finished fit: the flexibility `r²`, the warnings of the data
+//! (coherence selection, conditioning, dropped lines, unpaired records), the non-convergence
+//! policy ([`NonConvergence`]) and the fit gate's findings ([`crate::gate`]).
+
+use faer::{Mat, c64};
+
+use crate::conditioning::Conditioning;
+use crate::error::{Error, Result, Warning};
+use crate::frf::{Frf, FrfBuilder};
+use crate::gate;
+use crate::model::Coefficients;
+use crate::solve::{Convergence, Fit, Iteration};
+
+use super::{NonConvergence, Settings};
+
+impl Settings {
+    /// The warnings of the data behind a fit, in order: lines dropped for low coherence
+    /// (`low_coherence` of them), conditioning, lines dropped by the spectra, unpaired records.
+    pub(super) fn data_warnings(
+        &self,
+        frf: &Frf,
+        conditioning: &Conditioning,
+        low_coherence: usize,
+    ) -> Vec<Warning> {
+        let mut warnings = Vec::new();
+        if low_coherence > 0 {
+            warnings.push(Warning::LowCoherence {
+                lines: low_coherence,
+                threshold: self.min_coherence,
+            });
+        }
+        warnings.extend(conditioning.warning());
+        if !frf.dropped_hz().is_empty() {
+            warnings.push(Warning::DroppedLines {
+                freqs_hz: frf.dropped_hz().to_vec(),
+            });
+        }
+        if !frf.unpaired().is_empty() {
+            warnings.push(Warning::UnpairedRecords {
+                records: frf.unpaired().to_vec(),
+            });
+        }
+        warnings
+    }
+
+    /// A fit that stopped at its limit or diverged: the warning under
+    /// [`NonConvergence::Warn`], the error under [`NonConvergence::Fail`].
+    ///
+    /// # Errors
+    /// [`Error::NotConverged`] under [`NonConvergence::Fail`].
+    pub(super) fn convergence_warning(&self, fit: &Fit) -> Result<Option<Warning>> {
+        let fail = self.non_convergence == NonConvergence::Fail;
+        match fit.convergence() {
+            Convergence::IterationLimit { iterations, change } => {
+                if fail {
+                    return Err(Error::NotConverged {
+                        method: self.method.name(),
+                        iterations,
+                        change,
+                    });
+                }
+                Ok(Some(Warning::NotConverged { iterations, change }))
+            }
+            Convergence::Diverged {
+                iterations,
+                fallback_iteration,
+            } => {
+                if fail {
+                    let change = fit.history().last().map_or(f64::NAN, Iteration::change);
+                    return Err(Error::NotConverged {
+                        method: self.method.name(),
+                        iterations,
+                        change,
+                    });
+                }
+                Ok(Some(Warning::Diverged {
+                    iterations,
+                    fallback_iteration,
+                }))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// The fit gate's findings on a fit of `frf` (window-corrected `model`, `r2` of the
+    /// windowed data); the resolution check only for spectra made here (`builder`).
+    pub(super) fn gate_warnings(
+        &self,
+        frf: &Frf,
+        r2: faer::MatRef<'_, f64>,
+        model: &Coefficients,
+        builder: Option<&FrfBuilder>,
+    ) -> Vec<Warning> {
+        let band = self.band;
+        let mut out = self.gate.poor_fit(frf, r2);
+        out.extend(gate::physics(model));
+        out.extend(gate::window(self.window, band));
+        if builder.is_some() {
+            if let Some(spacing) = line_spacing(frf.freqs_hz()) {
+                out.extend(gate::resolution(self.segmentation, spacing, band, model));
+            }
+        }
+        out.extend(gate::few_lines(frf.lines(), frf.dofs()));
+        out
+    }
+}
+
+/// The smallest spacing of consecutive lines (Hz), if there are two.
+fn line_spacing(freqs_hz: &[f64]) -> Option<f64> {
+    freqs_hz
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .min_by(f64::total_cmp)
+}
+
+/// Per-element coefficient of determination between measured and fitted flexibility,
+/// $r^2_{ij} = 1 - \sum_k |G_{ij,k} - \hat G_{ij,k}|^2 / \sum_k |G_{ij,k} - \bar G_{ij}|^2$.
+pub(super) fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
+    let n = frf.dofs();
+    let mut res = Mat::<f64>::zeros(n, n);
+    let mut tot = Mat::<f64>::zeros(n, n);
+    let mut mean = Mat::<c64>::zeros(n, n);
+    for k in 0..frf.lines() {
+        mean += frf.flexibility(k);
+    }
+    let lines = frf.lines() as f64;
+    for (k, &f) in frf.freqs_hz().iter().enumerate() {
+        let measured = frf.flexibility(k);
+        let fitted = model.flexibility_at(f);
+        for j in 0..n {
+            for i in 0..n {
+                let g = measured[(i, j)];
+                tot[(i, j)] += (g - mean[(i, j)] / lines).norm_sqr();
+                res[(i, j)] += match &fitted {
+                    Ok(m) => (g - m[(i, j)]).norm_sqr(),
+                    Err(_) => f64::INFINITY,
+                };
+            }
+        }
+    }
+    Mat::from_fn(n, n, |i, j| 1.0 - res[(i, j)] / tot[(i, j)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_spacing_is_the_smallest_positive_step() {
+        let d = line_spacing(&[1.0, 2.0, 2.5, 4.0]).unwrap();
+        assert!((d - 0.5).abs() < 1e-15);
+        assert!(line_spacing(&[1.0]).is_none());
+    }
+}

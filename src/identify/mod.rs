@@ -1,0 +1,278 @@
+//! The façade: from records to an identification, through every stage in order.
+//!
+//! [`Identifier`] holds the settings as given (chained, infallible setters);
+//! [`Identifier::check`] checks them once into [`Settings`]; the entry points
+//! ([`Identifier::identify`], [`Identifier::identify_stream`],
+//! [`Identifier::identify_stepped_sine`], [`Identifier::identify_batch`],
+//! [`Identifier::identify_frf`]) check, then run records → spectra → frf → conditioning →
+//! solve, and return an [`Identification`] that owns the coefficients and the diagnostics.
+//!
+//! | file | what lives there |
+//! |---|---|
+//! | `mod.rs` | [`Identifier`], its setters and [`Identifier::check`] |
+//! | `settings.rs` | [`Settings`] (the checked settings), [`NonConvergence`], [`Screening`] |
+//! | `pipeline.rs` | the entry points and the stages after the spectra |
+//! | `screen.rs` | record screening and the force-gate check on the way to the spectra |
+//! | `diagnostics.rs` | the flexibility `r²` and the warnings of a finished fit |
+//! | `uncertainty/` | [`Uncertainty`]: sandwich, jackknife, bootstrap, Student's t |
+//! | `result.rs` | [`Identification`] and its accessors |
+//! | `baseline.rs` | [`Baseline`] and [`Identification::subtract_baseline`] |
+//! | `serialize.rs` | the JSON form of an [`Identification`] (feature `serde`) |
+
+mod baseline;
+mod diagnostics;
+mod pipeline;
+mod result;
+mod screen;
+#[cfg(feature = "serde")]
+mod serialize;
+mod settings;
+mod uncertainty;
+
+pub use baseline::Baseline;
+pub use result::Identification;
+pub use settings::{NonConvergence, Screening, Settings};
+pub use uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
+
+use crate::conditioning::ConditionLimits;
+use crate::error::Result;
+use crate::frf::{Assignment, Estimator};
+use crate::gate::FitGate;
+use crate::solve::ml::MlOptions;
+use crate::solve::{IvfOptions, Method};
+use crate::spectra::{ForceGate, Segmentation, Window};
+
+/// Settings of an identification. Build with [`Identifier::new`] and chained setters, then call
+/// [`Identifier::identify`].
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Identifier;
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// let truth = seed_rig();
+/// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&truth)?;
+/// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+/// let k = id.coefficients().stiffness()[(0, 0)];
+/// assert!((k / 146.3e3 - 1.0).abs() < 1e-6);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identifier {
+    low_hz: f64,
+    high_hz: f64,
+    dofs: Option<usize>,
+    estimator: Estimator,
+    method: Method,
+    assignment: Assignment,
+    segmentation: Segmentation,
+    window: Window,
+    ivf: IvfOptions,
+    ml: Option<MlOptions>,
+    limits: ConditionLimits,
+    non_convergence: NonConvergence,
+    min_coherence: f64,
+    uncertainty: Uncertainty,
+    force_gate: Option<ForceGate>,
+    screening: Screening,
+    gate: FitGate,
+}
+
+impl Identifier {
+    /// An identifier over the band `low_hz ..= high_hz` (Hz, edges inclusive, DC excluded), with
+    /// every other setting at its default: paired sets, IVF, dominant-force assignment, whole
+    /// records, rectangular window.
+    pub fn new(low_hz: f64, high_hz: f64) -> Self {
+        Self {
+            low_hz,
+            high_hz,
+            dofs: None,
+            estimator: Estimator::default(),
+            method: Method::default(),
+            assignment: Assignment::default(),
+            segmentation: Segmentation::default(),
+            window: Window::default(),
+            ivf: IvfOptions::default(),
+            ml: None,
+            limits: ConditionLimits::default(),
+            non_convergence: NonConvergence::default(),
+            min_coherence: 0.0,
+            uncertainty: Uncertainty::default(),
+            force_gate: None,
+            screening: Screening::default(),
+            gate: FitGate::default(),
+        }
+    }
+
+    /// The band (Hz). Valid: finite `0 ≤ low < high ≤ f_s/2`.
+    pub fn band(mut self, low_hz: f64, high_hz: f64) -> Self {
+        self.low_hz = low_hz;
+        self.high_hz = high_hz;
+        self
+    }
+
+    /// The number of degrees of freedom the records must have. Default: that of the first
+    /// record.
+    pub fn dofs(mut self, n: usize) -> Self {
+        self.dofs = Some(n);
+        self
+    }
+
+    /// The impedance estimator. Default [`Estimator::PairedSets`].
+    pub fn estimator(mut self, estimator: Estimator) -> Self {
+        self.estimator = estimator;
+        self
+    }
+
+    /// The fitting method. Default [`Method::Ivf`].
+    pub fn method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+
+    /// How records are assigned to excitations for paired sets. Default
+    /// [`Assignment::DominantForce`].
+    pub fn assignment(mut self, assignment: Assignment) -> Self {
+        self.assignment = assignment;
+        self
+    }
+
+    /// Segmentation for H1 (paired sets always use whole records). Default
+    /// [`Segmentation::WholeRecord`].
+    pub fn segmentation(mut self, segmentation: Segmentation) -> Self {
+        self.segmentation = segmentation;
+        self
+    }
+
+    /// The window. Default [`Window::Rectangular`].
+    pub fn window(mut self, window: Window) -> Self {
+        self.window = window;
+        self
+    }
+
+    /// IVF tolerance on the block-wise relative change. Valid `(0, 1)`; default `1e-8`.
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.ivf.tolerance = tolerance;
+        self
+    }
+
+    /// IVF iteration limit. Valid `≥ 1`; default `50`.
+    pub fn max_iterations(mut self, max_iterations: usize) -> Self {
+        self.ivf.max_iterations = max_iterations;
+        self
+    }
+
+    /// Condition-number thresholds. Valid `1 ≤ warn ≤ refuse`; default `1e3` and `1e8`.
+    pub fn condition_limits(mut self, limits: ConditionLimits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// Drops the lines where the multiple coherence of any output is below `threshold` before
+    /// fitting, and reports how many with [`Warning::LowCoherence`](crate::Warning::LowCoherence). Valid `[0, 1)`; default
+    /// `0` (keep every line).
+    pub fn min_coherence(mut self, threshold: f64) -> Self {
+        self.min_coherence = threshold;
+        self
+    }
+
+    /// How coefficient standard deviations are estimated. Default [`Uncertainty::Sandwich`].
+    pub fn uncertainty(mut self, uncertainty: Uncertainty) -> Self {
+        self.uncertainty = uncertainty;
+        self
+    }
+
+    /// Gates every force channel ([`ForceGate`]): after an impact the force record holds only
+    /// noise, which the gate keeps out of the spectra. The response is not gated.
+    pub fn force_gate(mut self, gate: ForceGate) -> Self {
+        self.force_gate = Some(gate);
+        self
+    }
+
+    /// How records are screened for faults ([`Screening`]); default
+    /// [`Screening::Warn`]`(`[`Checks::default`](crate::screening::Checks::default)`)`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::identify::{Identifier, Screening};
+    /// use bearing_ident::screening::Checks;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let mut records = ImpactTest { per_direction: 3, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // Overload the first record's force amplifier at 60 % of its peak.
+    /// let r = &records[0];
+    /// let limit = 0.6 * r.force(0).iter().cloned().fold(0.0, f64::max);
+    /// let clipped: Vec<f64> = r.force(0).iter().map(|f| f.min(limit)).collect();
+    /// records[0] = bearing_ident::Record::new(
+    ///     "clipped", r.sample_rate(), vec![clipped, r.force(1).to_vec()],
+    ///     vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])?;
+    /// let id = Identifier::new(8.0, 49.0)
+    ///     .screening(Screening::Reject(Checks::default()))
+    ///     .identify(&records)?;
+    /// assert!(id.warnings().iter().any(|w| w.to_string().contains("`clipped` rejected")));
+    /// assert!((id.coefficients().stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-6);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn screening(mut self, screening: Screening) -> Self {
+        self.screening = screening;
+        self
+    }
+
+    /// The fit gate ([`FitGate`], default `r² ≥ 0.9`): the checks of the finished fit and of the
+    /// settings against the records, each finding a [`Warning`](crate::Warning) (see [`crate::gate`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Identifier, Window, gate::FitGate};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, noise: 0.05, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // A window that falls to 1e-300 over the record leaves a few milliseconds of it.
+    /// let id = Identifier::new(8.0, 49.0)
+    ///     .window(Window::exponential_to(1e-300, 1.2))
+    ///     .fit_gate(FitGate { min_r2: 0.95 })
+    ///     .identify(&records)?;
+    /// assert!(id.warnings().iter().any(|w| w.kind() == "window_too_short"));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn fit_gate(mut self, gate: FitGate) -> Self {
+        self.gate = gate;
+        self
+    }
+
+    /// What a non-converged IVF does. Default [`NonConvergence::Warn`].
+    pub fn on_non_convergence(mut self, policy: NonConvergence) -> Self {
+        self.non_convergence = policy;
+        self
+    }
+
+    /// Options of the maximum-likelihood refinement ([`Method::Ml`]): its tolerance (valid
+    /// `(0, 1)`) and step limit (valid `≥ 1`). Default: derived from the IVF settings, the
+    /// [`Identifier::tolerance`] capped at `1e-10` and the [`Identifier::max_iterations`]
+    /// raised to at least 100 (with the IVF defaults, [`MlOptions::default`]).
+    pub fn ml_options(mut self, options: MlOptions) -> Self {
+        self.ml = Some(options);
+        self
+    }
+
+    /// Checks every setting once and returns them checked ([`Settings`]); each entry point
+    /// ([`Identifier::identify`] and the others) calls it first, so a bad setting is refused
+    /// before any record is read.
+    ///
+    /// # Errors
+    /// The first fault, in this order: [`Error::InvalidBand`](crate::Error::InvalidBand) for the band; then
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for an ML uncertainty other than none, sandwich or auto,
+    /// fewer than 20 bootstrap replicates, a minimum coherence outside `[0, 1)`, an
+    /// exponential window's decay not finite and `≥ 0`, the IVF tolerance and iteration limit,
+    /// the fit gate ([`FitGate::check`]), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
+    /// condition limits (`1 ≤ warn ≤ refuse`); [`Error::TooLarge`](crate::Error::TooLarge) for more than
+    /// [`MAX_BOOTSTRAP_DRAWS`] bootstrap replicates; [`Error::InvalidParameter`](crate::Error::InvalidParameter) for ML
+    /// options out of range.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Error, Identifier};
+    /// let e = Identifier::new(8.0, 49.0).min_coherence(1.5).check().unwrap_err();
+    /// assert!(matches!(e, Error::InvalidParameter { name: "minimum coherence", .. }));
+    /// ```
+    pub fn check(&self) -> Result<Settings> {
+        Settings::new(self)
+    }
+}

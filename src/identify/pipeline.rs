@@ -1,0 +1,420 @@
+//! The entry points of [`Identifier`] and the stages they run: records (screened) →
+//! spectra ([`FrfBuilder`]) → the stages after the spectra ([`Settings::conclude`]:
+//! coherence selection, line count, conditioning, fit, diagnostics, error bars). Each entry
+//! point checks the settings once ([`Identifier::check`]) and runs on the [`Settings`].
+
+use crate::conditioning::Conditioning;
+use crate::error::{Error, Result, Warning};
+use crate::frf::{Assignment, Estimator, Frf, FrfBuilder};
+use crate::records::Record;
+use crate::screening::Screener;
+use crate::solve::ml::MlReport;
+use crate::solve::{self, Convergence, Fit, Method};
+use crate::spectra::Segmentation;
+use crate::tolerance;
+
+use super::diagnostics::flexibility_r2;
+use super::screen::{kept_records, observe, reported, screen_batch};
+#[cfg(doc)]
+use super::{NonConvergence, Screening, Uncertainty};
+use super::{Identification, Identifier, Settings};
+
+impl Identifier {
+    /// Runs the identification.
+    ///
+    /// # Errors
+    /// Every error of the stages: record shapes ([`Error::DofMismatch`],
+    /// [`Error::SampleRateMismatch`], [`Error::RecordLengthMismatch`], [`Error::NoRecords`]),
+    /// the band ([`Error::InvalidBand`], [`Error::BandAboveNyquist`], [`Error::TooFewLines`]
+    /// when the band holds fewer lines than the fit needs, with the line spacing),
+    /// [`Error::SpectrumOverflow`] and [`Error::NonFiniteResult`] when levels overflow f64,
+    /// [`Error::DeadChannel`] naming a record with every force (or displacement) channel flat
+    /// when the run cannot go on without it (instead of the rank, singularity or line-count
+    /// error it causes), the assignment, [`Error::RankDeficient`], [`Error::SingularFit`],
+    /// [`Error::InvalidParameter`] for out-of-range settings, and [`Error::NotConverged`] under
+    /// [`NonConvergence::Fail`].
+    pub fn identify(&self, records: &[Record]) -> Result<Identification> {
+        self.check()?.identify(records)
+    }
+
+    /// [`Identifier::identify`] over records that arrive one at a time (read from files, say):
+    /// each is reduced to its band-line spectra (paired sets) or folded into the cross-spectra
+    /// (H1) and can be dropped at once, so memory does not grow with record length, nor, for
+    /// H1, with the number of records.
+    ///
+    /// Screening ([`Screening`]) decides flat channels, clipping, double hits and duplicates of
+    /// an earlier record on arrival; dead channels and level outliers (which need the
+    /// siblings) and the per-line test of paired sets once all have arrived. Under
+    /// [`Screening::Reject`] records found faulty late are taken back out: paired sets keep
+    /// every record's band-line spectra anyway, and cross-spectral estimators then keep each
+    /// record's own band-line cross-spectra too (`3n²` complex numbers per line and record),
+    /// so the result is that of leaving the records out from the start.
+    ///
+    /// # Errors
+    /// The first error of the iterator, then as [`Identifier::identify`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let records = test.run(&seed_rig())?;
+    /// let streamed = Identifier::new(8.0, 49.0).identify_stream(records.clone().into_iter().map(Ok))?;
+    /// let at_once = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// assert_eq!(streamed.coefficients(), at_once.coefficients());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_stream(
+        &self,
+        records: impl IntoIterator<Item = Result<Record>>,
+    ) -> Result<Identification> {
+        self.check()?.identify_stream(records)
+    }
+
+    /// Identifies a stepped-sine test ([`crate::stepped::stepped_sine`], steps grouped within
+    /// `step_tolerance` Hz, records assigned by [`Identifier::assignment`]) with the record
+    /// screening of [`Identifier::identify`] (per record and across siblings; no per-line
+    /// test, each step being its own line), then as [`Identifier::identify_frf`].
+    ///
+    /// # Errors
+    /// As [`crate::stepped::stepped_sine`] and [`Identifier::identify_frf`];
+    /// [`Error::NoRecords`] if screening left none.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, seed_rig, sine};
+    /// let mut sim = Simulator::new(&seed_rig(), 2000.0, 4000, AntiAlias::default())?;
+    /// let mut records = Vec::new();
+    /// for step in 0..8 {
+    ///     let f = 10.0 + 5.0 * step as f64;
+    ///     for dir in 0..2 {
+    ///         let mut forces = vec![vec![0.0; 4000]; 2];
+    ///         forces[dir] = sine(f, 50.0, 2000.0, 4000)?;
+    ///         let r = sim.held_record(format!("{f}Hz-{dir}"), &forces)?;
+    ///         records.push(r.trimmed(2000..4000)?);
+    ///     }
+    /// }
+    /// let id = Identifier::new(8.0, 49.0).identify_stepped_sine(&records, 0.01)?;
+    /// assert!(id.warnings().is_empty());
+    /// assert!((id.coefficients().mass()[(0, 0)] / 4.7 - 1.0).abs() < 1e-4);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_stepped_sine(
+        &self,
+        records: &[Record],
+        step_tolerance: f64,
+    ) -> Result<Identification> {
+        self.check()?.identify_stepped_sine(records, step_tolerance)
+    }
+
+    /// Identifies many test conditions (operating points) with the same settings, one result
+    /// per record set, in order. With the `rayon` feature the sets run in parallel. The
+    /// settings are checked once; when they fail, every set gets the error.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let sets = vec![test.run(&seed_rig())?, test.run(&seed_rig())?];
+    /// let results = Identifier::new(8.0, 49.0).identify_batch(&sets);
+    /// assert_eq!(results.len(), 2);
+    /// assert!(results.iter().all(|r| r.is_ok()));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_batch(&self, sets: &[Vec<Record>]) -> Vec<Result<Identification>> {
+        let settings = match self.check() {
+            Ok(settings) => settings,
+            Err(e) => return sets.iter().map(|_| Err(e.clone())).collect(),
+        };
+        #[cfg(feature = "rayon")]
+        {
+            use rayon::prelude::*;
+            sets.par_iter().map(|s| settings.identify(s)).collect()
+        }
+        #[cfg(not(feature = "rayon"))]
+        {
+            sets.iter().map(|s| settings.identify(s)).collect()
+        }
+    }
+
+    /// Fits an [`Frf`] measured some other way — stepped sine
+    /// ([`crate::stepped::stepped_sine`]), or flexibilities from another tool
+    /// ([`Frf::from_flexibility`]) — with every check and diagnostic of
+    /// [`Identifier::identify`]. Lines outside the band are left out. Resampling uncertainties
+    /// need the records, so the jackknife and bootstrap fall back to the sandwich here
+    /// (silently under [`Uncertainty::Auto`], else with [`Warning::FewReplicates`]).
+    ///
+    /// # Errors
+    /// As [`Identifier::identify`], after the record stages.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Frf, Identifier, simulate::seed_rig};
+    /// let truth = seed_rig();
+    /// let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+    /// let g: Vec<_> = freqs.iter().map(|&f| truth.flexibility_at(f)).collect::<Result<_, _>>()?;
+    /// let id = Identifier::new(8.0, 49.0).identify_frf(Frf::from_flexibility(freqs, &g)?)?;
+    /// assert!((id.coefficients().damping()[(0, 0)] / 131.98 - 1.0).abs() < 1e-8);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn identify_frf(&self, frf: Frf) -> Result<Identification> {
+        self.check()?.identify_frf(frf)
+    }
+}
+
+impl Settings {
+    /// [`Identifier::identify`] on checked settings.
+    fn identify(&self, records: &[Record]) -> Result<Identification> {
+        let mut builder = self.builder();
+        let pulses = self.pulse_warning(records);
+        let Some((checks, reject)) = self.screening else {
+            builder.push_all(records)?;
+            return self.finish(builder, pulses.into_iter().collect());
+        };
+        // Every record is at hand: decide all but the per-line test before the spectra.
+        let (kept, mut warnings) = screen_batch(records, checks, reject);
+        if kept.iter().all(|&k| k) {
+            builder.push_all(records)?;
+        } else {
+            builder.push_all(&kept_records(records, &kept))?;
+        }
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        warnings.extend(pulses);
+        self.finish(builder, warnings)
+    }
+
+    /// [`Identifier::identify_stream`] on checked settings.
+    fn identify_stream(
+        &self,
+        records: impl IntoIterator<Item = Result<Record>>,
+    ) -> Result<Identification> {
+        let mut builder = self.builder();
+        let mut pulses = self.pulse_check();
+        let Some((checks, reject)) = self.screening else {
+            for r in records {
+                let r = r?;
+                observe(&r, &mut pulses);
+                builder.push(&r)?;
+            }
+            return self.finish(
+                builder,
+                pulses.and_then(|p| p.warning()).into_iter().collect(),
+            );
+        };
+        if reject {
+            // Records found faulty only once all have arrived must come out again.
+            builder = builder.keeping_partials();
+        }
+        let mut screener = Screener::new(checks);
+        let (mut findings, mut pushed) = (Vec::new(), Vec::new());
+        for r in records {
+            let r = r?;
+            observe(&r, &mut pulses);
+            let found = screener.push(&r);
+            if reject && !found.is_empty() {
+                pushed.push(None);
+            } else {
+                builder.push(&r)?;
+                pushed.push(Some(builder.records() - 1));
+            }
+            findings.push(found);
+        }
+        let excluded: Vec<bool> = pushed.iter().map(Option::is_none).collect();
+        let mut out = Vec::new();
+        for (r, w) in screener.across(&excluded) {
+            if let (true, Some(b)) = (reject, pushed[r]) {
+                out.push(b);
+            }
+            findings[r].push(w);
+        }
+        builder.remove(&out);
+        let mut warnings = reported(screener.summaries(), findings, reject);
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        warnings.extend(pulses.and_then(|p| p.warning()));
+        self.finish(builder, warnings)
+    }
+
+    /// [`Identifier::identify_stepped_sine`] on checked settings.
+    fn identify_stepped_sine(
+        &self,
+        records: &[Record],
+        step_tolerance: f64,
+    ) -> Result<Identification> {
+        let (kept, warnings) = match self.screening {
+            None => (records.to_vec(), Vec::new()),
+            Some((checks, reject)) => {
+                let (kept, warnings) = screen_batch(records, checks, reject);
+                (kept_records(records, &kept), warnings)
+            }
+        };
+        if kept.is_empty() {
+            return Err(Error::NoRecords);
+        }
+        let frf = crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)?;
+        let mut id = self.identify_frf(frf)?;
+        id.warnings.splice(0..0, warnings);
+        Ok(id)
+    }
+
+    /// [`Identifier::identify_frf`] on checked settings: the lines inside the band (to
+    /// [`tolerance::READY_FRF_BAND_EDGE`] of its upper edge), then [`Settings::conclude`].
+    fn identify_frf(&self, frf: Frf) -> Result<Identification> {
+        let band = self.band;
+        let slack = tolerance::READY_FRF_BAND_EDGE * band.high_hz();
+        let inside = |f: f64| f >= band.low_hz() - slack && f <= band.high_hz() + slack;
+        let frf = frf.retain_lines(|k| inside(frf.freqs_hz()[k]));
+        self.conclude(frf, None, Vec::new(), Vec::new())
+    }
+
+    /// The spectra of `builder`'s records, then [`Settings::conclude`]; a record without force
+    /// or response is named ([`Error::DeadChannel`]) instead of the rank or singularity error
+    /// it causes.
+    fn finish(&self, builder: FrfBuilder, screened: Vec<Warning>) -> Result<Identification> {
+        if builder.records() == 0 {
+            return Err(Error::NoRecords);
+        }
+        let outcome = builder.finish(&self.assignment).and_then(|frf| {
+            let excitations = match self.estimator {
+                Estimator::PairedSets => builder.excitations(&self.assignment)?,
+                _ => builder.excitations(&Assignment::DominantForce)?,
+            };
+            self.conclude(frf, Some(&builder), excitations, screened)
+        });
+        // A record without force or without response shows up later as missing rank or a
+        // singular fit: name the record instead. (A band with too few lines stays `bad_band`.)
+        match outcome {
+            Err(
+                Error::RankDeficient { .. } | Error::Singular { .. } | Error::SingularFit { .. },
+            ) => Err(builder
+                .dead_channel()
+                .unwrap_or_else(|| outcome.expect_err("matched"))),
+            outcome => outcome,
+        }
+    }
+
+    /// The stages after the spectra: coherence selection, line count, conditioning, fit,
+    /// diagnostics, window correction, error bars. `builder` (with its replicates) is there
+    /// unless the FRF came ready-made.
+    fn conclude(
+        &self,
+        frf: Frf,
+        builder: Option<&FrfBuilder>,
+        excitations: Vec<usize>,
+        mut warnings: Vec<Warning>,
+    ) -> Result<Identification> {
+        let (frf, low_coherence) = self.select_coherent(frf);
+        require_lines(&frf)?;
+        let conditioning = Conditioning::assess(&frf, self.limits)?;
+        let (fit, ml) = match self.method {
+            Method::Ml => self.fit_ml(&frf, builder, &mut warnings)?,
+            method => (solve::fit(&frf, method, &self.ivf)?, None),
+        };
+        warnings.extend(self.data_warnings(&frf, &conditioning, low_coherence));
+        warnings.extend(self.convergence_warning(&fit)?);
+        // r² compares like with like: measured and fitted flexibility of the windowed data.
+        let fit_r2 = flexibility_r2(&frf, fit.coefficients());
+        let fit = self.corrected(fit)?;
+        warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
+        let bars = self.error_bars(&fit, &frf, builder, &mut warnings)?;
+        Ok(Identification {
+            ml,
+            band: self.band,
+            window: self.window,
+            segmentation: if builder.is_some() {
+                self.segmentation
+            } else {
+                Segmentation::WholeRecord
+            },
+            force_gate: self.force_gate.filter(|_| builder.is_some()),
+            uncertainty: bars.uncertainty,
+            std_dev: bars.std_dev,
+            interval_factor: bars.interval_factor,
+            estimator: self.estimator,
+            frf,
+            conditioning,
+            fit,
+            fit_r2,
+            excitations,
+            warnings,
+        })
+    }
+
+    /// `frf` without the lines where the multiple coherence of some output is below the
+    /// minimum coherence, and how many were left out.
+    fn select_coherent(&self, frf: Frf) -> (Frf, usize) {
+        if self.min_coherence <= 0.0 {
+            return (frf, 0);
+        }
+        let keep = |k: usize| {
+            frf.multiple_coherence(k)
+                .is_none_or(|c| c.iter().all(|&g| g >= self.min_coherence))
+        };
+        let low_coherence = (0..frf.lines()).filter(|&k| !keep(k)).count();
+        if low_coherence > 0 {
+            let kept = frf.retain_lines(keep);
+            (kept, low_coherence)
+        } else {
+            (frf, 0)
+        }
+    }
+
+    /// The maximum-likelihood fit ([`Method::Ml`]): an IVF start refined on the replicates'
+    /// statistics; when the refinement falls back, the IVF start with
+    /// [`Warning::MlFellBack`].
+    ///
+    /// # Errors
+    /// [`Error::MlNeedsRepeats`] without records (a ready-made FRF), and the errors of the
+    /// IVF start and of the refinement.
+    fn fit_ml(
+        &self,
+        frf: &Frf,
+        builder: Option<&FrfBuilder>,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<(Fit, Option<MlReport>)> {
+        let data = builder.ok_or(Error::MlNeedsRepeats)?.ml_data(frf)?;
+        let start = solve::fit(frf, Method::Ivf, &self.ivf)?;
+        let refined = solve::ml::fit(&data, start.coefficients(), &self.ml)?;
+        let fit = match (&refined.report.fell_back, refined.covariance) {
+            (None, Some(cov)) => {
+                let convergence = if refined.report.converged {
+                    Convergence::Converged {
+                        iterations: refined.report.iterations,
+                    }
+                } else {
+                    Convergence::IterationLimit {
+                        iterations: refined.report.iterations,
+                        change: f64::NAN,
+                    }
+                };
+                Fit::refined_by_ml(&start, refined.coefficients, cov, convergence)?
+            }
+            (reason, _) => {
+                warnings.push(Warning::MlFellBack {
+                    reason: reason.clone().unwrap_or_default(),
+                });
+                start
+            }
+        };
+        Ok((fit, Some(refined.report)))
+    }
+}
+
+/// Too few lines in the band is the band's fault whether or not the lines are usable.
+///
+/// # Errors
+/// [`Error::TooFewLines`] when the band's lines (used and dropped) are fewer than the fit
+/// needs.
+fn require_lines(frf: &Frf) -> Result<()> {
+    let band_lines = frf.lines() + frf.dropped_hz().len();
+    let required = solve::required_lines(frf.dofs());
+    if band_lines < required {
+        return Err(Error::TooFewLines {
+            lines: band_lines,
+            required,
+            resolution_hz: frf.line_spacing_hz(),
+        });
+    }
+    Ok(())
+}

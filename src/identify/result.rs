@@ -1,0 +1,211 @@
+//! The result of an identification, [`Identification`]: the coefficients and the evidence
+//! to defend them, behind accessors.
+
+use faer::Mat;
+
+use crate::conditioning::Conditioning;
+use crate::error::{Result, Warning};
+use crate::frf::{Band, Estimator, Frf};
+use crate::model::{Coefficients, Mode};
+use crate::per_frequency::PerFrequency;
+use crate::solve::ml::MlReport;
+use crate::solve::{Convergence, Fit, Iteration, Method};
+use crate::spectra::{ForceGate, Segmentation, Window};
+
+use super::Uncertainty;
+
+/// The result of an identification: coefficients and the evidence to defend them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Identification {
+    pub(super) ml: Option<MlReport>,
+    pub(super) band: Band,
+    pub(super) window: Window,
+    pub(super) segmentation: Segmentation,
+    pub(super) force_gate: Option<ForceGate>,
+    pub(super) uncertainty: Uncertainty,
+    pub(super) std_dev: Option<Coefficients>,
+    pub(super) interval_factor: f64,
+    pub(super) estimator: Estimator,
+    pub(super) frf: Frf,
+    pub(super) conditioning: Conditioning,
+    pub(super) fit: Fit,
+    pub(super) fit_r2: Mat<f64>,
+    pub(super) excitations: Vec<usize>,
+    pub(super) warnings: Vec<Warning>,
+}
+
+impl Identification {
+    /// The window the spectra were taken with. Under [`Window::Exponential`] the
+    /// coefficients, their standard deviations and the modes are already corrected back to
+    /// the unwindowed system; the residual, history and `r²` are those of the windowed fit.
+    pub fn window(&self) -> Window {
+        self.window
+    }
+
+    /// How the records were cut into segments (paired sets always use whole records).
+    pub fn segmentation(&self) -> Segmentation {
+        match self.estimator {
+            Estimator::PairedSets => Segmentation::WholeRecord,
+            _ => self.segmentation,
+        }
+    }
+
+    /// The force gate, if one was applied.
+    pub fn force_gate(&self) -> Option<ForceGate> {
+        self.force_gate
+    }
+
+    /// The identified `M`, `C`, `K` of the whole test system.
+    pub fn coefficients(&self) -> &Coefficients {
+        self.fit.coefficients()
+    }
+
+    /// Standard deviations of the coefficients by the chosen [`Uncertainty`] (sandwich by
+    /// default: least squares and IVF only; jackknife: any method).
+    pub fn std_dev(&self) -> Option<&Coefficients> {
+        self.std_dev.as_ref()
+    }
+
+    /// How [`Identification::std_dev`] was estimated.
+    pub fn uncertainty(&self) -> Uncertainty {
+        self.uncertainty
+    }
+
+    /// Half-widths of the 95 % intervals, `q · σ`, with `q` = 1.96 for the sandwich and
+    /// Student's `t(R − 1)` for the jackknife over `R` replicates.
+    pub fn interval_95(&self) -> Option<Coefficients> {
+        let s = self.std_dev.as_ref()?;
+        let q = self.interval_factor;
+        Coefficients::new(
+            s.mass() * faer::Scale(q),
+            s.damping() * faer::Scale(q),
+            s.stiffness() * faer::Scale(q),
+        )
+        .ok()
+    }
+
+    /// Natural frequencies and damping ratios of the identified system.
+    ///
+    /// # Errors
+    /// As [`Coefficients::modes`].
+    pub fn modes(&self) -> Result<Vec<Mode>> {
+        self.coefficients().modes()
+    }
+
+    /// What the maximum-likelihood loop did (method ml only): iterations, the cost and its
+    /// ratio to the expected value (a goodness-of-fit test), and whether it fell back to IVF.
+    pub fn ml(&self) -> Option<&MlReport> {
+        self.ml.as_ref()
+    }
+
+    /// The fitting method used.
+    pub fn method(&self) -> Method {
+        self.fit.method()
+    }
+
+    /// The impedance estimator used.
+    pub fn estimator(&self) -> Estimator {
+        self.estimator
+    }
+
+    /// The band asked for.
+    pub fn band(&self) -> Band {
+        self.band
+    }
+
+    /// Frequencies of the lines used (Hz).
+    pub fn freqs_hz(&self) -> &[f64] {
+        self.frf.freqs_hz()
+    }
+
+    /// Condition number per line used (see [`Frf::condition_numbers`]).
+    pub fn condition_numbers(&self) -> &[f64] {
+        self.frf.condition_numbers()
+    }
+
+    /// The conditioning verdict (worst, median, best).
+    pub fn conditioning(&self) -> &Conditioning {
+        &self.conditioning
+    }
+
+    /// Per-element goodness of fit between measured and fitted flexibility:
+    /// $r^2_{ij} = 1 - \sum_k |G_{ij} - \hat G_{ij}|^2 / \sum_k |G_{ij} - \bar G_{ij}|^2$
+    /// (1 is a perfect fit; small cross-coupled elements may score low or negative).
+    pub fn fit_r2(&self) -> &Mat<f64> {
+        &self.fit_r2
+    }
+
+    /// `‖A Θ − Ī‖_F`, the residual of the stacked flexibility identity.
+    pub fn residual_norm(&self) -> f64 {
+        self.fit.residual_norm()
+    }
+
+    /// How the fit ended.
+    pub fn convergence(&self) -> Convergence {
+        self.fit.convergence()
+    }
+
+    /// IVF iterations run (0 for direct and least squares).
+    pub fn iterations(&self) -> usize {
+        self.fit.convergence().iterations()
+    }
+
+    /// `true` unless an iterative fit stopped at its limit or diverged.
+    pub fn converged(&self) -> bool {
+        self.fit.convergence().is_converged()
+    }
+
+    /// The IVF iteration history.
+    pub fn history(&self) -> &[Iteration] {
+        self.fit.history()
+    }
+
+    /// The fit with all it carries (direct-fit `r²` among it).
+    pub fn fit(&self) -> &Fit {
+        &self.fit
+    }
+
+    /// The measured impedances and flexibilities.
+    pub fn frf(&self) -> &Frf {
+        &self.frf
+    }
+
+    /// The excitation (degree of freedom) each record was assigned to.
+    pub fn excitations(&self) -> &[usize] {
+        &self.excitations
+    }
+
+    /// The smallest multiple coherence over the lines used and the outputs (`None` when the
+    /// spectra carried none): what [`Identifier::min_coherence`](crate::Identifier::min_coherence)
+    /// compares with.
+    pub fn min_coherence(&self) -> Option<f64> {
+        (0..self.frf.lines())
+            .filter_map(|k| self.frf.multiple_coherence(k))
+            .flatten()
+            .copied()
+            .reduce(f64::min)
+    }
+
+    /// The old name of [`Identification::min_coherence`], kept for existing callers (to be
+    /// marked `#[deprecated]` once the crate's own callers have moved).
+    #[doc(hidden)]
+    pub fn coherence_min(&self) -> Option<f64> {
+        self.min_coherence()
+    }
+
+    /// Stiffness and damping line by line, `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω`, with the
+    /// fitted `M` (and the exponential window's exact correction), error bars from the FRF's
+    /// variance when it has one; see [`PerFrequency`].
+    ///
+    /// # Errors
+    /// As [`PerFrequency::new`] (not for a successful identification's own data).
+    pub fn per_frequency(&self) -> Result<PerFrequency> {
+        let decay = self.window.decay_per_s().unwrap_or(0.0);
+        PerFrequency::new(&self.frf, self.coefficients().mass(), decay)
+    }
+
+    /// What the user should know.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+}

@@ -1,0 +1,129 @@
+//! On the way to the spectra: record screening ([`crate::screening`]) for records at hand
+//! and for records that stream in, the per-line test of paired sets, and the force-gate check
+//! against the force pulses ([`ForceGateCheck`]).
+
+use crate::error::{Result, Warning};
+use crate::frf::FrfBuilder;
+use crate::gate::ForceGateCheck;
+use crate::records::Record;
+use crate::screening::{self, Checks, Screener};
+use crate::spectra::Segmentation;
+
+use super::Settings;
+
+impl Settings {
+    /// A check of the force gate against the pulses, when a gate is set on whole records.
+    pub(super) fn pulse_check(&self) -> Option<ForceGateCheck> {
+        match (self.force_gate, self.segmentation) {
+            (Some(g), Segmentation::WholeRecord) => Some(ForceGateCheck::new(g)),
+            _ => None,
+        }
+    }
+
+    /// [`Warning::ForceGateShort`] if the force gate closes on a pulse of `records`.
+    pub(super) fn pulse_warning(&self, records: &[Record]) -> Option<Warning> {
+        let mut pulses = self.pulse_check();
+        for r in records {
+            observe(r, &mut pulses);
+        }
+        pulses.and_then(|p| p.warning())
+    }
+
+    /// The per-line test of paired sets ([`screening::outlier_sets`]) on what `builder`
+    /// holds; under `reject` the outlying sets' records are taken back out.
+    pub(super) fn screen_sets(
+        &self,
+        builder: &mut FrfBuilder,
+        checks: &Checks,
+        reject: bool,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<()> {
+        let sets = builder.set_impedances(&self.assignment)?;
+        let mut out = Vec::new();
+        for o in screening::outlier_sets(&sets.impedances, checks) {
+            let members = &sets.records[o.set];
+            let labels: Vec<String> = members
+                .iter()
+                .map(|&r| builder.label(r).to_owned())
+                .collect();
+            let warning = Warning::OutlierSet {
+                records: labels.clone(),
+                far_lines: o.far_lines,
+                lines: o.lines,
+            };
+            if reject {
+                let reason = screening::reason(&warning);
+                out.extend(members.iter().copied());
+                warnings.push(warning);
+                warnings.extend(labels.into_iter().map(|record| Warning::Rejected {
+                    record,
+                    reason: reason.clone(),
+                }));
+            } else {
+                warnings.push(warning);
+            }
+        }
+        builder.remove(&out);
+        Ok(())
+    }
+}
+
+/// Notes the force pulses of `record` for the force-gate check.
+pub(super) fn observe(record: &Record, pulses: &mut Option<ForceGateCheck>) {
+    if let Some(p) = pulses {
+        let forces = (0..record.dofs()).map(|i| record.force(i));
+        p.record(forces, 1.0 / record.sample_rate());
+    }
+}
+
+/// Screens records that are all at hand: which to keep (all unless `reject`) and the warnings,
+/// in record order (the per-line test of paired sets is separate, see
+/// [`screening::outlier_sets`]).
+pub(super) fn screen_batch(
+    records: &[Record],
+    checks: Checks,
+    reject: bool,
+) -> (Vec<bool>, Vec<Warning>) {
+    let mut screener = Screener::new(checks);
+    let mut findings: Vec<Vec<Warning>> = records.iter().map(|r| screener.push(r)).collect();
+    let excluded: Vec<bool> = findings.iter().map(|f| reject && !f.is_empty()).collect();
+    for (r, w) in screener.across(&excluded) {
+        findings[r].push(w);
+    }
+    let kept = findings.iter().map(|f| !reject || f.is_empty()).collect();
+    (kept, reported(screener.summaries(), findings, reject))
+}
+
+/// The records marked in `kept`.
+pub(super) fn kept_records(records: &[Record], kept: &[bool]) -> Vec<Record> {
+    records
+        .iter()
+        .zip(kept)
+        .filter(|(_, k)| **k)
+        .map(|(r, _)| r.clone())
+        .collect()
+}
+
+/// The screening's warnings in record order, each faulty record's findings followed, under
+/// `reject`, by its [`Warning::Rejected`].
+pub(super) fn reported(
+    summaries: &[screening::Summary],
+    findings: Vec<Vec<Warning>>,
+    reject: bool,
+) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    for (summary, found) in summaries.iter().zip(findings) {
+        if found.is_empty() {
+            continue;
+        }
+        let reason: Vec<String> = found.iter().map(screening::reason).collect();
+        warnings.extend(found);
+        if reject {
+            warnings.push(Warning::Rejected {
+                record: summary.label().to_owned(),
+                reason: reason.join("; "),
+            });
+        }
+    }
+    warnings
+}

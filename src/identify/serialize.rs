@@ -1,0 +1,92 @@
+//! The JSON form of an [`Identification`] (feature `serde`): one flat object whose field
+//! names the command line's `--json` output and [`Baseline::from_json`](super::Baseline)
+//! read back.
+
+use crate::error::Warning;
+use crate::solve::Method;
+use crate::spectra::Segmentation;
+
+use super::{Identification, Uncertainty};
+
+/// Serializes as one flat object, in SI units and Hz:
+/// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
+/// otherwise), `segmentation` (`whole`, `welch`, `periods`), `segment_len`, `force_gate_s`
+/// (the gate's open time, null without), `unexcited_lines` (periodic excitation), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
+/// `M_std`, `C_std`, `K_std` (null when not available), `uncertainty`, `M_ci95`, `C_ci95`,
+/// `K_ci95` (half-widths of the 95 % intervals), `iterations`, `converged`,
+/// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
+/// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
+/// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
+/// [`Warning::kind`] names, in the same order) and `history`
+/// (IVF iterations).
+impl serde::Serialize for Identification {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use crate::model::rows;
+        use serde::ser::SerializeMap;
+        let c = self.coefficients();
+        let freqs = self.freqs_hz();
+        let modes = self.modes().unwrap_or_default();
+        let std = self.std_dev();
+        let ci = self.interval_95();
+        let cond = &self.conditioning;
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("method", self.method().name())?;
+        m.serialize_entry("estimator", self.estimator.name())?;
+        m.serialize_entry("window", self.window.name())?;
+        m.serialize_entry("window_decay_per_s", &self.window.decay_per_s())?;
+        let (segments, segment_len) = match self.segmentation() {
+            Segmentation::Welch { len } => ("welch", Some(len)),
+            Segmentation::Periods { len } => ("periods", Some(len)),
+            _ => ("whole", None),
+        };
+        m.serialize_entry("segmentation", segments)?;
+        m.serialize_entry("segment_len", &segment_len)?;
+        m.serialize_entry("force_gate_s", &self.force_gate.map(|g| g.open_s()))?;
+        m.serialize_entry("unexcited_lines", &self.frf.unexcited_hz().len())?;
+        m.serialize_entry("n", &c.dofs())?;
+        m.serialize_entry("band_hz", &[self.band.low_hz(), self.band.high_hz()])?;
+        m.serialize_entry("band_used_hz", &[freqs[0], freqs[freqs.len() - 1]])?;
+        m.serialize_entry("n_freq", &freqs.len())?;
+        m.serialize_entry("freqs_hz", freqs)?;
+        m.serialize_entry("M", &rows(c.mass()))?;
+        m.serialize_entry("C", &rows(c.damping()))?;
+        m.serialize_entry("K", &rows(c.stiffness()))?;
+        m.serialize_entry("M_std", &std.map(|s| rows(s.mass())))?;
+        m.serialize_entry("C_std", &std.map(|s| rows(s.damping())))?;
+        m.serialize_entry("K_std", &std.map(|s| rows(s.stiffness())))?;
+        let uncertainty = match (self.uncertainty, self.method()) {
+            (Uncertainty::Sandwich, Method::Ml) => "fisher",
+            (u, _) => u.name(),
+        };
+        m.serialize_entry("uncertainty", uncertainty)?;
+        m.serialize_entry("ml", &self.ml)?;
+        m.serialize_entry("M_ci95", &ci.as_ref().map(|s| rows(s.mass())))?;
+        m.serialize_entry("C_ci95", &ci.as_ref().map(|s| rows(s.damping())))?;
+        m.serialize_entry("K_ci95", &ci.as_ref().map(|s| rows(s.stiffness())))?;
+        m.serialize_entry("iterations", &self.iterations())?;
+        m.serialize_entry("converged", &self.converged())?;
+        m.serialize_entry("convergence", self.convergence().name())?;
+        m.serialize_entry("residual_norm", &self.residual_norm())?;
+        let summary: std::collections::BTreeMap<&str, f64> = [
+            ("min", cond.best()),
+            ("median", cond.median()),
+            ("max", cond.worst()),
+        ]
+        .into();
+        m.serialize_entry("condition_number", &summary)?;
+        m.serialize_entry("condition_numbers", self.condition_numbers())?;
+        m.serialize_entry("fit", &rows(self.fit_r2.as_ref()))?;
+        let fns: Vec<f64> = modes.iter().map(|m| m.natural_frequency_hz).collect();
+        let zetas: Vec<f64> = modes.iter().map(|m| m.damping_ratio).collect();
+        m.serialize_entry("natural_frequencies_hz", &fns)?;
+        m.serialize_entry("damping_ratios", &zetas)?;
+        m.serialize_entry("averages", &self.frf.averages())?;
+        m.serialize_entry("coherence_min", &self.min_coherence())?;
+        let warnings: Vec<String> = self.warnings.iter().map(ToString::to_string).collect();
+        m.serialize_entry("warnings", &warnings)?;
+        let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
+        m.serialize_entry("warning_kinds", &kinds)?;
+        m.serialize_entry("history", self.history())?;
+        m.end()
+    }
+}

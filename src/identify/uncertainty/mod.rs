@@ -1,0 +1,253 @@
+//! How the standard deviations of the coefficients are estimated ([`Uncertainty`]): the
+//! first-order sandwich (or, for ML, the inverse Fisher information) carried by the fit itself,
+//! the jackknife (`jackknife.rs`) and the bootstrap (`bootstrap.rs`) over replicates,
+//! with 95 % intervals from Student's t (`student_t.rs`).
+
+mod bootstrap;
+mod jackknife;
+mod student_t;
+
+use std::str::FromStr;
+
+use faer::Mat;
+
+use crate::error::{Error, Result, Warning};
+use crate::frf::{Frf, FrfBuilder};
+use crate::gate;
+use crate::model::Coefficients;
+use crate::solve::{self, Fit, Method};
+
+use super::Settings;
+use student_t::t975;
+
+/// How the standard deviations of the coefficients are estimated.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Uncertainty;
+/// assert_eq!("jackknife".parse::<Uncertainty>()?, Uncertainty::Jackknife);
+/// assert_eq!("bootstrap".parse::<Uncertainty>()?, Uncertainty::BOOTSTRAP);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Uncertainty {
+    /// No error bars.
+    None,
+    /// First-order covariance: the sandwich from the fit's own residuals (least squares and IVF;
+    /// see [`Fit::std_dev`]), the inverse Fisher information for [`Method::Ml`] (JSON
+    /// `"fisher"`). 95 % intervals use the normal quantile 1.96.
+    #[default]
+    Sandwich,
+    /// Jackknife over records: the fit is repeated with each paired set (paired sets) or each
+    /// record (H1) left out, and $\sigma^2 = \frac{R-1}{R}\sum_r (\theta_{(-r)} - \bar\theta)^2$.
+    /// Needs at least 3 replicates (else the sandwich is used, with a warning). 95 % intervals
+    /// use Student's t with `R − 1` degrees of freedom.
+    Jackknife,
+    /// Bootstrap over records: `replicates` refits, each on `R` paired sets (paired sets) or
+    /// records (cross-spectral estimators) drawn with replacement by a generator seeded with
+    /// `seed`; $\sigma^2 = \frac{R}{R-1}\,\mathrm{var}_b(\theta_b)$ (the factor corrects
+    /// the resampling's small-`R` shrinkage). Needs at least 3 replicates (else the sandwich is
+    /// used, with a warning). 95 % intervals use Student's t with `R − 1` degrees of freedom.
+    Bootstrap {
+        /// Number of bootstrap refits (≥ 20; 200 is usual; at most [`MAX_BOOTSTRAP_DRAWS`],
+        /// past which [`Identifier::check`](crate::Identifier::check) fails with
+        /// [`Error::TooLarge`]).
+        replicates: usize,
+        /// Seed of the resampling.
+        seed: u64,
+    },
+    /// The jackknife when there are at least 3 replicates, else the sandwich (no warning).
+    /// The result reports the one used.
+    Auto,
+}
+
+/// Most bootstrap refits an identification runs (100 000).
+pub const MAX_BOOTSTRAP_DRAWS: usize = 100_000;
+
+impl Uncertainty {
+    /// The bootstrap with 200 replicates and seed 0.
+    pub const BOOTSTRAP: Uncertainty = Uncertainty::Bootstrap {
+        replicates: 200,
+        seed: 0,
+    };
+
+    /// Short name: `"none"`, `"sandwich"`, `"jackknife"`, `"bootstrap"` or `"auto"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Uncertainty::None => "none",
+            Uncertainty::Sandwich => "sandwich",
+            Uncertainty::Jackknife => "jackknife",
+            Uncertainty::Bootstrap { .. } => "bootstrap",
+            Uncertainty::Auto => "auto",
+        }
+    }
+
+    /// Whether the replicates' own spectra must be kept.
+    pub(crate) fn resamples(self) -> bool {
+        matches!(
+            self,
+            Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } | Uncertainty::Auto
+        )
+    }
+}
+
+impl FromStr for Uncertainty {
+    type Err = Error;
+
+    /// Parses an [`Uncertainty::name`] (the command line's `--uncertainty` values);
+    /// `"bootstrap"` is [`Uncertainty::BOOTSTRAP`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the accepted values.
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "none" => Ok(Uncertainty::None),
+            "sandwich" => Ok(Uncertainty::Sandwich),
+            "jackknife" => Ok(Uncertainty::Jackknife),
+            "bootstrap" => Ok(Uncertainty::BOOTSTRAP),
+            "auto" => Ok(Uncertainty::Auto),
+            _ => Err(Error::InvalidParameter {
+                name: "uncertainty",
+                value: f64::NAN,
+                expected: "none, sandwich, jackknife, bootstrap or auto",
+            }),
+        }
+    }
+}
+
+/// The error bars of a fit: the estimate used, the standard deviations and the factor `q` of
+/// the 95 % half-widths `q · σ`.
+pub(super) struct ErrorBars {
+    pub(super) uncertainty: Uncertainty,
+    pub(super) std_dev: Option<Coefficients>,
+    pub(super) interval_factor: f64,
+}
+
+impl Settings {
+    /// The error bars of `fit` (window-corrected) by the chosen [`Uncertainty`]: the
+    /// resampling estimates refit the replicates of `builder` on the lines of `frf`; without
+    /// `builder` or with fewer than 3 replicates, the sandwich. Warnings (few or dependent
+    /// replicates, zero spread) are appended to `warnings`.
+    pub(super) fn error_bars(
+        &self,
+        fit: &Fit,
+        frf: &Frf,
+        builder: Option<&FrfBuilder>,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<ErrorBars> {
+        let replicates = match builder {
+            Some(b) if self.uncertainty.resamples() => b.replicates(&self.assignment)?,
+            _ => 0,
+        };
+        let uncertainty = match self.uncertainty {
+            Uncertainty::Auto if self.method == Method::Ml => Uncertainty::Sandwich,
+            Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
+            Uncertainty::Auto => Uncertainty::Sandwich,
+            Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } if replicates < 3 => {
+                warnings.push(Warning::FewReplicates { replicates });
+                Uncertainty::Sandwich
+            }
+            chosen => chosen,
+        };
+        let (std_dev, interval_factor) = match (uncertainty, builder) {
+            (Uncertainty::Jackknife, Some(b)) => {
+                let (std, distinct) = self.jackknife(b, frf, replicates)?;
+                if distinct < replicates {
+                    warnings.push(Warning::DependentReplicates {
+                        replicates,
+                        distinct,
+                    });
+                } else {
+                    warnings.extend(gate::zero_spread(&std, fit.coefficients()));
+                }
+                (Some(std), t975(replicates - 1))
+            }
+            (
+                Uncertainty::Bootstrap {
+                    replicates: draws,
+                    seed,
+                },
+                Some(b),
+            ) => {
+                let std = self.bootstrap(b, frf, replicates, draws, seed)?;
+                warnings.extend(gate::zero_spread(&std, fit.coefficients()));
+                (Some(std), t975(replicates - 1))
+            }
+            (Uncertainty::None, _) => (None, 0.0),
+            // The sandwich (or Fisher information) the fit carries, with normal intervals.
+            _ => (fit.std_dev().cloned(), t975(0)),
+        };
+        Ok(ErrorBars {
+            uncertainty,
+            std_dev,
+            interval_factor,
+        })
+    }
+
+    /// The corrected, stacked coefficients refitted with the replicates weighted by
+    /// `weights`, on the same lines as `frf` (the full data's, after any coherence selection).
+    fn refit(&self, builder: &FrfBuilder, frf: &Frf, weights: &[f64]) -> Result<Mat<f64>> {
+        let used = frf.freqs_hz();
+        let all = builder.finish_weighted(&self.assignment, weights)?;
+        let same_lines = all.retain_lines(|k| {
+            let f = all.freqs_hz()[k];
+            used.binary_search_by(|u| u.total_cmp(&f)).is_ok()
+        });
+        let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
+        Ok(fit.coefficients().stacked())
+    }
+}
+
+/// Element-wise $\sqrt{s \cdot \mathrm{var}}$ over refits, with `var` the population variance
+/// ($\frac1B\sum_b(\theta_b - \bar\theta)^2$) and `s` the estimator's factor.
+fn spread(thetas: &[Mat<f64>], factor: f64) -> Result<Coefficients> {
+    let (p, n) = (thetas[0].nrows(), thetas[0].ncols());
+    let b = thetas.len() as f64;
+    let std = Mat::from_fn(p, n, |i, j| {
+        let mean = thetas.iter().map(|t| t[(i, j)]).sum::<f64>() / b;
+        let var = thetas
+            .iter()
+            .map(|t| (t[(i, j)] - mean).powi(2))
+            .sum::<f64>()
+            / b;
+        (factor * var).sqrt()
+    });
+    Coefficients::from_stacked(std.as_ref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for u in [
+            Uncertainty::None,
+            Uncertainty::Sandwich,
+            Uncertainty::Jackknife,
+            Uncertainty::BOOTSTRAP,
+            Uncertainty::Auto,
+        ] {
+            assert_eq!(u.name().parse::<Uncertainty>().unwrap(), u);
+        }
+        assert!(matches!(
+            "fisher".parse::<Uncertainty>(),
+            Err(Error::InvalidParameter {
+                name: "uncertainty",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn spread_scales_the_population_variance() {
+        let thetas: Vec<Mat<f64>> = [1.0, 3.0]
+            .iter()
+            .map(|&v| Mat::from_fn(3, 1, |_, _| v))
+            .collect();
+        let s = spread(&thetas, 4.0).unwrap();
+        // Population variance 1, times 4, square root 2.
+        assert!((s.mass()[(0, 0)] - 2.0).abs() < 1e-15);
+    }
+}

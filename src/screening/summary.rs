@@ -1,0 +1,109 @@
+//! What the screening keeps of a record ([`Summary`]: RMS per channel, hash, dominant force)
+//! and the flat-channel test.
+
+use std::hash::{DefaultHasher, Hash, Hasher};
+
+use crate::error::Channel;
+use crate::records::Record;
+
+use super::{DOMINANCE, FLAT_TOLERANCE};
+
+/// What the screening keeps of one record: RMS per channel (mean removed), a hash of its
+/// samples, its dominant force.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    pub(super) label: String,
+    pub(super) dominant: usize,
+    pub(super) force_rms: Vec<f64>,
+    pub(super) displacement_rms: Vec<f64>,
+    pub(super) hash: u64,
+    /// Channels reported flat on arrival.
+    pub(super) flat: Vec<Channel>,
+}
+
+impl Summary {
+    /// The summary of `record`.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Record;
+    /// use bearing_ident::screening::Summary;
+    /// let f: Vec<f64> = (0..16).map(|m| if m % 2 == 0 { 3.0 } else { -1.0 }).collect();
+    /// let r = Record::new("a", 1.0, vec![f.clone()], vec![f])?;
+    /// assert!((Summary::new(&r).rms(bearing_ident::Channel::Force(0)) - 2.0).abs() < 1e-12);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn new(record: &Record) -> Self {
+        let mut hasher = DefaultHasher::new();
+        record.len().hash(&mut hasher);
+        let n = record.dofs();
+        for c in 0..n {
+            for ch in [record.force(c), record.displacement(c)] {
+                for v in ch {
+                    v.to_bits().hash(&mut hasher);
+                }
+            }
+        }
+        Self {
+            label: record.label().to_owned(),
+            dominant: record.dominant_force(),
+            force_rms: (0..n).map(|c| rms(record.force(c))).collect(),
+            displacement_rms: (0..n).map(|c| rms(record.displacement(c))).collect(),
+            hash: hasher.finish(),
+            flat: Vec::new(),
+        }
+    }
+
+    /// How the record was excited: the dominant force channel when its RMS is at least
+    /// [`DOMINANCE`] times every other force channel's (one direction at a time: impacts, a
+    /// shaker per direction), else `n` (all inputs alike: multi-input random).
+    pub(super) fn pattern(&self) -> usize {
+        let d = self.dominant;
+        let top = self.force_rms[d];
+        let alone = self
+            .force_rms
+            .iter()
+            .enumerate()
+            .all(|(c, &v)| c == d || top >= DOMINANCE * v);
+        if alone { d } else { self.force_rms.len() }
+    }
+
+    /// The record's label.
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// The RMS of a channel about its mean (N or m).
+    ///
+    /// # Panics
+    /// If the channel is not one of the record's.
+    pub fn rms(&self, channel: Channel) -> f64 {
+        match channel {
+            Channel::Force(c) => self.force_rms[c],
+            Channel::Displacement(c) => self.displacement_rms[c],
+        }
+    }
+
+    pub(super) fn channels(&self) -> impl Iterator<Item = Channel> + use<> {
+        let n = self.force_rms.len();
+        (0..n)
+            .map(Channel::Force)
+            .chain((0..n).map(Channel::Displacement))
+    }
+}
+
+/// RMS of `x` about its mean.
+fn rms(x: &[f64]) -> f64 {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// The value of a flat channel, `None` if it varies.
+pub(super) fn flat(x: &[f64]) -> Option<f64> {
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    (hi - lo <= FLAT_TOLERANCE * hi.abs().max(lo.abs())).then_some(0.5 * (lo + hi))
+}
