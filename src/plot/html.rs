@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use faer::MatRef;
 
+use super::FigureOptions;
 use super::significant as sig;
-use super::{FigureOptions, pick_records, write_file};
 use crate::error::{Error, Result};
 use crate::identify::Identification;
 use crate::model::Coefficients;
@@ -153,6 +153,41 @@ pub fn report(
     Ok(written)
 }
 
+/// The records the report draws: the first two of each excitation direction (the records'
+/// dominant force), then any record with an issue, at most `max` in all, in their order.
+fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -> Vec<usize> {
+    let mut per_direction = std::collections::HashMap::new();
+    let mut chosen: Vec<usize> = Vec::new();
+    for (r, record) in records.iter().enumerate() {
+        let count = per_direction
+            .entry(record.dominant_force())
+            .or_insert(0usize);
+        if *count < 2 {
+            *count += 1;
+            chosen.push(r);
+        }
+    }
+    if let Some(checks) = checks {
+        for (r, record) in records.iter().enumerate() {
+            if !chosen.contains(&r) && !crate::quality::check_record(record, checks).is_empty() {
+                chosen.push(r);
+            }
+        }
+    }
+    chosen.sort_unstable();
+    chosen.truncate(max);
+    chosen
+}
+
+/// Writes `contents` to `path`, mapping failures to [`Error::Io`].
+fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
+    std::fs::write(path, contents).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(path.to_path_buf())
+}
+
 /// Escapes text for HTML.
 fn esc(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
@@ -290,8 +325,8 @@ fn page(
     let _ = writeln!(
         h,
         "<li>band {}–{} Hz: {} lines used ({:.3}–{:.3} Hz), {} dropped; {} averages</li>",
-        super::tick(&id.band().low_hz()),
-        super::tick(&id.band().high_hz()),
+        super::figures::tick(&id.band().low_hz()),
+        super::figures::tick(&id.band().high_hz()),
         freqs.len(),
         freqs.first().copied().unwrap_or(f64::NAN),
         freqs.last().copied().unwrap_or(f64::NAN),
@@ -377,6 +412,12 @@ mod tests {
     #[test]
     fn escapes_markup() {
         assert_eq!(esc("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+    }
+
+    #[test]
+    fn write_failure_is_an_io_error() {
+        let e = write_file(Path::new("/nonexistent-dir/x.svg"), "x").unwrap_err();
+        assert_eq!(e.kind(), "io_error");
     }
 
     #[test]
