@@ -3,10 +3,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use faer::MatRef;
-
-use super::FigureOptions;
 use super::significant as sig;
+use super::{FigureOptions, coefficient_rows};
 use crate::error::{Error, Result};
 use crate::identify::Identification;
 use crate::model::Coefficients;
@@ -203,8 +201,6 @@ fn esc(s: &str) -> String {
     out
 }
 
-type Block = fn(&Coefficients) -> MatRef<'_, f64>;
-
 const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
 color:#222}table{border-collapse:collapse;margin:.5em 0}td,th{padding:.2em .7em;\
 border-bottom:1px solid #ddd;text-align:right}th{background:#f3f3f3}td:first-child,\
@@ -265,39 +261,27 @@ fn page(
         let _ = write!(h, "<th>true</th><th>error</th>");
     }
     let _ = writeln!(h, "</tr>");
-    let blocks: [(&str, &str, Block); 3] = [
-        ("M", "kg", Coefficients::mass),
-        ("C", "N·s/m", Coefficients::damping),
-        ("K", "N/m", Coefficients::stiffness),
-    ];
     let interval = id.interval_95();
-    for (name, unit, get) in blocks {
-        for i in 0..n {
-            for j in 0..n {
-                let v = get(co)[(i, j)];
-                let sd = id.std_dev().map_or("—".into(), |s| sig(get(s)[(i, j)], 3));
-                let ci = interval.as_ref().map_or("—".into(), |s| {
-                    let q = get(s)[(i, j)];
-                    format!("{} … {}", sig(v - q, 5), sig(v + q, 5))
-                });
-                let _ = write!(
-                    h,
-                    "<tr><td>{name} {}{} ({unit})</td><td>{}</td><td>{sd}</td><td>{ci}</td>",
-                    esc(&names[i]),
-                    esc(&names[j]),
-                    sig(v, 7)
-                );
-                if let Some(t) = options.truth.as_ref().map(get) {
-                    let err = if t[(i, j)] == 0.0 {
-                        "—".to_string()
-                    } else {
-                        format!("{:+.3} %", 100.0 * (v / t[(i, j)] - 1.0))
-                    };
-                    let _ = write!(h, "<td>{}</td><td>{err}</td>", sig(t[(i, j)], 7));
-                }
-                let _ = writeln!(h, "</tr>");
-            }
+    for row in coefficient_rows(
+        co,
+        id.std_dev(),
+        interval.as_ref(),
+        options.truth.as_ref(),
+        &names,
+    ) {
+        // The block names and units need no escaping, the axis names may.
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            esc(&row.label),
+            row.value,
+            row.std_dev,
+            row.interval
+        );
+        if let (Some(truth), Some(error)) = (&row.truth, &row.error) {
+            let _ = write!(h, "<td>{truth}</td><td>{error}</td>");
         }
+        let _ = writeln!(h, "</tr>");
     }
     let _ = writeln!(h, "</table>");
     // Modes.

@@ -20,6 +20,9 @@
 //! diagnostics, the warnings and every figure inline: one file to open or mail, no scripts, no
 //! external assets.
 //!
+//! [`coefficient_rows`] formats the cells of that table (value, `±1σ`, 95 % interval, truth and
+//! error per element), once for the page and the command-line tool's text table.
+//!
 //! Every drawn series is an SVG group `<g class="series" data-series="…">` whose `<title>`
 //! names it (a browser shows it on hover), so a figure can be checked or restyled by its
 //! series.
@@ -41,9 +44,11 @@
 
 mod figures;
 mod html;
+mod table;
 
 pub use figures::{coherence, convergence, flexibility, impedance, per_frequency, records};
 pub use html::{ReportOptions, report};
+pub use table::{CoefficientRow, coefficient_rows};
 
 /// `v` with `digits` significant digits: fixed-point for magnitudes from 10⁻³ to below 10⁶,
 /// scientific otherwise (the format of every number in the report and the CLI's table).
