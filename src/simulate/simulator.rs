@@ -176,7 +176,8 @@ impl Simulator {
     /// (zero-order hold), starting from rest: `forces[c][m]` acts on degree of freedom `c` from
     /// sample `m` to `m + 1`. The recorded force channels are that staircase passed through the
     /// same anti-alias filter as the displacements, so the ratio of their spectra is `G(ω)`.
-    /// Build the samples with [`sine`], [`multisine`] or [`sweep`], or supply your own.
+    /// Build the samples with [`sine`](super::sine), [`multisine`](super::multisine) or
+    /// [`sweep`](super::sweep), or supply your own.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] unless there is one channel per degree of freedom, each

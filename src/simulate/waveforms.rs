@@ -28,9 +28,10 @@ fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result
 }
 
 /// Samples of a sine force $f_m = A \sin(2\pi f\, m/f_s)$, `m = 0 … samples − 1`, for
-/// [`Simulator::held_record`]. The drive starts at zero force; the response reaches its steady
-/// state after the free vibration it starts has decayed (about `6 ln 10 / (ζ ω_n)` seconds for
-/// `10⁻⁶`), which a test discards with [`Record::trimmed`].
+/// [`Simulator::held_record`](super::Simulator::held_record). The drive starts at zero force;
+/// the response reaches its steady state after the free vibration it starts has decayed (about
+/// `6 ln 10 / (ζ ω_n)` seconds for `10⁻⁶`), which a test discards with
+/// [`Record::trimmed`](crate::records::Record::trimmed).
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] unless the sampling rate is finite and positive, `0 < f < f_s/2`,
