@@ -3,10 +3,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use faer::MatRef;
-
 use super::significant as sig;
-use super::{FigureOptions, pick_records, write_file};
+use super::{FigureOptions, coefficient_rows};
 use crate::error::{Error, Result};
 use crate::identify::Identification;
 use crate::model::Coefficients;
@@ -153,6 +151,41 @@ pub fn report(
     Ok(written)
 }
 
+/// The records the report draws: the first two of each excitation direction (the records'
+/// dominant force), then any record with an issue, at most `max` in all, in their order.
+fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -> Vec<usize> {
+    let mut per_direction = std::collections::HashMap::new();
+    let mut chosen: Vec<usize> = Vec::new();
+    for (r, record) in records.iter().enumerate() {
+        let count = per_direction
+            .entry(record.dominant_force())
+            .or_insert(0usize);
+        if *count < 2 {
+            *count += 1;
+            chosen.push(r);
+        }
+    }
+    if let Some(checks) = checks {
+        for (r, record) in records.iter().enumerate() {
+            if !chosen.contains(&r) && !crate::quality::check_record(record, checks).is_empty() {
+                chosen.push(r);
+            }
+        }
+    }
+    chosen.sort_unstable();
+    chosen.truncate(max);
+    chosen
+}
+
+/// Writes `contents` to `path`, mapping failures to [`Error::Io`].
+fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
+    std::fs::write(path, contents).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(path.to_path_buf())
+}
+
 /// Escapes text for HTML.
 fn esc(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
@@ -167,8 +200,6 @@ fn esc(s: &str) -> String {
     }
     out
 }
-
-type Block = fn(&Coefficients) -> MatRef<'_, f64>;
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
 color:#222}table{border-collapse:collapse;margin:.5em 0}td,th{padding:.2em .7em;\
@@ -230,39 +261,27 @@ fn page(
         let _ = write!(h, "<th>true</th><th>error</th>");
     }
     let _ = writeln!(h, "</tr>");
-    let blocks: [(&str, &str, Block); 3] = [
-        ("M", "kg", Coefficients::mass),
-        ("C", "N·s/m", Coefficients::damping),
-        ("K", "N/m", Coefficients::stiffness),
-    ];
     let interval = id.interval_95();
-    for (name, unit, get) in blocks {
-        for i in 0..n {
-            for j in 0..n {
-                let v = get(co)[(i, j)];
-                let sd = id.std_dev().map_or("—".into(), |s| sig(get(s)[(i, j)], 3));
-                let ci = interval.as_ref().map_or("—".into(), |s| {
-                    let q = get(s)[(i, j)];
-                    format!("{} … {}", sig(v - q, 5), sig(v + q, 5))
-                });
-                let _ = write!(
-                    h,
-                    "<tr><td>{name} {}{} ({unit})</td><td>{}</td><td>{sd}</td><td>{ci}</td>",
-                    esc(&names[i]),
-                    esc(&names[j]),
-                    sig(v, 7)
-                );
-                if let Some(t) = options.truth.as_ref().map(get) {
-                    let err = if t[(i, j)] == 0.0 {
-                        "—".to_string()
-                    } else {
-                        format!("{:+.3} %", 100.0 * (v / t[(i, j)] - 1.0))
-                    };
-                    let _ = write!(h, "<td>{}</td><td>{err}</td>", sig(t[(i, j)], 7));
-                }
-                let _ = writeln!(h, "</tr>");
-            }
+    for row in coefficient_rows(
+        co,
+        id.std_dev(),
+        interval.as_ref(),
+        options.truth.as_ref(),
+        &names,
+    ) {
+        // The block names and units need no escaping, the axis names may.
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            esc(&row.label),
+            row.value,
+            row.std_dev,
+            row.interval
+        );
+        if let (Some(truth), Some(error)) = (&row.truth, &row.error) {
+            let _ = write!(h, "<td>{truth}</td><td>{error}</td>");
         }
+        let _ = writeln!(h, "</tr>");
     }
     let _ = writeln!(h, "</table>");
     // Modes.
@@ -290,8 +309,8 @@ fn page(
     let _ = writeln!(
         h,
         "<li>band {}–{} Hz: {} lines used ({:.3}–{:.3} Hz), {} dropped; {} averages</li>",
-        super::tick(&id.band().low_hz()),
-        super::tick(&id.band().high_hz()),
+        super::figures::tick(&id.band().low_hz()),
+        super::figures::tick(&id.band().high_hz()),
         freqs.len(),
         freqs.first().copied().unwrap_or(f64::NAN),
         freqs.last().copied().unwrap_or(f64::NAN),
@@ -377,6 +396,12 @@ mod tests {
     #[test]
     fn escapes_markup() {
         assert_eq!(esc("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+    }
+
+    #[test]
+    fn write_failure_is_an_io_error() {
+        let e = write_file(Path::new("/nonexistent-dir/x.svg"), "x").unwrap_err();
+        assert_eq!(e.kind(), "io_error");
     }
 
     #[test]

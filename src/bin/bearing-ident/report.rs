@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use bearing_ident::model::rows;
 use bearing_ident::per_frequency::PerFrequency;
-use bearing_ident::plot::significant as sig;
+use bearing_ident::plot::{coefficient_rows, significant as sig};
 use bearing_ident::{Coefficients, Identification};
 use faer::MatRef;
 
@@ -105,34 +105,21 @@ fn coefficient_lines(
     std: Option<&Coefficients>,
     truth: Option<&Coefficients>,
 ) {
-    let blocks: [(&str, &str, Block); 3] = [
-        ("M", "kg", Coefficients::mass),
-        ("C", "N·s/m", Coefficients::damping),
-        ("K", "N/m", Coefficients::stiffness),
-    ];
     let _ = write!(out, "  {:<16} {:>15} {:>11}", "coefficient", "value", "±1σ");
     if truth.is_some() {
         let _ = write!(out, " {:>15} {:>10}", "true", "error");
     }
     let _ = writeln!(out);
-    for (name, unit, get) in blocks {
-        let value = get(values);
-        for (i, ai) in axes.iter().enumerate() {
-            for (j, aj) in axes.iter().enumerate() {
-                let label = format!("{name} {ai}{aj} ({unit})");
-                let sd = std.map_or("—".to_string(), |s| sig(get(s)[(i, j)], 3));
-                let _ = write!(out, "  {label:<16} {:>15} {sd:>11}", sig(value[(i, j)], 7));
-                if let Some(t) = truth.map(get) {
-                    let err = if t[(i, j)] == 0.0 {
-                        "—".to_string()
-                    } else {
-                        format!("{:+.3} %", 100.0 * (value[(i, j)] / t[(i, j)] - 1.0))
-                    };
-                    let _ = write!(out, " {:>15} {err:>10}", sig(t[(i, j)], 7));
-                }
-                let _ = writeln!(out);
-            }
+    for row in coefficient_rows(values, std, None, truth, axes) {
+        let _ = write!(
+            out,
+            "  {:<16} {:>15} {:>11}",
+            row.label, row.value, row.std_dev
+        );
+        if let (Some(truth), Some(error)) = (&row.truth, &row.error) {
+            let _ = write!(out, " {truth:>15} {error:>10}");
         }
+        let _ = writeln!(out);
     }
 }
 

@@ -1,0 +1,20 @@
+//! The six figures, one per file, and the helpers they share: `canvas` (the SVG string, series
+//! groups, palette, title and legend) and `chart` (charts, ticks, ranges, error bars).
+
+mod canvas;
+mod chart;
+mod coherence;
+mod convergence;
+mod flexibility;
+mod impedance;
+mod per_frequency;
+mod records;
+mod trace;
+
+pub(crate) use chart::tick;
+pub use coherence::coherence;
+pub use convergence::convergence;
+pub use flexibility::flexibility;
+pub use impedance::impedance;
+pub use per_frequency::per_frequency;
+pub use records::records;

@@ -1,0 +1,101 @@
+//! The analogue anti-alias filter of the simulated acquisition.
+
+use std::f64::consts::PI;
+
+use faer::Mat;
+
+use crate::error::{Error, Result};
+
+/// The analogue anti-alias filter applied to every channel before sampling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum AntiAlias {
+    /// Sample the continuous signals directly (pulses alias).
+    None,
+    /// Butterworth low-pass of even `order` with cutoff `cutoff_ratio × sample_rate`.
+    Butterworth {
+        /// Filter order, even, 2–16.
+        order: usize,
+        /// Cutoff as a fraction of the sampling rate, in `(0, 0.5)`.
+        cutoff_ratio: f64,
+    },
+}
+
+impl Default for AntiAlias {
+    /// 8th-order Butterworth at a quarter of the sampling rate: at `f_s` it attenuates by
+    /// `4⁻⁸ ≈ 1.5·10⁻⁵`.
+    fn default() -> Self {
+        AntiAlias::Butterworth {
+            order: 8,
+            cutoff_ratio: 0.25,
+        }
+    }
+}
+
+impl AntiAlias {
+    /// The filter order, `0` for [`AntiAlias::None`], checked.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an order that is not even and 2–16, or a cutoff ratio
+    /// outside `(0, 0.5)`.
+    pub(super) fn checked_order(self) -> Result<usize> {
+        Ok(match self {
+            AntiAlias::None => 0,
+            AntiAlias::Butterworth {
+                order,
+                cutoff_ratio,
+            } => {
+                if !(2..=16).contains(&order) || order % 2 != 0 {
+                    return Err(Error::InvalidParameter {
+                        name: "anti-alias order",
+                        value: order as f64,
+                        expected: "even, 2 to 16",
+                    });
+                }
+                if !(cutoff_ratio > 0.0 && cutoff_ratio < 0.5) {
+                    return Err(Error::InvalidParameter {
+                        name: "anti-alias cutoff ratio",
+                        value: cutoff_ratio,
+                        expected: "0 < ratio < 0.5",
+                    });
+                }
+                order
+            }
+        })
+    }
+
+    /// Writes the filters of the `2n` channels (forces first) into the simulator's state matrix
+    /// `a`: per channel a cascade of `order / 2` second-order sections in companion form, the
+    /// states from index `5n + channel · order` on (see [`Simulator`](super::Simulator)).
+    pub(super) fn fill_state_matrix(self, a: &mut Mat<f64>, n: usize, sample_rate: f64) {
+        if let AntiAlias::Butterworth {
+            order,
+            cutoff_ratio,
+        } = self
+        {
+            let wc = 2.0 * PI * cutoff_ratio * sample_rate;
+            for c in 0..2 * n {
+                // Channel input: force c (pulse generator plus held force) or displacement c − n.
+                let inputs: &[usize] = if c < n {
+                    &[2 * n + 2 * c, 4 * n + c]
+                } else {
+                    &[c - n]
+                };
+                for s in 0..order / 2 {
+                    let q = 1.0 / (2.0 * (PI * (2 * s + 1) as f64 / (2 * order) as f64).cos());
+                    let y = 5 * n + c * order + 2 * s;
+                    if s == 0 {
+                        for &u in inputs {
+                            a[(y + 1, u)] += wc * wc;
+                        }
+                    } else {
+                        a[(y + 1, y - 2)] += wc * wc;
+                    }
+                    a[(y, y + 1)] = 1.0;
+                    a[(y + 1, y)] -= wc * wc;
+                    a[(y + 1, y + 1)] = -wc / q;
+                }
+            }
+        }
+    }
+}
