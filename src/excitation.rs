@@ -405,7 +405,7 @@ mod tests {
     #[test]
     fn flat_records_are_skipped_then_refused() {
         let flat = Record::new("flat", 100.0, vec![vec![2.0; 200]], vec![vec![0.0; 200]]).unwrap();
-        assert!(crest_factor(&flat).abs() < f200::MIN_POSITIVE);
+        assert!(crest_factor(&flat).abs() < f64::MIN_POSITIVE);
         let mut f = vec![0.0; 200];
         f[5] = 1.0;
         let hit = Record::new("hit", 100.0, vec![f], vec![vec![0.0; 200]]).unwrap();
