@@ -454,3 +454,30 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
 
 /// Files read again for the record figure of `identify --plot`.
 const PLOTTED_FILES: usize = 32;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--excitation` spells every kind as the library's [`Excitation::name`] does.
+    #[test]
+    fn excitation_values_are_the_library_names() {
+        let mut kinds = Vec::new();
+        for v in ExcitationArg::value_variants() {
+            let name = v
+                .to_possible_value()
+                .expect("a value")
+                .get_name()
+                .to_owned();
+            match v.kind() {
+                Some(kind) => {
+                    assert_eq!(name, kind.name());
+                    assert_eq!(name.parse::<Excitation>().expect("parses"), kind);
+                    kinds.push(kind);
+                }
+                None => assert_eq!(name, "auto"),
+            }
+        }
+        assert_eq!(kinds, Excitation::ALL);
+    }
+}

@@ -9,6 +9,7 @@ use bearing_ident::simulate::{
     AntiAlias, ImpactTest, MAX_RECORDS, MAX_SAMPLES, MAX_TOTAL_SAMPLES, Simulator, add_noise,
     sample_count, seed_rig, slowest_decay,
 };
+use bearing_ident::tolerance::SIMULATED_DECAY_NEPERS;
 use bearing_ident::{Coefficients, Record};
 use clap::ValueEnum;
 use rand::SeedableRng;
@@ -275,7 +276,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     // Time for the slowest mode to decay to 1e-7 (e^{-16.1}); a mass that is not positive
     // definite or a mode that does not decay is an error naming the matrix.
     let slowest = slowest_decay(&system)?;
-    let decay_s = 16.2 / slowest;
+    let decay_s = SIMULATED_DECAY_NEPERS / slowest;
     let decay_samples = decay_s * args.rate;
     let derived = args.duration.is_none() && matches!(args.kind, KindArg::Impact | KindArg::Sweep);
     if derived && (decay_samples.is_nan() || decay_samples > MAX_SAMPLES as f64) {
