@@ -48,7 +48,9 @@
 //!    ([`identify::Settings`]), the error bars ([`Uncertainty`]) and its [`Identification`]
 //!    result;
 //! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
-//!    coefficients.
+//!    coefficients;
+//! 9. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' crest
+//!    factor, and the estimator, segmentation and window each kind calls for.
 //!
 //! [`screening`] screens records of every excitation for dead and flat channels, identical
 //! records, clipping, level outliers and paired sets far from the others (with [`quality`]'s
@@ -94,6 +96,7 @@
 
 pub mod conditioning;
 pub mod error;
+pub mod excitation;
 pub mod frf;
 pub mod gate;
 pub mod identify;
@@ -117,6 +120,7 @@ pub mod tolerance;
 
 pub use conditioning::ConditionLimits;
 pub use error::{Block, Channel, Error, Result, Warning};
+pub use excitation::Excitation;
 pub use frf::{Assignment, Band, Estimator, Frf};
 pub use identify::{Baseline, Identification, Identifier, NonConvergence, Screening, Uncertainty};
 pub use model::{Coefficients, Mode};

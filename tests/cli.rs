@@ -1068,3 +1068,26 @@ fn a_dead_force_in_the_first_file_is_not_a_band_error() {
         "{stderr}"
     );
 }
+
+/// A reader of stdout that goes away before the result is written (`bearing-ident … | head
+/// -1`) ends the tool quietly: status 0, no panic and nothing on stderr, for the table and the
+/// JSON alike.
+#[test]
+fn a_closed_stdout_is_a_quiet_success() {
+    for args in [&["demo"][..], &["demo", "--json"][..]] {
+        let mut child = bin()
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        // Close the read end at once: the demo simulates and identifies before it writes.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("the binary ends");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(stderr.is_empty(), "{args:?}: {stderr}");
+        assert!(out.status.success(), "{args:?}: {:?}", out.status);
+    }
+}

@@ -1,0 +1,483 @@
+//! `bearing-ident identify`: its arguments, the settings assembled from them and the
+//! excitation ([`Excitation`]), the streamed run over the record files, the dry-structure
+//! baseline, and the report, figures and JSON written at the end.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use bearing_ident::excitation::{Excitation, crest_factor};
+use bearing_ident::gate::FitGate;
+use bearing_ident::io::{self, CsvLayout};
+use bearing_ident::quality::ImpactChecks;
+use bearing_ident::spectra::ForceGate;
+use bearing_ident::{
+    Assignment, Baseline, Channel, Error, Estimator, Identification, Identifier, Method,
+    NonConvergence, Record, Screening, Segmentation, Uncertainty,
+};
+use clap::ValueEnum;
+
+use crate::failure::{Failure, invalid};
+use crate::output::{emit, write_report};
+use crate::parse::{parse_band, parse_window};
+use crate::report;
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum MethodArg {
+    Direct,
+    Ls,
+    Ivf,
+    /// Maximum likelihood from IVF; needs `--excitation periodic` (noise from the periods).
+    Ml,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
+pub enum ExcitationArg {
+    /// Decide from the force signals' crest factor.
+    Auto,
+    /// Impacts: paired sets, whole-record DFT, no window.
+    Impact,
+    /// Random: MIMO H1 with Welch segments (Hann, 50 % overlap).
+    Random,
+    /// Periodic or multisine in steady state: MIMO H1 over whole periods (`--period`), no
+    /// window, the excited lines only.
+    Periodic,
+    /// Stepped sine: one drive frequency per record; amplitude and phase at that frequency.
+    SteppedSine,
+    /// Sine sweep followed by free decay: as impacts (paired sets, whole record).
+    Sweep,
+}
+
+impl ExcitationArg {
+    /// The library's kind; `None` for `auto` (detected from the records).
+    fn kind(self) -> Option<Excitation> {
+        match self {
+            ExcitationArg::Auto => None,
+            ExcitationArg::Impact => Some(Excitation::Impact),
+            ExcitationArg::Random => Some(Excitation::Random),
+            ExcitationArg::Periodic => Some(Excitation::Periodic),
+            ExcitationArg::SteppedSine => Some(Excitation::SteppedSine),
+            ExcitationArg::Sweep => Some(Excitation::Sweep),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum UncertaintyArg {
+    /// Jackknife with at least 3 paired sets or records, else the sandwich.
+    Auto,
+    None,
+    Sandwich,
+    Jackknife,
+    Bootstrap,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum EstimatorArg {
+    Paired,
+    H1,
+    H2,
+    Hv,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct IdentifyArgs {
+    /// Print the result as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Fitting method.
+    #[arg(long, value_enum, default_value = "ivf")]
+    method: MethodArg,
+    /// Frequency band LO,HI in Hz (edges inclusive).
+    #[arg(long, allow_hyphen_values = true)]
+    band: String,
+    /// Kind of excitation in the records.
+    #[arg(long, value_enum, default_value = "auto")]
+    excitation: ExcitationArg,
+    /// Override the impedance estimator chosen from the excitation.
+    #[arg(long, value_enum)]
+    estimator: Option<EstimatorArg>,
+    /// Window: `rect`, `hann`, or `exp:END` (exponential on force and response, falling to END,
+    /// e.g. 0.01, at the end of each record or segment; the coefficients are corrected
+    /// exactly). Default: `rect` for impacts, `hann` for random excitation.
+    #[arg(long)]
+    window: Option<String>,
+    /// Error bars: `auto` is the jackknife over paired sets or records when there are at least
+    /// 3 of them, else the first-order sandwich; `bootstrap` draws `--bootstrap-draws`
+    /// resamples of the sets or records (seeded by `--seed`).
+    #[arg(long, value_enum, default_value = "auto")]
+    uncertainty: UncertaintyArg,
+    /// Bootstrap resamples.
+    #[arg(long, default_value_t = 200)]
+    bootstrap_draws: usize,
+    /// Seed of the bootstrap's resampling.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Gate the force channels: open for SECONDS from each record's start, then a cosine
+    /// taper over a fifth of that; the quiet force after an impact is noise only.
+    #[arg(long)]
+    force_gate: Option<f64>,
+    /// Period of periodic excitation (s), for `--excitation periodic`.
+    #[arg(long)]
+    period: Option<f64>,
+    /// Drive frequencies closer than this (Hz) are one step of a stepped-sine test.
+    #[arg(long, default_value_t = 0.01)]
+    step_tolerance: f64,
+    /// Leave out the records that screening finds faulty: flat or dead channels, identical
+    /// records, clipping, level outliers, double hits (impacts), paired sets far from the
+    /// others (they are always reported as warnings).
+    #[arg(long, alias = "reject-bad-impacts")]
+    reject_bad_records: bool,
+    /// Subtract a dry-structure baseline: a directory of its CSV records (identified here with
+    /// the same settings) or the JSON result of an earlier `identify --json`. The JSON output
+    /// then carries `bearing` (`M`, `C`, `K` and their `*_std`: system − baseline).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
+    /// Add per-line `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω` with error bars (and, for n = 2, the
+    /// isotropic effective coefficients) to the output (JSON `per_frequency`).
+    #[arg(long)]
+    per_frequency: bool,
+    /// Drop lines where the multiple coherence of any output is below X (0 ≤ X < 1).
+    #[arg(long, default_value_t = 0.0)]
+    min_coherence: f64,
+    /// Warn (`poor_fit`) when the flexibility r² of an element that carries signal is below X
+    /// (X ≤ 1; `-inf` turns the check off).
+    #[arg(long, default_value_t = 0.9, allow_negative_numbers = true)]
+    min_r2: f64,
+    /// Welch segment length for random excitation (default: the largest power of two not above
+    /// an eighth of the record).
+    #[arg(long)]
+    nperseg: Option<usize>,
+    /// Force columns, one per degree of freedom.
+    #[arg(long, default_value = "fx,fy", value_delimiter = ',')]
+    force: Vec<String>,
+    /// Displacement columns, one per degree of freedom.
+    #[arg(long, default_value = "x,y", value_delimiter = ',')]
+    disp: Vec<String>,
+    /// Time column (s).
+    #[arg(long, default_value = "t")]
+    time: String,
+    /// IVF tolerance on the block-wise relative change.
+    #[arg(long, default_value_t = 1e-8)]
+    tolerance: f64,
+    /// IVF iteration limit.
+    #[arg(long, default_value_t = 50)]
+    max_iterations: usize,
+    /// Report a non-converged IVF with a warning instead of failing with `not_converged`.
+    #[arg(long)]
+    allow_unconverged: bool,
+    /// Write figures (SVG) and a static `index.html` report into DIR. The record figure
+    /// draws a few of the first 32 files (read again for it).
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
+    /// Record files (CSV).
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+}
+
+fn layout(args: &IdentifyArgs) -> Result<CsvLayout, Failure> {
+    if args.force.len() != args.disp.len() {
+        return Err(invalid(format!(
+            "--force names {} columns and --disp {}: one of each per degree of freedom",
+            args.force.len(),
+            args.disp.len()
+        )));
+    }
+    Ok(CsvLayout {
+        time: args.time.clone(),
+        forces: args.force.clone(),
+        displacements: args.disp.clone(),
+    })
+}
+
+/// The identifier and its processing for `excitation`, from the first record and the options;
+/// also the Welch segment length, if any. The excitation's defaults are the library's
+/// ([`Excitation::estimator`], [`Excitation::segmentation`], [`Excitation::window`],
+/// [`Excitation::checks`]); `--estimator`, `--nperseg` and `--window` override them.
+fn settings(
+    args: &IdentifyArgs,
+    excitation: Excitation,
+    first: &Record,
+) -> Result<(Identifier, Option<usize>), Failure> {
+    let (lo, hi) = parse_band(&args.band)?;
+    let chosen = args.estimator.map(|e| match e {
+        EstimatorArg::Paired => Estimator::PairedSets,
+        EstimatorArg::H1 => Estimator::H1,
+        EstimatorArg::H2 => Estimator::H2,
+        EstimatorArg::Hv => Estimator::Hv,
+    });
+    let estimator = excitation.estimator(chosen);
+    let segmentation = match excitation.segmentation(estimator, first, args.period) {
+        Ok(Segmentation::Welch { len }) => Segmentation::Welch {
+            len: args.nperseg.unwrap_or(len),
+        },
+        Ok(segmentation) => segmentation,
+        Err(Error::InvalidParameter { name: "period", .. }) => {
+            return Err(invalid(match args.period {
+                None => "--excitation periodic needs --period SECONDS".to_string(),
+                Some(period) => format!(
+                    "--period {period}: {} samples; expected 8 samples up to the record length",
+                    (period * first.sample_rate()).round()
+                ),
+            }));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let segment_s = match segmentation {
+        Segmentation::Welch { len } | Segmentation::Periods { len } => {
+            len as f64 / first.sample_rate()
+        }
+        _ => first.duration(),
+    };
+    let window = match args.window.as_deref() {
+        None => excitation.window(),
+        Some(w) => parse_window(w, segment_s)?,
+    };
+    let method = match args.method {
+        MethodArg::Direct => Method::Direct,
+        MethodArg::Ls => Method::LeastSquares,
+        MethodArg::Ivf => Method::Ivf,
+        MethodArg::Ml => Method::Ml,
+    };
+    let mut identifier = Identifier::new(lo, hi)
+        .method(method)
+        .estimator(estimator)
+        .segmentation(segmentation)
+        .window(window)
+        .tolerance(args.tolerance)
+        .max_iterations(args.max_iterations)
+        .min_coherence(args.min_coherence)
+        .fit_gate(FitGate {
+            min_r2: args.min_r2,
+        })
+        .uncertainty(match args.uncertainty {
+            UncertaintyArg::Auto => Uncertainty::Auto,
+            UncertaintyArg::None => Uncertainty::None,
+            UncertaintyArg::Sandwich => Uncertainty::Sandwich,
+            UncertaintyArg::Jackknife => Uncertainty::Jackknife,
+            UncertaintyArg::Bootstrap => Uncertainty::Bootstrap {
+                replicates: args.bootstrap_draws,
+                seed: args.seed,
+            },
+        })
+        .on_non_convergence(if args.allow_unconverged {
+            NonConvergence::Warn
+        } else {
+            NonConvergence::Fail
+        });
+    if let Some(open) = args.force_gate {
+        identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
+    }
+    // Screening on every excitation; the double-hit check only for impacts.
+    let checks = excitation.checks();
+    identifier = identifier.screening(if args.reject_bad_records {
+        Screening::Reject(checks)
+    } else {
+        Screening::Warn(checks)
+    });
+    let segment_len = match segmentation {
+        Segmentation::Welch { len } | Segmentation::Periods { len } => Some(len),
+        _ => None,
+    };
+    Ok((identifier, segment_len))
+}
+
+/// Identifies the records of `files`, the first already read: streamed one at a time (memory
+/// holds one record plus band-line spectra, however many files), or all together for a
+/// stepped-sine test.
+fn run(
+    args: &IdentifyArgs,
+    identifier: &Identifier,
+    excitation: Excitation,
+    first: Record,
+    files: &[PathBuf],
+    reading: &mut std::time::Duration,
+) -> Result<Identification, Failure> {
+    let layout = layout(args)?;
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(files.len() as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    let rest = files[1..].iter().map(|path| {
+        let t = Instant::now();
+        bar.set_message(path.display().to_string());
+        let record = io::read_record(path, &layout);
+        bar.inc(1);
+        *reading += t.elapsed();
+        record
+    });
+    let records = std::iter::once(Ok(first)).chain(rest);
+    let id = if excitation == Excitation::SteppedSine {
+        let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
+        let dofs = records[0].dofs();
+        identifier
+            .clone()
+            .dofs(dofs)
+            .assignment(Assignment::DominantForce)
+            .identify_stepped_sine(&records, args.step_tolerance)?
+    } else {
+        identifier.identify_stream(records)?
+    };
+    bar.finish_and_clear();
+    Ok(id)
+}
+
+/// The dry-structure baseline: identified from a directory of CSV records with the same
+/// settings, or read back from an earlier `identify --json` result.
+fn baseline(
+    args: &IdentifyArgs,
+    identifier: &Identifier,
+    excitation: Excitation,
+    path: &std::path::Path,
+) -> Result<Baseline, Failure> {
+    let io_failure = |e: std::io::Error| Failure {
+        kind: "io_error",
+        message: format!("{}: {e}", path.display()),
+    };
+    if path.is_dir() {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+            .map_err(io_failure)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            return Err(invalid(format!(
+                "--baseline {}: no .csv records in the directory",
+                path.display()
+            )));
+        }
+        let first = io::read_record(&files[0], &layout(args)?)?;
+        let mut reading = std::time::Duration::ZERO;
+        let id = run(args, identifier, excitation, first, &files, &mut reading)?;
+        return Ok(Baseline::from(&id));
+    }
+    // Read at most the limit (a sparse file or /dev/zero must not fill memory).
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(io_failure)?,
+            MAX_BASELINE_BYTES + 1,
+        ),
+        &mut bytes,
+    )
+    .map_err(io_failure)?;
+    if bytes.len() as u64 > MAX_BASELINE_BYTES {
+        return Err(Failure {
+            kind: "too_large",
+            message: format!(
+                "--baseline {}: longer than the limit of {MAX_BASELINE_BYTES} bytes for a JSON result",
+                path.display()
+            ),
+        });
+    }
+    let text = String::from_utf8_lossy(&bytes);
+    Baseline::from_json(&text).map_err(|e| Failure {
+        kind: e.kind(),
+        message: format!("--baseline {}: {e}", path.display()),
+    })
+}
+
+/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
+const MAX_BASELINE_BYTES: u64 = 1 << 24;
+
+/// Reads the record files and identifies them; the excitation kind is decided from the first
+/// record with a force that is not flat (as [`Excitation::detect`] does, reading the files
+/// one at a time).
+pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+    let layout = layout(args)?;
+    let start = Instant::now();
+    let first = io::read_record(&args.files[0], &layout)?;
+    let mut crest = crest_factor(&first);
+    if args.excitation == ExcitationArg::Auto && crest <= 0.0 {
+        // A flat force (a hammer hit that did not register) says nothing of the excitation:
+        // decide from the first record with a force; with none, say so.
+        crest = args.files[1..]
+            .iter()
+            .map(|path| io::read_record(path, &layout).map(|r| crest_factor(&r)))
+            .find(|c| !matches!(c, Ok(c) if *c <= 0.0))
+            .transpose()?
+            .ok_or_else(|| Error::DeadChannel {
+                record: first.label().to_owned(),
+                channel: Channel::Force(0),
+                value: first.force(0)[0],
+            })?;
+    }
+    let mut reading = start.elapsed();
+    let excitation = args
+        .excitation
+        .kind()
+        .unwrap_or_else(|| Excitation::from_crest_factor(crest));
+    let (identifier, segment_len) = settings(args, excitation, &first)?;
+    let sample_rate = first.sample_rate();
+    let id = run(
+        args,
+        &identifier,
+        excitation,
+        first,
+        &args.files,
+        &mut reading,
+    )?;
+    let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
+    let bearing = match &args.baseline {
+        Some(path) => {
+            let dry = baseline(args, &identifier, excitation, path)?;
+            let (b, std) = id.subtract_baseline(dry)?;
+            Some((b, std, path.display().to_string()))
+        }
+        None => None,
+    };
+    let context = report::Context {
+        excitation: excitation.name(),
+        excitation_auto: args.excitation == ExcitationArg::Auto,
+        crest_factor: crest,
+        segment_len,
+        sample_rate,
+        files: args.files.iter().map(|p| p.display().to_string()).collect(),
+        compute_ms,
+        axes: args.disp.clone(),
+        bearing,
+        per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
+    };
+    if let Some(dir) = &args.plot {
+        // The records were streamed; read a few again for the record figure.
+        let records = args
+            .files
+            .iter()
+            .take(PLOTTED_FILES)
+            .map(|path| io::read_record(path, &layout))
+            .collect::<bearing_ident::Result<Vec<_>>>()?;
+        let checks = (excitation == Excitation::Impact).then(ImpactChecks::default);
+        write_report(dir, &id, &records, &context, None, checks)?;
+    }
+    emit(&id, &context, None, args.json)
+}
+
+/// Files read again for the record figure of `identify --plot`.
+const PLOTTED_FILES: usize = 32;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--excitation` spells every kind as the library's [`Excitation::name`] does.
+    #[test]
+    fn excitation_values_are_the_library_names() {
+        let mut kinds = Vec::new();
+        for v in ExcitationArg::value_variants() {
+            let name = v
+                .to_possible_value()
+                .expect("a value")
+                .get_name()
+                .to_owned();
+            match v.kind() {
+                Some(kind) => {
+                    assert_eq!(name, kind.name());
+                    assert_eq!(name.parse::<Excitation>().expect("parses"), kind);
+                    kinds.push(kind);
+                }
+                None => assert_eq!(name, "auto"),
+            }
+        }
+        assert_eq!(kinds, Excitation::ALL);
+    }
+}

@@ -1,0 +1,520 @@
+//! The kind of test that produced a set of records — impacts, random forcing, periodic or
+//! multisine forcing, stepped sines, sweeps — with its detection from the records and the
+//! processing each kind calls for (estimator, segmentation, window, screening checks), so a
+//! library user gets the same defaults as the `bearing-ident` tool.
+//!
+//! | kind | estimator | segmentation | window | double-hit check |
+//! |---|---|---|---|---|
+//! | [`Impact`](Excitation::Impact) | paired sets | whole record | rectangular | yes |
+//! | [`Random`](Excitation::Random) | H1 | Welch, [`welch_len`] | Hann | no |
+//! | [`Periodic`](Excitation::Periodic) | H1 | whole periods | rectangular | no |
+//! | [`SteppedSine`](Excitation::SteppedSine) | paired sets | whole record | rectangular | no |
+//! | [`Sweep`](Excitation::Sweep) | paired sets | whole record | rectangular | no |
+//!
+//! Detection ([`Excitation::detect`]) tells impacts from random forcing only, by the crest
+//! factor of the force ([`crest_factor`], [`IMPACT_CREST_FACTOR`]); the other kinds are the
+//! user's to say. This module sits after [`identify`](crate::identify): it configures an
+//! [`Identifier`] and no stage imports it.
+
+use crate::error::{Channel, Error, Result};
+use crate::frf::Estimator;
+use crate::identify::{Identifier, Screening};
+use crate::records::Record;
+use crate::screening::Checks;
+use crate::spectra::{Segmentation, Window};
+
+/// Crest factor at and above which a record's force is an impact.
+///
+/// Impacts concentrate their force in a few samples: crest factors of 10–100. Random forcing
+/// has Gaussian-like crest factors of 3–5; a sine has `√2`, a multisine about 2–4. The crest
+/// factor of the first record with a force is compared with 8 ([`Excitation::detect`]).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::{Excitation, IMPACT_CREST_FACTOR};
+/// assert_eq!(Excitation::from_crest_factor(IMPACT_CREST_FACTOR), Excitation::Impact);
+/// assert_eq!(Excitation::from_crest_factor(4.0), Excitation::Random);
+/// ```
+pub const IMPACT_CREST_FACTOR: f64 = 8.0;
+
+/// Fewest samples of a Welch segment or a period (as [`Segmentation::segment_len`] requires).
+const MIN_SEGMENT: usize = 8;
+
+/// Crest factor of a record's strongest force channel ([`Record::dominant_force`]): peak over
+/// RMS about the mean,
+///
+/// $$ \mathrm{CF} = \frac{\max_m |f_m - \bar f|}{\sqrt{\tfrac1N \sum_m (f_m - \bar f)^2}}. $$
+///
+/// The force is scaled by its largest magnitude first, so huge forces do not overflow; a flat
+/// (or non-finite) force has crest factor 0.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Record;
+/// use bearing_ident::excitation::crest_factor;
+/// // One hit in 100 samples: peak 0.99, RMS about the mean 0.0995.
+/// let mut f = vec![0.0; 100];
+/// f[10] = 1.0;
+/// let r = Record::new("hit", 100.0, vec![f], vec![vec![0.0; 100]])?;
+/// assert!((crest_factor(&r) - 0.99 / 0.0099f64.sqrt()).abs() < 1e-9);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn crest_factor(record: &Record) -> f64 {
+    let f = record.force(record.dominant_force());
+    let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    if scale <= 0.0 || !scale.is_finite() {
+        return 0.0;
+    }
+    let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
+    let centred = |v: &f64| v / scale - mean;
+    let rms = (f.iter().map(|v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
+    let peak = f.iter().map(|v| centred(v).abs()).fold(0.0, f64::max);
+    if rms > 0.0 { peak / rms } else { 0.0 }
+}
+
+/// Welch segment length for random excitation: the largest power of two not above an eighth
+/// of the record, and at least 8 samples,
+///
+/// $$ L = 2^{\lfloor \log_2 \max(\lfloor N/8 \rfloor,\ 8) \rfloor}, $$
+///
+/// so a record gives at least 15 half-overlapping segments.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::welch_len;
+/// assert_eq!(welch_len(8192), 1024);
+/// assert_eq!(welch_len(400_000), 32_768); // an eighth is 50 000
+/// assert_eq!(welch_len(20), 8);
+/// ```
+pub fn welch_len(record_len: usize) -> usize {
+    let eighth = (record_len / 8).max(MIN_SEGMENT);
+    if eighth.is_power_of_two() {
+        eighth
+    } else {
+        eighth.next_power_of_two() / 2
+    }
+}
+
+/// The kind of test that produced a set of records.
+///
+/// Its methods give the processing each kind calls for (see the [module](self) table);
+/// [`Excitation::configure`] applies them all to an [`Identifier`].
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::Excitation;
+/// use bearing_ident::{Estimator, Window};
+/// let random: Excitation = "random".parse()?;
+/// assert_eq!(random, Excitation::Random);
+/// assert_eq!(random.estimator(None), Estimator::H1);
+/// assert_eq!(random.window(), Window::Hann);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Excitation {
+    /// Impacts: paired sets, whole-record DFT, no window.
+    Impact,
+    /// Random: MIMO H1 with Welch segments (Hann, 50 % overlap).
+    Random,
+    /// Periodic or multisine in steady state: MIMO H1 over whole periods (the period is given
+    /// to [`Excitation::segmentation`]), no window, the excited lines only.
+    Periodic,
+    /// Stepped sine: one drive frequency per record; amplitude and phase at that frequency
+    /// ([`Identifier::identify_stepped_sine`]).
+    SteppedSine,
+    /// Sine sweep followed by free decay: as impacts (paired sets, whole record).
+    Sweep,
+}
+
+impl Excitation {
+    /// Every kind, in the order of [`Excitation::name`]'s list.
+    pub const ALL: [Excitation; 5] = [
+        Excitation::Impact,
+        Excitation::Random,
+        Excitation::Periodic,
+        Excitation::SteppedSine,
+        Excitation::Sweep,
+    ];
+
+    /// Short name: `"impact"`, `"random"`, `"periodic"`, `"stepped-sine"` or `"sweep"` (the
+    /// CLI's `--excitation` values; [`FromStr`](std::str::FromStr) reads them back).
+    pub fn name(self) -> &'static str {
+        match self {
+            Excitation::Impact => "impact",
+            Excitation::Random => "random",
+            Excitation::Periodic => "periodic",
+            Excitation::SteppedSine => "stepped-sine",
+            Excitation::Sweep => "sweep",
+        }
+    }
+
+    /// The kind a crest factor says: [`Impact`](Excitation::Impact) at and above
+    /// [`IMPACT_CREST_FACTOR`], else [`Random`](Excitation::Random).
+    pub fn from_crest_factor(crest: f64) -> Excitation {
+        if crest >= IMPACT_CREST_FACTOR {
+            Excitation::Impact
+        } else {
+            Excitation::Random
+        }
+    }
+
+    /// Detects impacts or random forcing from the [`crest_factor`] of the first record whose
+    /// force is not flat (a hammer hit that did not register says nothing of the excitation).
+    ///
+    /// # Errors
+    /// [`Error::NoRecords`] for no records; [`Error::DeadChannel`] naming the first record's
+    /// force 0 when every record's force is flat.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::excitation::Excitation;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest::seed_rig().run(&seed_rig())?;
+    /// assert_eq!(Excitation::detect(&records)?, Excitation::Impact);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn detect(records: &[Record]) -> Result<Excitation> {
+        let first = records.first().ok_or(Error::NoRecords)?;
+        let crest = records
+            .iter()
+            .map(crest_factor)
+            .find(|c| *c > 0.0)
+            .ok_or_else(|| Error::DeadChannel {
+                record: first.label().to_owned(),
+                channel: Channel::Force(0),
+                value: first.force(0)[0],
+            })?;
+        Ok(Excitation::from_crest_factor(crest))
+    }
+
+    /// The impedance estimator for this kind, or the `chosen` one: random forcing H1, periodic
+    /// forcing H1 (paired sets are replaced by H1: periods are not paired), the others paired
+    /// sets.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Estimator;
+    /// use bearing_ident::excitation::Excitation;
+    /// assert_eq!(Excitation::Impact.estimator(None), Estimator::PairedSets);
+    /// assert_eq!(Excitation::Impact.estimator(Some(Estimator::H2)), Estimator::H2);
+    /// assert_eq!(Excitation::Periodic.estimator(Some(Estimator::PairedSets)), Estimator::H1);
+    /// ```
+    pub fn estimator(self, chosen: Option<Estimator>) -> Estimator {
+        match self {
+            Excitation::Random => chosen.unwrap_or(Estimator::H1),
+            Excitation::Periodic => match chosen {
+                None | Some(Estimator::PairedSets) => Estimator::H1,
+                Some(e) => e,
+            },
+            _ => chosen.unwrap_or(Estimator::PairedSets),
+        }
+    }
+
+    /// How records of this kind are cut, for `estimator` (from [`Excitation::estimator`]) and
+    /// records like `record`:
+    /// - random forcing: Welch segments of [`welch_len`] samples, or the whole record for
+    ///   paired sets;
+    /// - periodic forcing: whole periods of `round(period_s · f_s)` samples;
+    /// - the others: the whole record.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `"period"` for periodic forcing without `period_s`
+    /// (value NaN) or with a period of fewer than 8 samples or more than the record.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Estimator, Record, Segmentation};
+    /// use bearing_ident::excitation::Excitation;
+    /// let r = Record::new("r", 100.0, vec![vec![0.0; 1000]], vec![vec![0.0; 1000]])?;
+    /// let periods = Excitation::Periodic.segmentation(Estimator::H1, &r, Some(0.5))?;
+    /// assert_eq!(periods, Segmentation::Periods { len: 50 });
+    /// let welch = Excitation::Random.segmentation(Estimator::H1, &r, None)?;
+    /// assert_eq!(welch, Segmentation::Welch { len: 64 });
+    /// assert!(Excitation::Periodic.segmentation(Estimator::H1, &r, None).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn segmentation(
+        self,
+        estimator: Estimator,
+        record: &Record,
+        period_s: Option<f64>,
+    ) -> Result<Segmentation> {
+        Ok(match self {
+            Excitation::Random if estimator == Estimator::PairedSets => Segmentation::WholeRecord,
+            Excitation::Random => Segmentation::Welch {
+                len: welch_len(record.len()),
+            },
+            Excitation::Periodic => {
+                let period = period_s.ok_or(Error::InvalidParameter {
+                    name: "period",
+                    value: f64::NAN,
+                    expected: "a period (s) for periodic excitation",
+                })?;
+                let len = (period * record.sample_rate()).round();
+                if !(len >= MIN_SEGMENT as f64 && len <= record.len() as f64) {
+                    return Err(Error::InvalidParameter {
+                        name: "period",
+                        value: period,
+                        expected: "8 samples up to the record length",
+                    });
+                }
+                Segmentation::Periods { len: len as usize }
+            }
+            _ => Segmentation::WholeRecord,
+        })
+    }
+
+    /// The window for this kind: Hann for random forcing, else rectangular (impacts and
+    /// transients decay within the record; whole periods are leakage-free).
+    pub fn window(self) -> Window {
+        match self {
+            Excitation::Random => Window::Hann,
+            _ => Window::Rectangular,
+        }
+    }
+
+    /// The screening checks for this kind: all of them for impacts, all but the double-hit
+    /// check for the others ([`Checks::without_double_hits`]).
+    pub fn checks(self) -> Checks {
+        if self == Excitation::Impact {
+            Checks::default()
+        } else {
+            Checks::without_double_hits()
+        }
+    }
+
+    /// `identifier` with this kind's estimator, segmentation, window and screening (records
+    /// left in and warned about, [`Screening::Warn`]) for records like `record`; the
+    /// `period_s` of periodic forcing. Settings this does not name are left as they were.
+    ///
+    /// # Errors
+    /// Those of [`Excitation::segmentation`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Identifier, Segmentation, Window};
+    /// use bearing_ident::excitation::Excitation;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest::seed_rig().run(&seed_rig())?;
+    /// let kind = Excitation::detect(&records)?;
+    /// let id = kind.configure(Identifier::new(8.0, 49.0), &records[0], None)?.identify(&records)?;
+    /// assert_eq!(id.segmentation(), Segmentation::WholeRecord);
+    /// assert_eq!(id.window(), Window::Rectangular);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn configure(
+        self,
+        identifier: Identifier,
+        record: &Record,
+        period_s: Option<f64>,
+    ) -> Result<Identifier> {
+        let estimator = self.estimator(None);
+        Ok(identifier
+            .estimator(estimator)
+            .segmentation(self.segmentation(estimator, record, period_s)?)
+            .window(self.window())
+            .screening(Screening::Warn(self.checks())))
+    }
+}
+
+impl std::fmt::Display for Excitation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Excitation {
+    type Err = Error;
+
+    /// Reads a [`name`](Excitation::name) back.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `"excitation"` (value NaN) listing the accepted names.
+    fn from_str(s: &str) -> Result<Excitation> {
+        Excitation::ALL
+            .into_iter()
+            .find(|e| e.name() == s)
+            .ok_or(Error::InvalidParameter {
+                name: "excitation",
+                value: f64::NAN,
+                expected: "one of impact, random, periodic, stepped-sine, sweep",
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::{AntiAlias, ImpactTest, Simulator, multisine, seed_rig};
+
+    #[test]
+    fn names_round_trip() {
+        for e in Excitation::ALL {
+            assert_eq!(e.name().parse::<Excitation>().unwrap(), e);
+            assert_eq!(e.to_string(), e.name());
+        }
+        for bad in ["auto", "Impact", "", "stepped_sine", "periodic:1"] {
+            let err = bad.parse::<Excitation>().unwrap_err();
+            assert!(
+                matches!(
+                    err,
+                    Error::InvalidParameter {
+                        name: "excitation",
+                        ..
+                    }
+                ),
+                "{err}"
+            );
+            assert!(err.to_string().contains("stepped-sine"), "{err}");
+        }
+    }
+
+    #[test]
+    fn detects_impacts() {
+        let records = ImpactTest::seed_rig().run(&seed_rig()).unwrap();
+        assert!(crest_factor(&records[0]) > 10.0);
+        assert_eq!(Excitation::detect(&records).unwrap(), Excitation::Impact);
+    }
+
+    #[test]
+    fn detects_random() {
+        let mut sim = Simulator::new(&seed_rig(), 6700.0, 8192, AntiAlias::default()).unwrap();
+        let records: Vec<Record> = (0..2)
+            .map(|r| sim.random_record(format!("r{r}"), 50.0, r).unwrap())
+            .collect();
+        let crest = crest_factor(&records[0]);
+        assert!(crest > 2.0 && crest < IMPACT_CREST_FACTOR, "{crest}");
+        assert_eq!(Excitation::detect(&records).unwrap(), Excitation::Random);
+    }
+
+    #[test]
+    fn multisine_is_not_an_impact() {
+        let period = 6700;
+        let drive = multisine(period, 8..=49, 50.0, 2 * period, 3).unwrap();
+        let mut sim =
+            Simulator::new(&seed_rig(), 6700.0, drive.len(), AntiAlias::default()).unwrap();
+        let record = sim
+            .held_record("ms", &[drive, vec![0.0; 2 * period]])
+            .unwrap();
+        let crest = crest_factor(&record);
+        assert!(crest > 1.0 && crest < IMPACT_CREST_FACTOR, "{crest}");
+        assert_eq!(Excitation::detect(&[record]).unwrap(), Excitation::Random);
+    }
+
+    #[test]
+    fn flat_records_are_skipped_then_refused() {
+        let flat = Record::new("flat", 100.0, vec![vec![2.0; 200]], vec![vec![0.0; 200]]).unwrap();
+        assert!(crest_factor(&flat).abs() < f64::MIN_POSITIVE);
+        let mut f = vec![0.0; 200];
+        f[5] = 1.0;
+        let hit = Record::new("hit", 100.0, vec![f], vec![vec![0.0; 200]]).unwrap();
+        assert_eq!(
+            Excitation::detect(&[flat.clone(), hit]).unwrap(),
+            Excitation::Impact
+        );
+        assert!(matches!(
+            Excitation::detect(&[flat.clone(), flat]),
+            Err(Error::DeadChannel { ref record, channel: Channel::Force(0), .. }) if record == "flat"
+        ));
+        assert!(matches!(Excitation::detect(&[]), Err(Error::NoRecords)));
+    }
+
+    #[test]
+    fn defaults_per_kind() {
+        let r = Record::new("r", 1000.0, vec![vec![0.0; 4000]], vec![vec![0.0; 4000]]).unwrap();
+        let table = [
+            (
+                Excitation::Impact,
+                Estimator::PairedSets,
+                Segmentation::WholeRecord,
+                Window::Rectangular,
+            ),
+            (
+                Excitation::Random,
+                Estimator::H1,
+                Segmentation::Welch { len: 256 },
+                Window::Hann,
+            ),
+            (
+                Excitation::Periodic,
+                Estimator::H1,
+                Segmentation::Periods { len: 500 },
+                Window::Rectangular,
+            ),
+            (
+                Excitation::SteppedSine,
+                Estimator::PairedSets,
+                Segmentation::WholeRecord,
+                Window::Rectangular,
+            ),
+            (
+                Excitation::Sweep,
+                Estimator::PairedSets,
+                Segmentation::WholeRecord,
+                Window::Rectangular,
+            ),
+        ];
+        for (kind, estimator, segmentation, window) in table {
+            assert_eq!(kind.estimator(None), estimator, "{kind}");
+            assert_eq!(
+                kind.segmentation(estimator, &r, Some(0.5)).unwrap(),
+                segmentation,
+                "{kind}"
+            );
+            assert_eq!(kind.window(), window, "{kind}");
+            assert_eq!(kind.checks().impact.is_some(), kind == Excitation::Impact);
+        }
+        // Paired sets on random records take the whole record.
+        assert_eq!(
+            Excitation::Random
+                .segmentation(Estimator::PairedSets, &r, None)
+                .unwrap(),
+            Segmentation::WholeRecord
+        );
+        assert_eq!(
+            Excitation::Random.estimator(Some(Estimator::Hv)),
+            Estimator::Hv
+        );
+    }
+
+    #[test]
+    fn periods_out_of_range_are_refused() {
+        let r = Record::new("r", 1000.0, vec![vec![0.0; 4000]], vec![vec![0.0; 4000]]).unwrap();
+        for period in [0.007, 4.001, f64::NAN, -1.0] {
+            assert!(
+                matches!(
+                    Excitation::Periodic.segmentation(Estimator::H1, &r, Some(period)),
+                    Err(Error::InvalidParameter { name: "period", .. })
+                ),
+                "{period}"
+            );
+        }
+        assert_eq!(
+            Excitation::Periodic
+                .segmentation(Estimator::H1, &r, Some(0.008))
+                .unwrap(),
+            Segmentation::Periods { len: 8 }
+        );
+        assert_eq!(
+            Excitation::Periodic
+                .segmentation(Estimator::H1, &r, Some(4.0))
+                .unwrap(),
+            Segmentation::Periods { len: 4000 }
+        );
+    }
+
+    #[test]
+    fn welch_len_rule() {
+        for (n, len) in [
+            (0, 8),
+            (64, 8),
+            (127, 8),
+            (128, 16),
+            (8192, 1024),
+            (9000, 1024),
+        ] {
+            assert_eq!(welch_len(n), len, "{n}");
+        }
+    }
+}
