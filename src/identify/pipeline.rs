@@ -15,9 +15,9 @@ use crate::tolerance;
 
 use super::diagnostics::flexibility_r2;
 use super::screen::{kept_records, observe, reported, screen_batch};
+use super::{Identification, Identifier, Settings};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
-use super::{Identification, Identifier, Settings};
 
 impl Identifier {
     /// Runs the identification.
