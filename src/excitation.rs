@@ -335,9 +335,9 @@ impl std::str::FromStr for Excitation {
         Excitation::ALL
             .into_iter()
             .find(|e| e.name() == s)
-            .ok_or(Error::InvalidParameter {
-                name: "excitation",
-                value: f64::NAN,
+            .ok_or(Error::UnknownName {
+                what: "excitation",
+                given: s.to_owned(),
                 expected: "one of impact, random, periodic, stepped-sine, sweep",
             })
     }

@@ -21,6 +21,7 @@
 //! with [`Error::CsvLimit`] naming the file and line. Messages quote at most
 //! [`QUOTE_CHARS`](crate::error::QUOTE_CHARS) characters of the input.
 
+use crate::error::CsvLimitKind;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -254,7 +255,7 @@ fn read_csv_limited(
                 Some(LineTooLong { line }) => Error::CsvLimit {
                     path: label.to_owned(),
                     line: *line,
-                    what: "line length (bytes)",
+                    what: CsvLimitKind::LineBytes,
                     limit: limits.line_bytes,
                 },
                 None => Error::Io {
@@ -283,7 +284,7 @@ fn read_csv_limited(
         return Err(Error::CsvLimit {
             path: label.to_owned(),
             line: 1,
-            what: "columns",
+            what: CsvLimitKind::Columns,
             limit: limits.columns as u64,
         });
     }
@@ -319,7 +320,7 @@ fn read_csv_limited(
             return Err(Error::CsvLimit {
                 path: label.to_owned(),
                 line,
-                what: "values (samples × columns)",
+                what: CsvLimitKind::Values,
                 limit: limits.values,
             });
         }
@@ -670,7 +671,7 @@ mod tests {
                 Error::CsvLimit {
                     line: 1,
                     limit: 100,
-                    what: "line length (bytes)",
+                    what: CsvLimitKind::LineBytes,
                     ..
                 }
             ),
@@ -712,7 +713,7 @@ mod tests {
                 e,
                 Error::CsvLimit {
                     line: 1,
-                    what: "columns",
+                    what: CsvLimitKind::Columns,
                     limit: 8,
                     ..
                 }
@@ -727,7 +728,7 @@ mod tests {
                 e,
                 Error::CsvLimit {
                     line: 52,
-                    what: "values (samples × columns)",
+                    what: CsvLimitKind::Values,
                     ..
                 }
             ),

@@ -7,6 +7,7 @@
 //! (which consumes it) and the identification result. Matrices are not assumed symmetric:
 //! bearings have cross-coupled terms with `K_xy ≠ K_yx`.
 
+use crate::error::Block;
 use std::f64::consts::PI;
 
 use faer::{Mat, MatRef, c64};
@@ -92,7 +93,11 @@ impl Coefficients {
                 stiffness: shape(&stiffness),
             });
         }
-        for (name, m) in [("M", &mass), ("C", &damping), ("K", &stiffness)] {
+        for (name, m) in [
+            (Block::Mass, &mass),
+            (Block::Damping, &damping),
+            (Block::Stiffness, &stiffness),
+        ] {
             for j in 0..n {
                 for i in 0..n {
                     if !m[(i, j)].is_finite() {
@@ -383,7 +388,7 @@ mod tests {
         assert_eq!(
             e,
             Error::NonFiniteCoefficient {
-                matrix: "C",
+                matrix: Block::Damping,
                 row: 0,
                 col: 0
             }
@@ -447,7 +452,7 @@ mod tests {
         assert_eq!(
             big.subtract(&neg).unwrap_err(),
             Error::NonFiniteCoefficient {
-                matrix: "M",
+                matrix: Block::Mass,
                 row: 0,
                 col: 0
             }

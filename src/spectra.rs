@@ -332,9 +332,9 @@ impl std::str::FromStr for Segmentation {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     fn from_str(s: &str) -> Result<Self> {
-        let bad = || Error::InvalidParameter {
-            name: "segmentation",
-            value: f64::NAN,
+        let bad = || Error::UnknownName {
+            what: "segmentation",
+            given: s.to_owned(),
             expected: "whole, welch:LEN or periods:LEN (samples)",
         };
         let (name, len) = match s.split_once(':') {

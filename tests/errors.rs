@@ -167,7 +167,7 @@ fn non_convergence_warns_or_fails_as_asked() {
     assert!(matches!(
         e,
         Error::NotConverged {
-            method: "ivf",
+            method: bearing_ident::Method::Ivf,
             iterations: 1,
             ..
         }

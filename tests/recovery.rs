@@ -217,7 +217,9 @@ fn baseline_subtraction_recovers_the_bearing() {
         full(&lubricated)
             .subtract_baseline(&other_band)
             .unwrap_err(),
-        bearing_ident::Error::BaselineMismatch { what: "band" }
+        bearing_ident::Error::BaselineMismatch {
+            what: bearing_ident::error::BaselineField::Band
+        }
     );
     // Errors scale with the system identified, so each block is judged against the
     // lubricated system's block norm.

@@ -55,6 +55,120 @@ impl fmt::Display for Block {
     }
 }
 
+/// Which spectrum overflowed ([`Error::SpectrumOverflow`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SpectrumKind {
+    /// The DFT of one channel.
+    Spectrum,
+    /// A product of two channels' DFTs.
+    CrossSpectrum,
+    /// A running sum of cross-spectra over records and segments.
+    AccumulatedCrossSpectrum,
+}
+
+impl fmt::Display for SpectrumKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SpectrumKind::Spectrum => "spectrum",
+            SpectrumKind::CrossSpectrum => "cross-spectrum",
+            SpectrumKind::AccumulatedCrossSpectrum => "accumulated cross-spectrum",
+        })
+    }
+}
+
+/// A per-line quantity computed from the spectra ([`Error::NonFiniteResult`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Quantity {
+    /// The impedance `H`.
+    Impedance,
+    /// The flexibility `G = H⁻¹`.
+    Flexibility,
+    /// The multiple coherence.
+    Coherence,
+    /// A flexibility handed in by the caller ([`Frf::from_flexibility`](crate::Frf::from_flexibility)).
+    GivenFlexibility,
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quantity::Impedance => "impedance",
+            Quantity::Flexibility => "flexibility",
+            Quantity::Coherence => "coherence",
+            Quantity::GivenFlexibility => "given flexibility",
+        })
+    }
+}
+
+/// A matrix factorization of faer ([`Error::Decomposition`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Factorization {
+    /// The singular value decomposition.
+    SingularValue,
+    /// The eigenvalue decomposition.
+    Eigenvalue,
+}
+
+impl fmt::Display for Factorization {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Factorization::SingularValue => "singular value",
+            Factorization::Eigenvalue => "eigenvalue",
+        })
+    }
+}
+
+/// What a dry-structure baseline must share with the system it is subtracted from
+/// ([`Error::BaselineMismatch`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BaselineField {
+    /// The number of degrees of freedom (of the coefficients or of their standard deviations).
+    DegreesOfFreedom,
+    /// The frequency band.
+    Band,
+    /// The frequency lines used.
+    FrequencyLines,
+    /// The FRF estimator.
+    Estimator,
+    /// The window.
+    Window,
+}
+
+impl fmt::Display for BaselineField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            BaselineField::DegreesOfFreedom => "degrees of freedom",
+            BaselineField::Band => "band",
+            BaselineField::FrequencyLines => "frequency lines",
+            BaselineField::Estimator => "estimator",
+            BaselineField::Window => "window",
+        })
+    }
+}
+
+/// What a CSV reader limit counts ([`Error::CsvLimit`], feature `csv`).
+#[cfg(feature = "csv")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CsvLimitKind {
+    /// The bytes of one line.
+    LineBytes,
+    /// The columns of a line.
+    Columns,
+    /// The values of a record (samples × columns).
+    Values,
+}
+
+#[cfg(feature = "csv")]
+impl fmt::Display for CsvLimitKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CsvLimitKind::LineBytes => "line length (bytes)",
+            CsvLimitKind::Columns => "columns",
+            CsvLimitKind::Values => "values (samples × columns)",
+        })
+    }
+}
+
 /// Everything that can go wrong in `bearing-ident`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -218,7 +332,7 @@ pub enum Error {
     )]
     SingularFit {
         /// The method that failed.
-        method: &'static str,
+        method: crate::Method,
     },
     /// A matrix that must be inverted is singular.
     #[error("{what} is singular")]
@@ -232,7 +346,7 @@ pub enum Error {
     )]
     NotConverged {
         /// The method.
-        method: &'static str,
+        method: crate::Method,
         /// Iterations run.
         iterations: usize,
         /// Block-wise relative change at the last iteration.
@@ -253,8 +367,8 @@ pub enum Error {
     /// A coefficient matrix holds NaN or infinity.
     #[error("coefficient {matrix}[{row}][{col}] is not finite")]
     NonFiniteCoefficient {
-        /// "M", "C" or "K".
-        matrix: &'static str,
+        /// The matrix: `M`, `C` or `K`.
+        matrix: Block,
         /// Row index.
         row: usize,
         /// Column index.
@@ -275,7 +389,7 @@ pub enum Error {
     )]
     BaselineMismatch {
         /// What differs.
-        what: &'static str,
+        what: BaselineField,
     },
     /// A saved baseline (the JSON of an earlier identification) cannot be read (feature
     /// `json`, [`Baseline::from_json`](crate::Baseline::from_json)).
@@ -288,7 +402,7 @@ pub enum Error {
     /// Maximum likelihood needs the noise covariances of the spectra, which only repeated
     /// periods give here.
     #[error(
-        "method ml needs the noise covariances that repeated periods give: periodic records with `Segmentation::Periods` (CLI `--excitation periodic --period S`), at least 3 periods per record"
+        "method ml needs the noise covariances that repeated periods give: periodic records with `Segmentation::Periods`, at least 3 periods per record"
     )]
     MlNeedsRepeats,
     /// A numeric parameter is outside its valid range.
@@ -299,6 +413,17 @@ pub enum Error {
         /// The value given.
         value: f64,
         /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// A name given for a choice (a method, an estimator, an excitation…) is not one of its
+    /// names.
+    #[error("{what} `{}` is not known: expected {expected}", excerpt(given))]
+    UnknownName {
+        /// What was being named: `"method"`, `"estimator"`, …
+        what: &'static str,
+        /// The name given.
+        given: String,
+        /// The accepted names, in words.
         expected: &'static str,
     },
     /// A file could not be opened, read or written.
@@ -364,9 +489,8 @@ pub enum Error {
     #[error("figure `{figure}`: {message}")]
     #[cfg(feature = "plot")]
     Plot {
-        /// The figure: `"flexibility"`, `"impedance"`, `"coherence"`, `"per_frequency"`,
-        /// `"records"` or `"convergence"`.
-        figure: &'static str,
+        /// The figure.
+        figure: crate::plot::Figure,
         /// What the drawing library said.
         message: String,
     },
@@ -374,7 +498,7 @@ pub enum Error {
     #[error("the {what} decomposition did not converge")]
     Decomposition {
         /// Which decomposition.
-        what: &'static str,
+        what: Factorization,
     },
     /// A line of a CSV file, its number of columns, or its number of values is past the
     /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
@@ -386,9 +510,8 @@ pub enum Error {
         path: String,
         /// One-based line number where the limit was reached.
         line: u64,
-        /// What was counted: `"line length (bytes)"`, `"columns"` or `"values (samples ×
-        /// columns)"`.
-        what: &'static str,
+        /// What was counted.
+        what: CsvLimitKind,
         /// The limit.
         limit: u64,
     },
@@ -426,8 +549,8 @@ pub enum Error {
     SpectrumOverflow {
         /// Label of the record.
         record: String,
-        /// `"spectrum"`, `"cross-spectrum"` or `"accumulated cross-spectrum"`.
-        stage: &'static str,
+        /// Which spectrum.
+        stage: SpectrumKind,
         /// The channel (for a cross-spectrum `S_ab`, channel `a`).
         channel: Channel,
         /// Frequency of the first line that overflowed (Hz).
@@ -442,8 +565,8 @@ pub enum Error {
          estimator (rescale the channels, e.g. to N and m)"
     )]
     NonFiniteResult {
-        /// `"impedance"`, `"flexibility"`, …
-        stage: &'static str,
+        /// Which quantity.
+        stage: Quantity,
         /// Frequency of the first line where it appears (Hz).
         freq_hz: f64,
     },
@@ -526,7 +649,9 @@ impl Error {
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",
             Error::RecordTooShort { .. } => "record_too_short",
-            Error::InvalidParameter { .. } | Error::LengthMismatch { .. } => "invalid_argument",
+            Error::InvalidParameter { .. }
+            | Error::UnknownName { .. }
+            | Error::LengthMismatch { .. } => "invalid_argument",
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
                 "singular"
             }
@@ -563,14 +688,16 @@ pub type Result<T> = std::result::Result<T, Error>;
 impl From<faer::linalg::solvers::SvdError> for Error {
     fn from(_: faer::linalg::solvers::SvdError) -> Self {
         Error::Decomposition {
-            what: "singular value",
+            what: Factorization::SingularValue,
         }
     }
 }
 
 impl From<faer::linalg::solvers::EvdError> for Error {
     fn from(_: faer::linalg::solvers::EvdError) -> Self {
-        Error::Decomposition { what: "eigenvalue" }
+        Error::Decomposition {
+            what: Factorization::Eigenvalue,
+        }
     }
 }
 
@@ -664,7 +791,7 @@ mod tests {
             let e = Error::CsvLimit {
                 path: "f.csv".into(),
                 line: 1,
-                what: "line length (bytes)",
+                what: CsvLimitKind::LineBytes,
                 limit: 1 << 20,
             };
             assert_eq!(e.kind(), "too_large");
@@ -679,7 +806,7 @@ mod tests {
     #[cfg(feature = "plot")]
     fn plot_errors_name_the_figure() {
         let e = Error::Plot {
-            figure: "impedance",
+            figure: crate::plot::Figure::Impedance,
             message: "disk full".into(),
         };
         assert_eq!(e.kind(), "plot_error");

@@ -3,6 +3,7 @@
 //! running totals. The finishes live beside their estimators ([`paired`](super::paired),
 //! [`cross`](super::cross)).
 
+use crate::error::SpectrumKind;
 use faer::c64;
 
 use super::{Assignment, Band, Estimator, Frf};
@@ -347,7 +348,7 @@ impl FrfBuilder {
                         overflow_check(
                             record,
                             plan,
-                            "accumulated cross-spectrum",
+                            SpectrumKind::AccumulatedCrossSpectrum,
                             totals,
                             nn,
                             channel,
@@ -453,7 +454,7 @@ fn contribute(
             (&*forces, Channel::Force as fn(usize) -> Channel),
             (&*displacements, Channel::Displacement),
         ] {
-            overflow_check(record, plan, "spectrum", values, n, channel)?;
+            overflow_check(record, plan, SpectrumKind::Spectrum, values, n, channel)?;
         }
         Ok::<(), Error>(())
     };
@@ -505,7 +506,14 @@ fn contribute(
                 (&sxf, Channel::Displacement),
                 (&sxx, Channel::Displacement),
             ] {
-                overflow_check(record, plan, "cross-spectrum", values, nn, channel)?;
+                overflow_check(
+                    record,
+                    plan,
+                    SpectrumKind::CrossSpectrum,
+                    values,
+                    nn,
+                    channel,
+                )?;
             }
             Ok(Contribution::Cross {
                 sff,
@@ -546,7 +554,7 @@ fn dead_channel(record: &Record) -> Option<Error> {
 fn overflow_check(
     record: &Record,
     plan: &Plan,
-    stage: &'static str,
+    stage: SpectrumKind,
     values: &[c64],
     stride: usize,
     channel: fn(usize) -> Channel,

@@ -39,6 +39,7 @@ mod paired;
 mod statistics;
 mod variance;
 
+use crate::error::Quantity;
 use faer::{Mat, MatRef, c64};
 
 pub use crate::records::common_shape;
@@ -116,9 +117,9 @@ impl std::str::FromStr for Estimator {
         ]
         .into_iter()
         .find(|e| e.name() == s)
-        .ok_or(Error::InvalidParameter {
-            name: "estimator",
-            value: f64::NAN,
+        .ok_or(Error::UnknownName {
+            what: "estimator",
+            given: s.to_owned(),
             expected: "one of paired, h1, h2, hv",
         })
     }
@@ -213,7 +214,7 @@ impl Frf {
             }
             if g.iter().any(|z| !(z.re.is_finite() && z.im.is_finite())) {
                 return Err(Error::NonFiniteResult {
-                    stage: "given flexibility",
+                    stage: Quantity::GivenFlexibility,
                     freq_hz: f,
                 });
             }
@@ -267,15 +268,15 @@ impl Frf {
         for (k, &freq_hz) in self.freqs_hz.iter().enumerate() {
             let finite = |v: &[c64]| v.iter().all(|z| z.re.is_finite() && z.im.is_finite());
             let stage = if !finite(&self.impedance[k * nn..(k + 1) * nn]) {
-                "impedance"
+                Quantity::Impedance
             } else if !finite(&self.flexibility[k * nn..(k + 1) * nn]) {
-                "flexibility"
+                Quantity::Flexibility
             } else if self
                 .multiple_coherence
                 .get(k * n..(k + 1) * n)
                 .is_some_and(|c| c.iter().any(|g| !g.is_finite()))
             {
-                "coherence"
+                Quantity::Coherence
             } else {
                 continue;
             };
@@ -527,7 +528,7 @@ pub(crate) mod tests {
         assert_eq!(
             e,
             Error::NonFiniteResult {
-                stage: "given flexibility",
+                stage: Quantity::GivenFlexibility,
                 freq_hz: 20.0
             }
         );

@@ -1,6 +1,7 @@
 //! A dry-structure baseline ([`Baseline`]) and its subtraction from a lubricated system's
 //! identification ([`Identification::subtract_baseline`]).
 
+use crate::error::BaselineField;
 use crate::error::{Error, Result};
 use crate::frf::{Band, Estimator};
 use crate::model::Coefficients;
@@ -86,10 +87,10 @@ impl Identification {
         if self.coefficients().dofs() != baseline.coefficients.dofs()
             || std_dofs.is_some_and(|n| n != baseline.coefficients.dofs())
         {
-            return mismatch("degrees of freedom");
+            return mismatch(BaselineField::DegreesOfFreedom);
         }
         if self.band != baseline.band {
-            return mismatch("band");
+            return mismatch(BaselineField::Band);
         }
         let same_lines = self.freqs_hz().len() == baseline.freqs_hz.len()
             && self
@@ -98,17 +99,17 @@ impl Identification {
                 .zip(&baseline.freqs_hz)
                 .all(|(a, b)| (a - b).abs() <= tolerance::BASELINE_LINE * a.abs().max(1.0));
         if !same_lines {
-            return mismatch("frequency lines");
+            return mismatch(BaselineField::FrequencyLines);
         }
         if self.estimator != baseline.estimator {
-            return mismatch("estimator");
+            return mismatch(BaselineField::Estimator);
         }
         let same_window = match (self.window.decay_per_s(), baseline.window.decay_per_s()) {
             (Some(a), Some(b)) => (a - b).abs() <= tolerance::BASELINE_DECAY * a.abs().max(1e-12),
             _ => self.window == baseline.window,
         };
         if !same_window {
-            return mismatch("window");
+            return mismatch(BaselineField::Window);
         }
         let coefficients = self.coefficients().subtract(&baseline.coefficients)?;
         let std = match (self.std_dev(), baseline.std_dev.as_ref()) {

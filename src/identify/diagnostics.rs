@@ -54,7 +54,7 @@ impl Settings {
             Convergence::IterationLimit { iterations, change } => {
                 if fail {
                     return Err(Error::NotConverged {
-                        method: self.method.name(),
+                        method: self.method,
                         iterations,
                         change,
                     });
@@ -68,7 +68,7 @@ impl Settings {
                 if fail {
                     let change = fit.history().last().map_or(f64::NAN, Iteration::change);
                     return Err(Error::NotConverged {
-                        method: self.method.name(),
+                        method: self.method,
                         iterations,
                         change,
                     });

@@ -50,6 +50,61 @@ pub use figures::{coherence, convergence, flexibility, impedance, per_frequency,
 pub use html::{ReportOptions, report};
 pub use table::{CoefficientRow, coefficient_rows};
 
+/// The figures of an identification, one per drawing function of this module.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::plot::Figure;
+/// assert_eq!(Figure::PerFrequency.name(), "per_frequency");
+/// assert_eq!(Figure::ALL.len(), 6);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Figure {
+    /// [`flexibility`]: `|G_ij|` and phase, measured and fitted.
+    Flexibility,
+    /// [`impedance`]: `Re H_ij`, `Im H_ij` against the fit.
+    Impedance,
+    /// [`coherence`]: coherence and condition numbers per line.
+    Coherence,
+    /// [`per_frequency`]: `K(ω)`, `C(ω)` line by line.
+    PerFrequency,
+    /// [`records`]: the time records.
+    Records,
+    /// [`convergence`]: the IVF iterations.
+    Convergence,
+}
+
+impl Figure {
+    /// Every figure, in the order of the report.
+    pub const ALL: [Figure; 6] = [
+        Figure::Flexibility,
+        Figure::Impedance,
+        Figure::Coherence,
+        Figure::PerFrequency,
+        Figure::Records,
+        Figure::Convergence,
+    ];
+
+    /// The figure's file stem: `"flexibility"`, `"impedance"`, `"coherence"`,
+    /// `"per_frequency"`, `"records"` or `"convergence"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Figure::Flexibility => "flexibility",
+            Figure::Impedance => "impedance",
+            Figure::Coherence => "coherence",
+            Figure::PerFrequency => "per_frequency",
+            Figure::Records => "records",
+            Figure::Convergence => "convergence",
+        }
+    }
+}
+
+impl std::fmt::Display for Figure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// `v` with `digits` significant digits: fixed-point for magnitudes from 10⁻³ to below 10⁶,
 /// scientific otherwise (the format of every number in the report and the CLI's table).
 ///

@@ -69,9 +69,11 @@ pub(super) fn fit(frf: &Frf) -> Result<Fit> {
         damping[(i, j)] = c_ij;
         stiffness[(i, j)] = k_ij;
     }
-    let coefficients = Coefficients::new(mass, damping, stiffness)
-        .map_err(|_| Error::SingularFit { method: "direct" })?;
-    let sys = Stacked::new(frf, "direct")?;
+    let coefficients =
+        Coefficients::new(mass, damping, stiffness).map_err(|_| Error::SingularFit {
+            method: Method::Direct,
+        })?;
+    let sys = Stacked::new(frf, Method::Direct)?;
     let residual_norm = sys.residual_norm(coefficients.stacked().as_ref());
     Ok(Fit {
         method: Method::Direct,

@@ -144,7 +144,7 @@ impl IvfSolver {
     /// ([`Error::TooFewLines`], [`Error::SingularFit`]).
     pub fn new(frf: &Frf, options: IvfOptions) -> Result<Self> {
         options.validate()?;
-        let (theta, sys) = ls::solve(frf, "ivf")?;
+        let (theta, sys) = ls::solve(frf, Method::Ivf)?;
         let (n, m) = (sys.n, sys.a.nrows());
         let p = 3 * n;
         let stack = MemBuffer::new(

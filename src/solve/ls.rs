@@ -11,7 +11,7 @@ use crate::frf::Frf;
 const RANK_RATIO: f64 = 1e12;
 
 /// Solves the scaled stacked system by QR; returns `(Θ, system)`.
-pub(super) fn solve(frf: &Frf, method: &'static str) -> Result<(faer::Mat<f64>, Stacked)> {
+pub(super) fn solve(frf: &Frf, method: Method) -> Result<(faer::Mat<f64>, Stacked)> {
     let sys = Stacked::new(frf, method)?;
     let qr = sys.a.qr();
     let r = qr.thin_R();
@@ -27,7 +27,7 @@ pub(super) fn solve(frf: &Frf, method: &'static str) -> Result<(faer::Mat<f64>, 
 }
 
 pub(super) fn fit(frf: &Frf) -> Result<Fit> {
-    let (theta, sys) = solve(frf, "ls")?;
+    let (theta, sys) = solve(frf, Method::LeastSquares)?;
     let std = sys.sandwich_covariance(theta.as_ref(), sys.a.as_ref());
     finish(
         Method::LeastSquares,

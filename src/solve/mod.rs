@@ -82,9 +82,9 @@ impl std::str::FromStr for Method {
         ]
         .into_iter()
         .find(|m| m.name() == s)
-        .ok_or(crate::Error::InvalidParameter {
-            name: "method",
-            value: f64::NAN,
+        .ok_or(crate::Error::UnknownName {
+            what: "method",
+            given: s.to_owned(),
             expected: "one of direct, ls, ivf, ml",
         })
     }
@@ -450,7 +450,12 @@ mod tests {
         let g: Vec<Mat<c64>> = (0..10).map(|_| mat![[c64::new(1e-5, 2e-6)]]).collect();
         let frf = Frf::from_flexibility(vec![5.0; 10], &g).unwrap();
         let e = fit(&frf, Method::LeastSquares, &IvfOptions::default()).unwrap_err();
-        assert_eq!(e, Error::SingularFit { method: "ls" });
+        assert_eq!(
+            e,
+            Error::SingularFit {
+                method: Method::LeastSquares
+            }
+        );
     }
 
     #[test]

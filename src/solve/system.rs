@@ -1,5 +1,6 @@
 //! The stacked real system `A Θ = Ī` shared by least squares and IVF, with its column scaling.
 
+use super::Method;
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par, c64};
@@ -56,7 +57,7 @@ pub(super) fn check_lines(frf: &Frf) -> Result<()> {
 }
 
 impl Stacked {
-    pub fn new(frf: &Frf, method: &'static str) -> Result<Self> {
+    pub fn new(frf: &Frf, method: Method) -> Result<Self> {
         check_lines(frf)?;
         let n = frf.dofs();
         let lines = frf.line_count();

@@ -11,9 +11,17 @@ pub struct Failure {
 
 impl From<bearing_ident::Error> for Failure {
     fn from(e: bearing_ident::Error) -> Self {
+        let mut message = e.to_string();
+        // The library speaks of its own types; the tool names its flags.
+        if matches!(e, bearing_ident::Error::MlNeedsRepeats) {
+            message = message.replace(
+                "`Segmentation::Periods`",
+                "`Segmentation::Periods` (CLI `--excitation periodic --period S`)",
+            );
+        }
         Failure {
             kind: e.kind(),
-            message: e.to_string(),
+            message,
         }
     }
 }

@@ -107,9 +107,9 @@ impl FromStr for Uncertainty {
             "jackknife" => Ok(Uncertainty::Jackknife),
             "bootstrap" => Ok(Uncertainty::BOOTSTRAP),
             "auto" => Ok(Uncertainty::Auto),
-            _ => Err(Error::InvalidParameter {
-                name: "uncertainty",
-                value: f64::NAN,
+            _ => Err(Error::UnknownName {
+                what: "uncertainty",
+                given: s.to_owned(),
                 expected: "none, sandwich, jackknife, bootstrap or auto",
             }),
         }

@@ -30,7 +30,7 @@ const END: &str = "@@series-end@@";
 
 /// Draws `figure` of `size` pixels into an SVG string, white background, series grouped.
 pub(crate) fn render(
-    figure: &'static str,
+    figure: crate::plot::Figure,
     size: (u32, u32),
     draw: impl FnOnce(&Area<'_>) -> Drawn,
 ) -> Result<String> {

@@ -68,7 +68,7 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
     if !dropped.is_empty() {
         legend.push((Key::Cross(GREY), "dropped".into()));
     }
-    render("coherence", size, |root| {
+    render(crate::plot::Figure::Coherence, size, |root| {
         let legend: Vec<(Key, &str)> = legend.iter().map(|(k, s)| (*k, s.as_str())).collect();
         let body = header(
             root,

@@ -55,7 +55,7 @@ pub fn convergence(id: &Identification, options: &FigureOptions) -> Result<Strin
         id.convergence().name().replace('_', " "),
         history.len()
     );
-    render("convergence", size, |root| {
+    render(crate::plot::Figure::Convergence, size, |root| {
         let body = header(root, &title, if history.is_empty() { &[] } else { &legend })?;
         if history.is_empty() {
             return message(

@@ -51,87 +51,95 @@ pub fn flexibility(id: &Identification, options: &FigureOptions) -> Result<Strin
         id.method().name(),
         freqs.len()
     );
-    render("flexibility", grid_size(options, n), |root| {
-        let body = header(
-            root,
-            &title,
-            &[
-                (Key::Point(MEASURED), "measured"),
-                (Key::Line(MODEL), "fitted model"),
-            ],
-        )?;
-        for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
-            let (i, j) = (p / n, p % n);
-            let el = format!("{}{}", names[i], names[j]);
-            let panel = titled(panel, &format!("G {el}"))?;
-            let (top, bottom) = stacked(&panel);
-            let measured: Vec<(f64, c64)> = freqs
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| (f, id.frf().flexibility(k)[(i, j)]))
-                .collect();
-            let fitted: Vec<(f64, c64)> = model.iter().map(|(f, g)| (*f, g[(i, j)])).collect();
-            let magnitude = |v: &[(f64, c64)]| -> Vec<(f64, f64)> {
-                v.iter()
-                    .map(|(f, g)| (*f, g.norm()))
-                    .filter(|p| p.1 > 0.0 && p.1.is_finite())
-                    .collect()
-            };
-            let phase = |v: &[(f64, c64)]| -> Vec<(f64, f64)> {
-                v.iter()
-                    .map(|(f, g)| (*f, g.arg().to_degrees()))
-                    .filter(|p| p.1.is_finite())
-                    .collect()
-            };
-            let (m_meas, m_fit) = (magnitude(&measured), magnitude(&fitted));
-            let y = log_span(m_meas.iter().chain(&m_fit).map(|p| p.1));
-            let mut chart = log_chart(&top, x.clone(), y, None, "|G| (m/N)")?;
-            series(&top, &format!("|G {el}| measured"), || {
-                chart.draw_series(m_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())))?;
-                Ok(())
-            })?;
-            series(&top, &format!("|G {el}| model"), || {
-                chart.draw_series(LineSeries::new(
-                    m_fit.iter().copied(),
-                    MODEL.stroke_width(2),
-                ))?;
-                Ok(())
-            })?;
-            let mut chart = ChartBuilder::on(&bottom)
-                .margin(8)
-                .margin_right(16)
-                .x_label_area_size(X_LABELS)
-                .y_label_area_size(Y_LABELS)
-                .build_cartesian_2d(x.clone(), -200.0..200.0)?;
-            chart
-                .configure_mesh()
-                .x_labels(7)
-                .y_labels(0)
-                .disable_y_mesh()
-                .x_label_formatter(&tick)
-                .x_desc("frequency (Hz)")
-                .y_desc("∠G (°)")
-                .label_style(("sans-serif", font::TICK))
-                .axis_desc_style(("sans-serif", font::DESC))
-                .light_line_style(WHITE)
-                .bold_line_style(RGBColor(225, 225, 225))
-                .draw()?;
-            // Phase ticks at multiples of 90°, which plotters' automatic ticks do not hit.
-            for deg in [-180.0, -90.0, 0.0, 90.0, 180.0] {
-                y_tick(&mut chart, &x, deg, &format!("{deg:.0}"))?;
-            }
-            let (p_meas, p_fit) = (phase(&measured), phase(&fitted));
-            series(&bottom, &format!("∠G {el} measured"), || {
-                chart.draw_series(p_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())))?;
-                Ok(())
-            })?;
-            series(&bottom, &format!("∠G {el} model"), || {
-                for segment in phase_segments(&p_fit) {
-                    chart.draw_series(LineSeries::new(segment, MODEL.stroke_width(2)))?;
+    render(
+        crate::plot::Figure::Flexibility,
+        grid_size(options, n),
+        |root| {
+            let body = header(
+                root,
+                &title,
+                &[
+                    (Key::Point(MEASURED), "measured"),
+                    (Key::Line(MODEL), "fitted model"),
+                ],
+            )?;
+            for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
+                let (i, j) = (p / n, p % n);
+                let el = format!("{}{}", names[i], names[j]);
+                let panel = titled(panel, &format!("G {el}"))?;
+                let (top, bottom) = stacked(&panel);
+                let measured: Vec<(f64, c64)> = freqs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &f)| (f, id.frf().flexibility(k)[(i, j)]))
+                    .collect();
+                let fitted: Vec<(f64, c64)> = model.iter().map(|(f, g)| (*f, g[(i, j)])).collect();
+                let magnitude = |v: &[(f64, c64)]| -> Vec<(f64, f64)> {
+                    v.iter()
+                        .map(|(f, g)| (*f, g.norm()))
+                        .filter(|p| p.1 > 0.0 && p.1.is_finite())
+                        .collect()
+                };
+                let phase = |v: &[(f64, c64)]| -> Vec<(f64, f64)> {
+                    v.iter()
+                        .map(|(f, g)| (*f, g.arg().to_degrees()))
+                        .filter(|p| p.1.is_finite())
+                        .collect()
+                };
+                let (m_meas, m_fit) = (magnitude(&measured), magnitude(&fitted));
+                let y = log_span(m_meas.iter().chain(&m_fit).map(|p| p.1));
+                let mut chart = log_chart(&top, x.clone(), y, None, "|G| (m/N)")?;
+                series(&top, &format!("|G {el}| measured"), || {
+                    chart.draw_series(
+                        m_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())),
+                    )?;
+                    Ok(())
+                })?;
+                series(&top, &format!("|G {el}| model"), || {
+                    chart.draw_series(LineSeries::new(
+                        m_fit.iter().copied(),
+                        MODEL.stroke_width(2),
+                    ))?;
+                    Ok(())
+                })?;
+                let mut chart = ChartBuilder::on(&bottom)
+                    .margin(8)
+                    .margin_right(16)
+                    .x_label_area_size(X_LABELS)
+                    .y_label_area_size(Y_LABELS)
+                    .build_cartesian_2d(x.clone(), -200.0..200.0)?;
+                chart
+                    .configure_mesh()
+                    .x_labels(7)
+                    .y_labels(0)
+                    .disable_y_mesh()
+                    .x_label_formatter(&tick)
+                    .x_desc("frequency (Hz)")
+                    .y_desc("∠G (°)")
+                    .label_style(("sans-serif", font::TICK))
+                    .axis_desc_style(("sans-serif", font::DESC))
+                    .light_line_style(WHITE)
+                    .bold_line_style(RGBColor(225, 225, 225))
+                    .draw()?;
+                // Phase ticks at multiples of 90°, which plotters' automatic ticks do not hit.
+                for deg in [-180.0, -90.0, 0.0, 90.0, 180.0] {
+                    y_tick(&mut chart, &x, deg, &format!("{deg:.0}"))?;
                 }
-                Ok(())
-            })?;
-        }
-        Ok(())
-    })
+                let (p_meas, p_fit) = (phase(&measured), phase(&fitted));
+                series(&bottom, &format!("∠G {el} measured"), || {
+                    chart.draw_series(
+                        p_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())),
+                    )?;
+                    Ok(())
+                })?;
+                series(&bottom, &format!("∠G {el} model"), || {
+                    for segment in phase_segments(&p_fit) {
+                        chart.draw_series(LineSeries::new(segment, MODEL.stroke_width(2)))?;
+                    }
+                    Ok(())
+                })?;
+            }
+            Ok(())
+        },
+    )
 }

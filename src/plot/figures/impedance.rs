@@ -50,73 +50,77 @@ pub fn impedance(id: &Identification, options: &FigureOptions) -> Result<String>
         if with_bars { " ± σ" } else { "" },
         id.method().name()
     );
-    render("impedance", grid_size(options, n), |root| {
-        let body = header(
-            root,
-            &title,
-            &[
-                (Key::Point(MEASURED), "measured"),
-                (Key::Line(MODEL), "fitted K − ω²M (Re), ωC (Im)"),
-            ],
-        )?;
-        for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
-            let (i, j) = (p / n, p % n);
-            let el = format!("{}{}", names[i], names[j]);
-            let panel = titled(panel, &format!("H {el}"))?;
-            let (top, bottom) = stacked(&panel);
-            let sigma = |k: usize| {
-                id.frf()
-                    .impedance_variance(k)
-                    .map(|v| (v[(i, j)] / 2.0).max(0.0).sqrt())
-            };
-            let re: Vec<(f64, f64, Option<f64>)> = freqs
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| (f, id.frf().impedance(k)[(i, j)].re, sigma(k)))
-                .collect();
-            let im: Vec<(f64, f64, Option<f64>)> = freqs
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| (f, id.frf().impedance(k)[(i, j)].im, sigma(k)))
-                .collect();
-            let w = |f: f64| 2.0 * std::f64::consts::PI * f;
-            let re_fit: Vec<(f64, f64)> = model_f
-                .iter()
-                .map(|&f| (f, co.stiffness()[(i, j)] - w(f) * w(f) * co.mass()[(i, j)]))
-                .collect();
-            let im_fit: Vec<(f64, f64)> = model_f
-                .iter()
-                .map(|&f| (f, w(f) * co.damping()[(i, j)]))
-                .collect();
-            for (area, part, points, fit, model_name) in [
-                (&top, "Re", &re, &re_fit, "K − ω²M"),
-                (&bottom, "Im", &im, &im_fit, "ωC"),
-            ] {
-                let range = bar_range(points, fit);
-                let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), "N/m");
-                let scaled: Vec<(f64, f64, Option<f64>)> = points
+    render(
+        crate::plot::Figure::Impedance,
+        grid_size(options, n),
+        |root| {
+            let body = header(
+                root,
+                &title,
+                &[
+                    (Key::Point(MEASURED), "measured"),
+                    (Key::Line(MODEL), "fitted K − ω²M (Re), ωC (Im)"),
+                ],
+            )?;
+            for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
+                let (i, j) = (p / n, p % n);
+                let el = format!("{}{}", names[i], names[j]);
+                let panel = titled(panel, &format!("H {el}"))?;
+                let (top, bottom) = stacked(&panel);
+                let sigma = |k: usize| {
+                    id.frf()
+                        .impedance_variance(k)
+                        .map(|v| (v[(i, j)] / 2.0).max(0.0).sqrt())
+                };
+                let re: Vec<(f64, f64, Option<f64>)> = freqs
                     .iter()
-                    .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
+                    .enumerate()
+                    .map(|(k, &f)| (f, id.frf().impedance(k)[(i, j)].re, sigma(k)))
                     .collect();
-                let fit: Vec<(f64, f64)> = fit.iter().map(|&(f, v)| (f, v / scale)).collect();
-                let y = (range.start / scale)..(range.end / scale);
-                let x_desc = (part == "Im").then_some("frequency (Hz)");
-                let mut chart = linear_chart(
-                    area,
-                    x.clone(),
-                    y.clone(),
-                    x_desc,
-                    &format!("{part} H ({unit})"),
-                )?;
-                series(area, &format!("{part} H {el} measured"), || {
-                    draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
-                })?;
-                series(area, &format!("{part} H {el} model {model_name}"), || {
-                    chart.draw_series(LineSeries::new(fit, MODEL.stroke_width(2)))?;
-                    Ok(())
-                })?;
+                let im: Vec<(f64, f64, Option<f64>)> = freqs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &f)| (f, id.frf().impedance(k)[(i, j)].im, sigma(k)))
+                    .collect();
+                let w = |f: f64| 2.0 * std::f64::consts::PI * f;
+                let re_fit: Vec<(f64, f64)> = model_f
+                    .iter()
+                    .map(|&f| (f, co.stiffness()[(i, j)] - w(f) * w(f) * co.mass()[(i, j)]))
+                    .collect();
+                let im_fit: Vec<(f64, f64)> = model_f
+                    .iter()
+                    .map(|&f| (f, w(f) * co.damping()[(i, j)]))
+                    .collect();
+                for (area, part, points, fit, model_name) in [
+                    (&top, "Re", &re, &re_fit, "K − ω²M"),
+                    (&bottom, "Im", &im, &im_fit, "ωC"),
+                ] {
+                    let range = bar_range(points, fit);
+                    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), "N/m");
+                    let scaled: Vec<(f64, f64, Option<f64>)> = points
+                        .iter()
+                        .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
+                        .collect();
+                    let fit: Vec<(f64, f64)> = fit.iter().map(|&(f, v)| (f, v / scale)).collect();
+                    let y = (range.start / scale)..(range.end / scale);
+                    let x_desc = (part == "Im").then_some("frequency (Hz)");
+                    let mut chart = linear_chart(
+                        area,
+                        x.clone(),
+                        y.clone(),
+                        x_desc,
+                        &format!("{part} H ({unit})"),
+                    )?;
+                    series(area, &format!("{part} H {el} measured"), || {
+                        draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
+                    })?;
+                    series(area, &format!("{part} H {el} model {model_name}"), || {
+                        chart.draw_series(LineSeries::new(fit, MODEL.stroke_width(2)))?;
+                        Ok(())
+                    })?;
+                }
             }
-        }
-        Ok(())
-    })
+            Ok(())
+        },
+    )
 }

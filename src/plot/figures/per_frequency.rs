@@ -45,74 +45,78 @@ pub fn per_frequency(id: &Identification, options: &FigureOptions) -> Result<Str
         "Per-frequency stiffness K(ω) = Re H + ω²M and damping C(ω) = Im H/ω{}",
         if with_bars { " ± σ" } else { "" }
     );
-    render("per_frequency", grid_size(options, n), |root| {
-        let body = header(
-            root,
-            &title,
-            &[
-                (Key::Point(MEASURED), "per line"),
-                (Key::Line(MODEL), "constant fit"),
-            ],
-        )?;
-        for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
-            let (i, j) = (p / n, p % n);
-            let el = format!("{}{}", names[i], names[j]);
-            let panel = titled(panel, &format!("K {el}, C {el}"))?;
-            let (top, bottom) = stacked(&panel);
-            let k_points: Vec<(f64, f64, Option<f64>)> = freqs
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| {
-                    (
-                        f,
-                        pf.stiffness(k)[(i, j)],
-                        pf.stiffness_std(k).map(|s| s[(i, j)]),
-                    )
-                })
-                .collect();
-            let c_points: Vec<(f64, f64, Option<f64>)> = freqs
-                .iter()
-                .enumerate()
-                .map(|(k, &f)| {
-                    (
-                        f,
-                        pf.damping(k)[(i, j)],
-                        pf.damping_std(k).map(|s| s[(i, j)]),
-                    )
-                })
-                .collect();
-            for (area, name, points, fitted, unit) in [
-                (&top, "K", &k_points, co.stiffness()[(i, j)], "N/m"),
-                (&bottom, "C", &c_points, co.damping()[(i, j)], "N·s/m"),
-            ] {
-                let fit = [(x.start, fitted), (x.end, fitted)];
-                let range = bar_range(points, &fit);
-                let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
-                let scaled: Vec<(f64, f64, Option<f64>)> = points
+    render(
+        crate::plot::Figure::PerFrequency,
+        grid_size(options, n),
+        |root| {
+            let body = header(
+                root,
+                &title,
+                &[
+                    (Key::Point(MEASURED), "per line"),
+                    (Key::Line(MODEL), "constant fit"),
+                ],
+            )?;
+            for (p, panel) in body.split_evenly((n, n)).iter().enumerate() {
+                let (i, j) = (p / n, p % n);
+                let el = format!("{}{}", names[i], names[j]);
+                let panel = titled(panel, &format!("K {el}, C {el}"))?;
+                let (top, bottom) = stacked(&panel);
+                let k_points: Vec<(f64, f64, Option<f64>)> = freqs
                     .iter()
-                    .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
+                    .enumerate()
+                    .map(|(k, &f)| {
+                        (
+                            f,
+                            pf.stiffness(k)[(i, j)],
+                            pf.stiffness_std(k).map(|s| s[(i, j)]),
+                        )
+                    })
                     .collect();
-                let y = (range.start / scale)..(range.end / scale);
-                let x_desc = (name == "C").then_some("frequency (Hz)");
-                let mut chart = linear_chart(
-                    area,
-                    x.clone(),
-                    y.clone(),
-                    x_desc,
-                    &format!("{name} ({unit})"),
-                )?;
-                series(area, &format!("{name} {el}(ω)"), || {
-                    draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
-                })?;
-                series(area, &format!("{name} {el} fit"), || {
-                    chart.draw_series(LineSeries::new(
-                        fit.iter().map(|&(f, v)| (f, v / scale)),
-                        MODEL.stroke_width(2),
-                    ))?;
-                    Ok(())
-                })?;
+                let c_points: Vec<(f64, f64, Option<f64>)> = freqs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &f)| {
+                        (
+                            f,
+                            pf.damping(k)[(i, j)],
+                            pf.damping_std(k).map(|s| s[(i, j)]),
+                        )
+                    })
+                    .collect();
+                for (area, name, points, fitted, unit) in [
+                    (&top, "K", &k_points, co.stiffness()[(i, j)], "N/m"),
+                    (&bottom, "C", &c_points, co.damping()[(i, j)], "N·s/m"),
+                ] {
+                    let fit = [(x.start, fitted), (x.end, fitted)];
+                    let range = bar_range(points, &fit);
+                    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
+                    let scaled: Vec<(f64, f64, Option<f64>)> = points
+                        .iter()
+                        .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
+                        .collect();
+                    let y = (range.start / scale)..(range.end / scale);
+                    let x_desc = (name == "C").then_some("frequency (Hz)");
+                    let mut chart = linear_chart(
+                        area,
+                        x.clone(),
+                        y.clone(),
+                        x_desc,
+                        &format!("{name} ({unit})"),
+                    )?;
+                    series(area, &format!("{name} {el}(ω)"), || {
+                        draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
+                    })?;
+                    series(area, &format!("{name} {el} fit"), || {
+                        chart.draw_series(LineSeries::new(
+                            fit.iter().map(|&(f, v)| (f, v / scale)),
+                            MODEL.stroke_width(2),
+                        ))?;
+                        Ok(())
+                    })?;
+                }
             }
-        }
-        Ok(())
-    })
+            Ok(())
+        },
+    )
 }

@@ -88,7 +88,7 @@ pub fn records(
     if decay.is_some() {
         legend.push((Key::Dashed(GREY), "exp. window (scaled)".into()));
     }
-    render("records", size, |root| {
+    render(crate::plot::Figure::Records, size, |root| {
         let legend: Vec<(Key, &str)> = legend.iter().map(|(k, s)| (*k, s.as_str())).collect();
         let body = header(root, "Time records: force and displacement", &legend)?;
         let rows = body.split_evenly((records.len(), 1));
