@@ -23,19 +23,7 @@ use crate::records::Record;
 use crate::screening::Checks;
 use crate::spectra::{Segmentation, Window};
 
-/// Crest factor at and above which a record's force is an impact.
-///
-/// Impacts concentrate their force in a few samples: crest factors of 10–100. Random forcing
-/// has Gaussian-like crest factors of 3–5; a sine has `√2`, a multisine about 2–4. The crest
-/// factor of the first record with a force is compared with 8 ([`Excitation::detect`]).
-///
-/// # Examples
-/// ```
-/// use bearing_ident::excitation::{Excitation, IMPACT_CREST_FACTOR};
-/// assert_eq!(Excitation::from_crest_factor(IMPACT_CREST_FACTOR), Excitation::Impact);
-/// assert_eq!(Excitation::from_crest_factor(4.0), Excitation::Random);
-/// ```
-pub const IMPACT_CREST_FACTOR: f64 = 8.0;
+pub use crate::quality::IMPACT_CREST_FACTOR;
 
 /// Fewest samples of a Welch segment or a period (as [`Segmentation::segment_len`] requires).
 const MIN_SEGMENT: usize = 8;

@@ -41,21 +41,24 @@
 //!    [`stepped`] — the same at the drive frequencies of a stepped-sine test;
 //! 4. [`conditioning`] — condition numbers, warnings, refusal of rank-deficient excitation;
 //! 5. [`model`] — [`Coefficients`]: `H(ω)`, `G(ω)`, modes, baseline subtraction;
-//! 6. [`solve`] — the direct, least-squares and IVF fits; [`gate`] — the checks of a finished
-//!    fit and of its settings (poor `r²`, unphysical or unstable models, dependent replicates,
-//!    degenerate windows, gates and resolutions), each a [`Warning`];
-//! 7. [`identify`] — the [`Identifier`] façade, its checked settings
-//!    ([`identify::Settings`]), the error bars ([`Uncertainty`]) and its [`Identification`]
-//!    result;
-//! 8. [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
+//! 6. [`solve`] — the direct, least-squares, IVF and maximum-likelihood fits; [`gate`] — the
+//!    checks of a finished fit and of its settings (poor `r²`, unphysical or unstable models,
+//!    dependent replicates, degenerate windows, gates and resolutions), each a [`Warning`];
+//!    [`per_frequency`] — `K(ω)`, `C(ω)` line by line, with error bars and effective
 //!    coefficients;
-//! 9. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' crest
+//! 7. [`identify`] — the [`Identifier`] façade, its checked settings ([`Settings`]), the error
+//!    bars ([`Uncertainty`]) and its [`Identification`] result;
+//! 8. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' crest
 //!    factor, and the estimator, segmentation and window each kind calls for.
 //!
 //! [`screening`] screens records of every excitation for dead and flat channels, identical
 //! records, clipping, level outliers and paired sets far from the others (with [`quality`]'s
-//! double-hit and clipping checks), before and after they reach the spectra; [`simulate`] produces exact time records of a known system, for learning and
-//! testing.
+//! double-hit and clipping checks), before and after they reach the spectra. Two homes serve
+//! every stage: [`error`] (the one [`Error`], the [`Warning`]s, the quoting rule) and
+//! [`tolerance`] (every numerical tolerance with its reason). [`simulate`] produces exact time
+//! records of a known system, for learning and testing. `ARCHITECTURE.md` in the repository
+//! maps every concept to its file and gives the recipes for adding an estimator, a window, a
+//! solver or a file reader.
 //!
 //! ## Conventions
 //! - **Units:** SI throughout — N, m, s, kg; `K` in N/m, `C` in N·s/m, `M` in kg.
@@ -118,15 +121,22 @@ pub mod spectra;
 pub mod stepped;
 pub mod tolerance;
 
-pub use conditioning::ConditionLimits;
+// The types the façade's signatures name, at the crate root.
+pub use conditioning::{ConditionLimits, Conditioning};
 pub use error::{Block, Channel, Error, Result, Warning};
 pub use excitation::Excitation;
 pub use frf::{Assignment, Band, Estimator, Frf};
-pub use identify::{Baseline, Identification, Identifier, NonConvergence, Screening, Uncertainty};
+pub use gate::FitGate;
+pub use identify::{
+    Baseline, Identification, Identifier, NonConvergence, Screening, Settings, Uncertainty,
+};
 pub use model::{Coefficients, Mode};
+pub use per_frequency::PerFrequency;
+pub use quality::ImpactChecks;
 pub use records::Record;
-pub use solve::{Convergence, Method};
-pub use spectra::{Segmentation, Window};
+pub use solve::ml::{MlOptions, MlReport};
+pub use solve::{Convergence, Fit, Iteration, IvfOptions, Method};
+pub use spectra::{ForceGate, Segmentation, Window};
 
 pub use faer;
 pub use num_complex;

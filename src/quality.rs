@@ -54,6 +54,22 @@ pub const CLIP_SIDE_FRACTION: f64 = 0.25;
 /// deviation.
 const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
+/// Crest factor at and above which a record's force is an impact.
+///
+/// Impacts concentrate their force in a few samples: crest factors of 10–100. Random forcing
+/// has Gaussian-like crest factors of 3–5; a sine has `√2`, a multisine about 2–4. The crest
+/// factor of the first record with a force is compared with 8 ([`Excitation::detect`](crate::Excitation::detect)); the
+/// double-hit check of [`ImpactChecks`] applies only above it, and the record figure of `plot` shows
+/// the pulse of such records.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::{Excitation, IMPACT_CREST_FACTOR};
+/// assert_eq!(Excitation::from_crest_factor(IMPACT_CREST_FACTOR), Excitation::Impact);
+/// assert_eq!(Excitation::from_crest_factor(4.0), Excitation::Random);
+/// ```
+pub const IMPACT_CREST_FACTOR: f64 = 8.0;
+
 /// Thresholds of the impact quality checks.
 ///
 /// # Examples
@@ -87,7 +103,7 @@ impl Default for ImpactChecks {
         Self {
             double_hit_ratio: 0.1,
             clip_run: 3,
-            min_crest_factor: 8.0,
+            min_crest_factor: IMPACT_CREST_FACTOR,
         }
     }
 }

@@ -20,6 +20,7 @@ use faer::c64;
 use realfft::{RealFftPlanner, RealToComplex};
 
 use crate::error::{Error, Result};
+use crate::records::require_finite_positive;
 
 /// Window applied to each segment before the DFT.
 ///
@@ -169,13 +170,7 @@ impl ForceGate {
     /// # Errors
     /// [`Error::InvalidParameter`] unless `open_s > 0` and `taper_s ≥ 0`, both finite.
     pub fn new(open_s: f64, taper_s: f64) -> Result<Self> {
-        if !(open_s.is_finite() && open_s > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "force gate",
-                value: open_s,
-                expected: "finite and positive (s)",
-            });
-        }
+        require_finite_positive("force gate", open_s, "finite and positive (s)")?;
         if !(taper_s.is_finite() && taper_s >= 0.0) {
             return Err(Error::InvalidParameter {
                 name: "force gate taper",
@@ -422,13 +417,7 @@ impl SpectralEstimator {
                 expected: "at least 2 samples",
             });
         }
-        if !(sample_rate.is_finite() && sample_rate > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "sample rate",
-                value: sample_rate,
-                expected: "finite and positive (Hz)",
-            });
-        }
+        require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
         let window = window.checked()?;
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
         let dt = 1.0 / sample_rate;

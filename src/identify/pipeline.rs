@@ -373,7 +373,10 @@ impl Settings {
         builder: Option<&FrfBuilder>,
         warnings: &mut Vec<Warning>,
     ) -> Result<(Fit, Option<MlReport>)> {
-        let data = builder.ok_or(Error::MlNeedsRepeats)?.ml_data(frf)?;
+        let statistics = builder
+            .ok_or(Error::MlNeedsRepeats)?
+            .period_statistics(frf)?;
+        let data = solve::ml::MlData::from_statistics(statistics)?;
         let start = solve::fit(frf, Method::Ivf, &self.ivf)?;
         let refined = solve::ml::fit(&data, start.coefficients(), &self.ml)?;
         let fit = match (&refined.report.fell_back, refined.covariance) {

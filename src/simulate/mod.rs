@@ -60,25 +60,7 @@ fn at_most(what: &'static str, value: f64, limit: usize) -> Result<()> {
     }
 }
 
-/// Whether `value` is finite and positive (NaN is not): the check of every rate, duration and
-/// level of a simulation.
-fn is_finite_positive(value: f64) -> bool {
-    value.is_finite() && value > 0.0
-}
-
-/// `Ok` if `value` [is finite and positive](is_finite_positive), else
-/// [`Error::InvalidParameter`] with `name`, `value` and `expected`.
-fn finite_positive(name: &'static str, value: f64, expected: &'static str) -> Result<()> {
-    if is_finite_positive(value) {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            name,
-            value,
-            expected,
-        })
-    }
-}
+use crate::records::{finite_positive, require_finite_positive};
 
 /// Number of samples of a record `duration_s` long at `sample_rate`, `round(duration × rate)`,
 /// checked: both finite and positive, and at most [`MAX_SAMPLES`].
@@ -95,8 +77,8 @@ fn finite_positive(name: &'static str, value: f64, expected: &'static str) -> Re
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn sample_count(duration_s: f64, sample_rate: f64) -> Result<usize> {
-    finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
-    finite_positive("record duration", duration_s, "finite and positive (s)")?;
+    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+    require_finite_positive("record duration", duration_s, "finite and positive (s)")?;
     let samples = (duration_s * sample_rate).round();
     at_most("samples per record", samples, MAX_SAMPLES)?;
     Ok(samples as usize)

@@ -3,7 +3,7 @@
 
 use faer::Mat;
 
-use super::is_finite_positive;
+use super::finite_positive;
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
 
@@ -44,7 +44,7 @@ pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
         .iter()
         .map(|l| -l.re)
         .fold(f64::INFINITY, f64::min);
-    if !is_finite_positive(slowest) {
+    if !finite_positive(slowest) {
         let stiffness = min_sym_eig(system.stiffness().as_ref())?;
         return Err(if stiffness > 0.0 {
             Error::InvalidParameter {

@@ -9,7 +9,7 @@ use rand_distr::{Distribution, Normal};
 
 use super::expm::expm;
 use super::{
-    AntiAlias, Impact, MAX_DOFS, MAX_SAMPLES, at_most, finite_positive, is_finite_positive,
+    AntiAlias, Impact, MAX_DOFS, MAX_SAMPLES, at_most, finite_positive, require_finite_positive,
 };
 use crate::error::{Channel, Error, Result};
 use crate::model::Coefficients;
@@ -62,7 +62,7 @@ impl Simulator {
         anti_alias: AntiAlias,
     ) -> Result<Self> {
         use faer::prelude::Solve;
-        finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+        require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
         at_most("samples per record", samples as f64, MAX_SAMPLES)?;
         at_most("degrees of freedom", system.dofs() as f64, MAX_DOFS)?;
         if samples < crate::records::MIN_SAMPLES {
@@ -158,7 +158,7 @@ impl Simulator {
     ) -> Result<Record> {
         let dist = Normal::new(0.0, force_rms)
             .ok()
-            .filter(|_| is_finite_positive(force_rms))
+            .filter(|_| finite_positive(force_rms))
             .ok_or(Error::InvalidParameter {
                 name: "force rms",
                 value: force_rms,
@@ -241,7 +241,7 @@ impl Simulator {
                     expected,
                 })
             };
-            finite_positive("pulse duration", hit.duration_s, "finite and positive (s)")?;
+            require_finite_positive("pulse duration", hit.duration_s, "finite and positive (s)")?;
             if !(hit.peak_n.is_finite()) {
                 return bad("pulse peak", hit.peak_n, "finite (N)");
             }

@@ -8,7 +8,7 @@ use rand::SeedableRng;
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Uniform};
 
-use super::{MAX_SAMPLES, at_most, finite_positive, is_finite_positive};
+use super::{MAX_SAMPLES, at_most, finite_positive, require_finite_positive};
 use crate::error::{Error, Result};
 
 /// Most operations (samples × lines) in computing one multisine period, `2³²`.
@@ -16,7 +16,7 @@ const MAX_MULTISINE_WORK: usize = 1 << 32;
 
 /// Checks a sampling rate and a frequency strictly between DC and Nyquist.
 fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result<()> {
-    finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
     if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < sample_rate / 2.0) {
         return Err(Error::InvalidParameter {
             name,
@@ -112,7 +112,7 @@ pub fn multisine(
             expected: "a non-empty range of lines 1 ≤ k < period / 2",
         });
     }
-    finite_positive("multisine rms", rms_n, "finite and positive (N)")?;
+    require_finite_positive("multisine rms", rms_n, "finite and positive (N)")?;
     at_most(
         "samples per record",
         samples.max(period) as f64,
@@ -187,7 +187,7 @@ pub fn sweep(
     check_frequency("sweep start frequency", f0_hz, sample_rate)?;
     check_frequency("sweep end frequency", f1_hz, sample_rate)?;
     at_most("samples per record", samples as f64, MAX_SAMPLES)?;
-    if !(is_finite_positive(sweep_s)
+    if !(finite_positive(sweep_s)
         && sweep_s * sample_rate <= samples as f64 + crate::tolerance::SWEEP_FIT_SAMPLES)
     {
         return Err(Error::InvalidParameter {

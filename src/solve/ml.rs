@@ -32,7 +32,7 @@ use faer::{Mat, c64};
 
 use super::{block_change, std_from};
 use crate::error::{Error, Result};
-use crate::frf::{Frf, FrfBuilder, PeriodStatistics};
+use crate::frf::PeriodStatistics;
 use crate::linalg::Inverter;
 use crate::model::Coefficients;
 use crate::records::finite_positive;
@@ -396,7 +396,7 @@ fn column_covariances(fisher: &Mat<f64>, n: usize) -> Option<Vec<Mat<f64>>> {
 
 impl MlData {
     /// From the per-period statistics of periodic records, the frf stage's output
-    /// ([`FrfBuilder`]).
+    /// ([`FrfBuilder`](crate::frf::FrfBuilder)).
     ///
     /// # Errors
     /// As [`MlData::new`].
@@ -410,17 +410,6 @@ impl MlData {
             cxf,
         } = statistics;
         Self::new(freqs_hz, &x, &f, &cx, &cf, &cxf)
-    }
-}
-
-impl FrfBuilder {
-    /// [`MlData`] from the records pushed, on the lines of `frf`: the builder's period
-    /// statistics handed to this solver (the estimator stage itself knows no solver).
-    ///
-    /// # Errors
-    /// As [`MlData::new`]; [`Error::MlNeedsRepeats`] without repeated periods.
-    pub(crate) fn ml_data(&self, frf: &Frf) -> Result<MlData> {
-        MlData::from_statistics(self.period_statistics(frf)?)
     }
 }
 

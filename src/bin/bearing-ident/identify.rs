@@ -18,7 +18,7 @@ use clap::ValueEnum;
 
 use crate::failure::{Failure, invalid};
 use crate::output::{emit, write_report};
-use crate::parse::{parse_band, parse_window};
+use crate::parse::{library, parse_band, parse_window};
 use crate::report;
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -199,12 +199,7 @@ fn settings(
     first: &Record,
 ) -> Result<(Identifier, Option<usize>), Failure> {
     let (lo, hi) = parse_band(&args.band)?;
-    let chosen = args.estimator.map(|e| match e {
-        EstimatorArg::Paired => Estimator::PairedSets,
-        EstimatorArg::H1 => Estimator::H1,
-        EstimatorArg::H2 => Estimator::H2,
-        EstimatorArg::Hv => Estimator::Hv,
-    });
+    let chosen: Option<Estimator> = args.estimator.map(library).transpose()?;
     let estimator = excitation.estimator(chosen);
     let segmentation = match excitation.segmentation(estimator, first, args.period) {
         Ok(Segmentation::Welch { len }) => Segmentation::Welch {
@@ -232,12 +227,7 @@ fn settings(
         None => excitation.window(),
         Some(w) => parse_window(w, segment_s)?,
     };
-    let method = match args.method {
-        MethodArg::Direct => Method::Direct,
-        MethodArg::Ls => Method::LeastSquares,
-        MethodArg::Ivf => Method::Ivf,
-        MethodArg::Ml => Method::Ml,
-    };
+    let method: Method = library(args.method)?;
     let mut identifier = Identifier::new(lo, hi)
         .method(method)
         .estimator(estimator)
@@ -249,15 +239,12 @@ fn settings(
         .fit_gate(FitGate {
             min_r2: args.min_r2,
         })
-        .uncertainty(match args.uncertainty {
-            UncertaintyArg::Auto => Uncertainty::Auto,
-            UncertaintyArg::None => Uncertainty::None,
-            UncertaintyArg::Sandwich => Uncertainty::Sandwich,
-            UncertaintyArg::Jackknife => Uncertainty::Jackknife,
-            UncertaintyArg::Bootstrap => Uncertainty::Bootstrap {
+        .uncertainty(match library(args.uncertainty)? {
+            Uncertainty::Bootstrap { .. } => Uncertainty::Bootstrap {
                 replicates: args.bootstrap_draws,
                 seed: args.seed,
             },
+            uncertainty => uncertainty,
         })
         .on_non_convergence(if args.allow_unconverged {
             NonConvergence::Warn
@@ -479,5 +466,43 @@ mod tests {
             }
         }
         assert_eq!(kinds, Excitation::ALL);
+    }
+
+    /// Every `--method`, `--estimator` and `--uncertainty` value is a name the library parses,
+    /// and each names a different choice.
+    #[test]
+    fn option_values_parse_as_library_names() {
+        let methods: Vec<Method> = MethodArg::value_variants()
+            .iter()
+            .map(|&v| library(v).ok().expect("a method"))
+            .collect();
+        assert_eq!(
+            methods,
+            [
+                Method::Direct,
+                Method::LeastSquares,
+                Method::Ivf,
+                Method::Ml
+            ]
+        );
+        let estimators: Vec<Estimator> = EstimatorArg::value_variants()
+            .iter()
+            .map(|&v| library(v).ok().expect("an estimator"))
+            .collect();
+        assert_eq!(
+            estimators,
+            [
+                Estimator::PairedSets,
+                Estimator::H1,
+                Estimator::H2,
+                Estimator::Hv
+            ]
+        );
+        let uncertainties: Vec<Uncertainty> = UncertaintyArg::value_variants()
+            .iter()
+            .map(|&v| library(v).ok().expect("an uncertainty"))
+            .collect();
+        assert_eq!(uncertainties.len(), 5);
+        assert!(uncertainties.contains(&Uncertainty::BOOTSTRAP));
     }
 }

@@ -58,3 +58,16 @@ pub fn parse_matrix(name: &str, s: &str) -> Result<Mat<f64>, Failure> {
     }
     Ok(Mat::from_fn(n, n, |i, j| rows[i][j]))
 }
+
+/// The library's option that a command-line value names: the value's name parsed by the
+/// library's `FromStr` (so the tool and the library share one list of names; a bin test checks
+/// every value parses).
+pub fn library<T>(arg: impl clap::ValueEnum) -> Result<T, Failure>
+where
+    T: std::str::FromStr<Err = bearing_ident::Error>,
+{
+    let value = arg
+        .to_possible_value()
+        .expect("every command-line value has a name");
+    Ok(value.get_name().parse()?)
+}

@@ -5,7 +5,7 @@ use crate::Channel;
 use crate::quality::ImpactIssue;
 use crate::records::Record;
 
-/// The time span of the force plot: for an impulsive record (crest factor ≥ 8) the pulse
+/// The time span of the force plot: for an impulsive record (crest factor ≥ [`IMPACT_CREST_FACTOR`](crate::quality::IMPACT_CREST_FACTOR)) the pulse
 /// and what follows it closely — four times the peak's time, at least 80 ms past it, and the
 /// force gate and any double hit with a quarter to spare; else the whole record.
 pub(crate) fn force_span(
@@ -26,7 +26,7 @@ pub(crate) fn force_span(
     else {
         return whole;
     };
-    if !(rms > 0.0 && peak / rms >= 8.0) {
+    if !(rms > 0.0 && peak / rms >= crate::quality::IMPACT_CREST_FACTOR) {
         return whole;
     }
     let t_peak = m as f64 / fs;
