@@ -347,8 +347,8 @@ mod tests {
             assert!(
                 matches!(
                     err,
-                    Error::InvalidParameter {
-                        name: "excitation",
+                    Error::UnknownName {
+                        what: "excitation",
                         ..
                     }
                 ),

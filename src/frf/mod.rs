@@ -681,8 +681,8 @@ pub(crate) mod tests {
         }
         assert!(matches!(
             "H1".parse::<Estimator>(),
-            Err(Error::InvalidParameter {
-                name: "estimator",
+            Err(Error::UnknownName {
+                what: "estimator",
                 ..
             })
         ));

@@ -545,7 +545,7 @@ mod tests {
         }
         assert!(matches!(
             "LS".parse::<Method>(),
-            Err(crate::Error::InvalidParameter { name: "method", .. })
+            Err(crate::Error::UnknownName { what: "method", .. })
         ));
     }
 

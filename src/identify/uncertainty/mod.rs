@@ -233,8 +233,8 @@ mod tests {
         }
         assert!(matches!(
             "fisher".parse::<Uncertainty>(),
-            Err(Error::InvalidParameter {
-                name: "uncertainty",
+            Err(Error::UnknownName {
+                what: "uncertainty",
                 ..
             })
         ));
