@@ -131,7 +131,7 @@ impl FitGate {
 pub fn significant_elements(frf: &Frf) -> Mat<bool> {
     let n = frf.dofs();
     let mut power = Mat::<f64>::zeros(n, n);
-    for k in 0..frf.lines() {
+    for k in 0..frf.line_count() {
         let g = frf.flexibility(k);
         for j in 0..n {
             for i in 0..n {

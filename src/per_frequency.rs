@@ -101,7 +101,7 @@ impl PerFrequency {
                 expected: "finite entries",
             });
         }
-        let lines = frf.lines();
+        let lines = frf.line_count();
         let mut stiffness = Vec::with_capacity(lines);
         let mut damping = Vec::with_capacity(lines);
         let with_std = (0..lines).all(|k| frf.impedance_variance(k).is_some()) && lines > 0;

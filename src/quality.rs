@@ -52,7 +52,7 @@ pub const CLIP_SIDE_FRACTION: f64 = 0.25;
 
 /// `1/Φ⁻¹(3/4)`: the median absolute deviation of Gaussian noise times this is its standard
 /// deviation.
-const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
+pub(crate) const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
 /// Crest factor at and above which a record's force is an impact.
 ///
@@ -372,8 +372,12 @@ pub fn check_record(record: &Record, checks: &ImpactChecks) -> Vec<ImpactIssue> 
     issues
 }
 
-/// The (upper) median of `values`, reordering them.
-fn median(values: &mut [f64]) -> f64 {
+/// The (upper) median of `values`, reordering them; NaN for none. The one median of the
+/// record checks (here and in [`screening`](crate::screening)).
+pub(crate) fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
     let mid = values.len() / 2;
     *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }

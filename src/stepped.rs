@@ -382,7 +382,7 @@ fn refine(signal: &[f64], power: &[f64], sample_rate: f64) -> Option<f64> {
 ///     })
 ///     .collect::<Result<_, _>>()?;
 /// let frf = stepped_sine(&records, &Assignment::DominantForce, None, 0.01)?;
-/// assert_eq!(frf.lines(), 3);
+/// assert_eq!(frf.line_count(), 3);
 /// let w = 2.0 * PI * frf.freqs_hz()[1];
 /// assert!((frf.freqs_hz()[1] - 10.0).abs() < 1e-9);
 /// assert!((frf.impedance(1)[(0, 0)].re - (k - w * w * m)).abs() < 1e-6);
@@ -603,7 +603,7 @@ mod tests {
             records.push(rig_step(&mut sim, f, dir, fs, len));
         }
         let frf = stepped_sine(&records, &Assignment::DominantForce, None, 0.05).unwrap();
-        assert_eq!(frf.lines(), 2);
+        assert_eq!(frf.line_count(), 2);
         assert_eq!(frf.averages(), 1);
         assert_eq!(frf.unpaired(), ["20-0"]);
         assert!(frf.multiple_coherence(0).is_none());
@@ -669,6 +669,6 @@ mod tests {
         let explicit = Assignment::Explicit(vec![0, 1]);
         let same = vec![records[0].clone(), records[0].clone()];
         let frf = stepped_sine(&same, &explicit, None, 0.1).unwrap();
-        assert_eq!((frf.lines(), frf.dropped_hz().len()), (0, 1));
+        assert_eq!((frf.line_count(), frf.dropped_hz().len()), (0, 1));
     }
 }

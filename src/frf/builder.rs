@@ -66,7 +66,7 @@ pub(super) struct Plan {
 ///     builder.push(r)?; // each record may be dropped after this
 /// }
 /// let frf = builder.finish(&Assignment::DominantForce)?;
-/// assert_eq!(frf.lines(), 49);
+/// assert_eq!(frf.line_count(), 49);
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 #[derive(Debug)]

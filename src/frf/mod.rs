@@ -326,7 +326,7 @@ impl Frf {
     /// Measured impedance `H` at line `k` (`n × n`).
     ///
     /// # Panics
-    /// If `k >= self.lines()`.
+    /// If `k >= self.line_count()`.
     pub fn impedance(&self, k: usize) -> MatRef<'_, c64> {
         let nn = self.dofs * self.dofs;
         MatRef::from_column_major_slice(&self.impedance[k * nn..(k + 1) * nn], self.dofs, self.dofs)
@@ -335,7 +335,7 @@ impl Frf {
     /// Measured flexibility `G = H⁻¹` at line `k` (`n × n`).
     ///
     /// # Panics
-    /// If `k >= self.lines()`.
+    /// If `k >= self.line_count()`.
     pub fn flexibility(&self, k: usize) -> MatRef<'_, c64> {
         let nn = self.dofs * self.dofs;
         MatRef::from_column_major_slice(
@@ -434,7 +434,7 @@ impl Frf {
         out.averages = self.averages;
         out.unpaired = self.unpaired.clone();
         out.dropped_hz = self.dropped_hz.clone();
-        for k in 0..self.lines() {
+        for k in 0..self.line_count() {
             if !keep(k) {
                 out.dropped_hz.push(self.freqs_hz[k]);
                 continue;
@@ -604,22 +604,25 @@ pub(crate) mod tests {
             Window::Hann,
         )
         .unwrap();
-        let mean: f64 = (0..frf.lines())
+        let mean: f64 = (0..frf.line_count())
             .map(|k| frf.multiple_coherence(k).unwrap()[0])
             .sum::<f64>()
-            / frf.lines() as f64;
+            / frf.line_count() as f64;
         assert!((mean - 0.8).abs() < 0.01, "mean coherence {mean}");
         let ord = frf.ordinary_coherence(3).unwrap()[(0, 0)];
         assert!((ord - frf.multiple_coherence(3).unwrap()[0]).abs() < 1e-12); // SISO: equal
         // G stays unbiased under output noise (H1): 2 on average.
-        let g: f64 = (0..frf.lines())
+        let g: f64 = (0..frf.line_count())
             .map(|k| frf.flexibility(k)[(0, 0)].re)
             .sum::<f64>()
-            / frf.lines() as f64;
+            / frf.line_count() as f64;
         assert!((g - 2.0).abs() < 0.01, "mean G {g}");
         // Keeping only some lines moves the rest to the dropped list.
         let kept = frf.retain_lines(|k| k % 2 == 0);
-        assert_eq!(kept.lines() + kept.dropped_hz().len(), frf.lines());
+        assert_eq!(
+            kept.line_count() + kept.dropped_hz().len(),
+            frf.line_count()
+        );
         assert!(kept.multiple_coherence(0).is_some());
     }
 
@@ -641,8 +644,8 @@ pub(crate) mod tests {
             (Estimator::H2, Estimator::Hv)
         );
         for frf in [&paired, &h1, &h2, &hv] {
-            assert_eq!(frf.lines(), 10);
-            for k in 0..frf.lines() {
+            assert_eq!(frf.line_count(), 10);
+            for k in 0..frf.line_count() {
                 for (i, row) in g.iter().enumerate() {
                     for (j, &gij) in row.iter().enumerate() {
                         assert!((frf.flexibility(k)[(i, j)] - c64::new(gij, 0.0)).norm() < 1e-12);

@@ -100,7 +100,7 @@ impl Settings {
                 out.extend(gate::resolution(self.segmentation, spacing, band, model));
             }
         }
-        out.extend(gate::few_lines(frf.lines(), frf.dofs()));
+        out.extend(gate::few_lines(frf.line_count(), frf.dofs()));
         out
     }
 }
@@ -121,10 +121,10 @@ pub(super) fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
     let mut res = Mat::<f64>::zeros(n, n);
     let mut tot = Mat::<f64>::zeros(n, n);
     let mut mean = Mat::<c64>::zeros(n, n);
-    for k in 0..frf.lines() {
+    for k in 0..frf.line_count() {
         mean += frf.flexibility(k);
     }
-    let lines = frf.lines() as f64;
+    let lines = frf.line_count() as f64;
     for (k, &f) in frf.freqs_hz().iter().enumerate() {
         let measured = frf.flexibility(k);
         let fitted = model.flexibility_at(f);

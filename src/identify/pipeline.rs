@@ -351,7 +351,7 @@ impl Settings {
             frf.multiple_coherence(k)
                 .is_none_or(|c| c.iter().all(|&g| g >= self.min_coherence))
         };
-        let low_coherence = (0..frf.lines()).filter(|&k| !keep(k)).count();
+        let low_coherence = (0..frf.line_count()).filter(|&k| !keep(k)).count();
         if low_coherence > 0 {
             let kept = frf.retain_lines(keep);
             (kept, low_coherence)
@@ -410,7 +410,7 @@ impl Settings {
 /// [`Error::TooFewLines`] when the band's lines (used and dropped) are fewer than the fit
 /// needs.
 fn require_lines(frf: &Frf) -> Result<()> {
-    let band_lines = frf.lines() + frf.dropped_hz().len();
+    let band_lines = frf.line_count() + frf.dropped_hz().len();
     let required = solve::required_lines(frf.dofs());
     if band_lines < required {
         return Err(Error::TooFewLines {

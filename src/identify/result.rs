@@ -179,7 +179,7 @@ impl Identification {
     /// spectra carried none): what [`Identifier::min_coherence`](crate::Identifier::min_coherence)
     /// compares with.
     pub fn min_coherence(&self) -> Option<f64> {
-        (0..self.frf.lines())
+        (0..self.frf.line_count())
             .filter_map(|k| self.frf.multiple_coherence(k))
             .flatten()
             .copied()

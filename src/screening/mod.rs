@@ -87,7 +87,7 @@ pub use screener::Screener;
 pub use summary::Summary;
 
 use crate::error::{Error, Result, Warning};
-use crate::quality::ImpactChecks;
+use crate::quality::{ImpactChecks, MAD_TO_SIGMA, median};
 
 pub use crate::tolerance::FLAT_CHANNEL as FLAT_TOLERANCE;
 
@@ -97,9 +97,6 @@ pub const MIN_SIBLINGS: usize = 3;
 /// A record is excited in one direction when its dominant force's RMS is at least this many
 /// times every other force channel's.
 pub const DOMINANCE: f64 = 3.0;
-
-/// `1/Φ⁻¹(3/4)`: the MAD of Gaussian data times this is its standard deviation.
-const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
 /// Thresholds of the record screening (see the [module docs](self)).
 ///
@@ -225,15 +222,6 @@ impl Checks {
         }
         Ok(())
     }
-}
-
-/// The (upper) median of `values`, reordering them; NaN for none.
-fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mid = values.len() / 2;
-    *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// A short phrase for `warning` as the reason a record was rejected.
