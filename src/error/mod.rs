@@ -5,7 +5,6 @@
 //! frequency line. Panics are reserved for broken API contracts and are documented under
 //! `# Panics` where they can happen.
 
-
 mod quote;
 mod subject;
 mod warning;

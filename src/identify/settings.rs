@@ -188,7 +188,10 @@ impl Settings {
             }
         }
         let ml = match id.ml {
-            Some(options) => check_ml(options)?,
+            Some(options) => {
+                options.validate()?;
+                options
+            }
             None => derived_ml(&id.ivf),
         };
         Ok(Self {
@@ -256,25 +259,6 @@ impl Settings {
             _ => Ok(fit),
         }
     }
-}
-
-/// Checks ML options given explicitly.
-fn check_ml(options: MlOptions) -> Result<MlOptions> {
-    if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
-        return Err(Error::InvalidParameter {
-            name: "ml tolerance",
-            value: options.tolerance,
-            expected: "0 < tolerance < 1",
-        });
-    }
-    if options.max_iterations == 0 {
-        return Err(Error::InvalidParameter {
-            name: "ml max iterations",
-            value: 0.0,
-            expected: "at least 1",
-        });
-    }
-    Ok(options)
 }
 
 /// The ML options when none were given: the IVF tolerance, at most `1e-10`, and the IVF

@@ -8,7 +8,9 @@ use faer::{Accum, Mat, MatRef, Par, c64};
 
 use super::system::Stacked;
 use super::{Convergence, Fit, Method, block_change, finish, ls};
-use crate::error::{Error, Result};
+use crate::error::Result;
+#[cfg(doc)]
+use crate::error::Error;
 use crate::frf::Frf;
 use crate::linalg::Inverter;
 
@@ -38,21 +40,11 @@ impl IvfOptions {
     /// # Errors
     /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)` or zero iterations.
     pub fn validate(&self) -> Result<()> {
-        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
-            return Err(Error::InvalidParameter {
-                name: "ivf tolerance",
-                value: self.tolerance,
-                expected: "0 < tolerance < 1",
-            });
-        }
-        if self.max_iterations == 0 {
-            return Err(Error::InvalidParameter {
-                name: "ivf max iterations",
-                value: 0.0,
-                expected: "at least 1",
-            });
-        }
-        Ok(())
+        super::check_stopping(
+            self.tolerance,
+            self.max_iterations,
+            ["ivf tolerance", "ivf max iterations"],
+        )
     }
 }
 

@@ -211,6 +211,27 @@ pub struct MlOptions {
     pub max_iterations: usize,
 }
 
+impl MlOptions {
+    /// Checks the ranges.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)` or zero iterations.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::MlOptions;
+    /// assert!(MlOptions::default().validate().is_ok());
+    /// assert!(MlOptions { tolerance: 0.0, max_iterations: 10 }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        super::check_stopping(
+            self.tolerance,
+            self.max_iterations,
+            ["ml tolerance", "ml max iterations"],
+        )
+    }
+}
+
 impl Default for MlOptions {
     fn default() -> Self {
         Self {
@@ -489,7 +510,8 @@ pub struct MlFit {
 /// with [`MlReport::fell_back`] saying why.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] if `start` and `data` differ in size.
+/// [`Error::InvalidParameter`] if `start` and `data` differ in size or `options` are out of
+/// range ([`MlOptions::validate`]).
 ///
 /// # Examples
 /// ```
@@ -510,6 +532,7 @@ pub struct MlFit {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<MlFit> {
+    options.validate()?;
     let n = data.n;
     if start.dofs() != n {
         return Err(Error::InvalidParameter {
