@@ -8,9 +8,9 @@ use faer::{Accum, Mat, MatRef, Par, c64};
 
 use super::system::Stacked;
 use super::{Convergence, Fit, Method, block_change, finish, ls};
-use crate::error::Result;
 #[cfg(doc)]
 use crate::error::Error;
+use crate::error::Result;
 use crate::frf::Frf;
 use crate::linalg::Inverter;
 
