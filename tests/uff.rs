@@ -528,3 +528,258 @@ proptest! {
         }
     }
 }
+
+/// Noise-free simulated impact records of the seed's rig, sampled at 5000 Hz (an interval that
+/// `E13.5` holds exactly), 2 hits per direction, with 1 % noise.
+fn simulated() -> Vec<bearing_ident::Record> {
+    use bearing_ident::simulate::{ImpactTest, seed_rig};
+    let test = ImpactTest {
+        per_direction: 2,
+        sample_rate: 5000.0,
+        noise: 0.01,
+        ..ImpactTest::seed_rig()
+    };
+    test.run(&seed_rig()).unwrap()
+}
+
+/// The time histories of a record: forces (data type 13) and displacements (8) in X and Y,
+/// written in a shuffled order with load case `lc`.
+fn histories(r: &bearing_ident::Record, lc: i64) -> Vec<Function> {
+    let dt = 1.0 / r.sample_rate();
+    let mut out = Vec::new();
+    for i in (0..r.dofs()).rev() {
+        let dir = i as i64 + 1;
+        out.push(Function::time_response(
+            7,
+            dir,
+            8,
+            0.0,
+            dt,
+            r.displacement(i).to_vec(),
+        ));
+        out.push(Function::time_response(
+            7,
+            dir,
+            13,
+            0.0,
+            dt,
+            r.force(i).to_vec(),
+        ));
+    }
+    for f in &mut out {
+        f.load_case = lc;
+    }
+    out
+}
+
+fn relative(a: bearing_ident::faer::MatRef<f64>, b: bearing_ident::faer::MatRef<f64>) -> f64 {
+    let mut worst: f64 = 0.0;
+    for j in 0..b.ncols() {
+        for i in 0..b.nrows() {
+            worst = worst.max((a[(i, j)] - b[(i, j)]).abs() / b.norm_l2());
+        }
+    }
+    worst
+}
+
+#[test]
+fn records_from_uff_identify_as_the_originals() {
+    use bearing_ident::{Identifier, Method};
+    let records = simulated();
+    // One file, every record a load case, binary double: samples back exactly.
+    let functions: Vec<Function> = records
+        .iter()
+        .enumerate()
+        .flat_map(|(k, r)| histories(r, k as i64 + 1))
+        .collect();
+    let mut bytes = Vec::new();
+    uff::write_binary(&mut bytes, &functions, ByteOrder::Little).unwrap();
+    let back = uff::records(&uff::parse(&bytes, "rig.uff").unwrap(), "rig.uff").unwrap();
+    assert_eq!(back.len(), records.len());
+    for (k, (a, b)) in back.iter().zip(&records).enumerate() {
+        assert_eq!(a.label(), format!("rig.uff#{}", k + 1));
+        assert_eq!(a.dofs(), 2);
+        assert!((a.sample_rate() / b.sample_rate() - 1.0).abs() < 1e-15);
+        for i in 0..2 {
+            assert_eq!(a.force(i), b.force(i));
+            assert_eq!(a.displacement(i), b.displacement(i));
+        }
+    }
+    let id = |rs: &[bearing_ident::Record]| {
+        Identifier::new(8.0, 49.0)
+            .method(Method::Ivf)
+            .identify(rs)
+            .unwrap()
+    };
+    let truth = id(&records);
+    for got in [id(&back), {
+        // ASCII (thirteen digits), one record per load case too.
+        let mut text = Vec::new();
+        uff::write(&mut text, &functions).unwrap();
+        id(&uff::records(&uff::parse(&text, "rig.unv").unwrap(), "rig.unv").unwrap())
+    }] {
+        let (g, t) = (got.coefficients(), truth.coefficients());
+        for (a, b) in [
+            (g.mass(), t.mass()),
+            (g.damping(), t.damping()),
+            (g.stiffness(), t.stiffness()),
+        ] {
+            let e = relative(a, b);
+            assert!(e < 1e-12, "{e:e}");
+        }
+    }
+}
+
+#[test]
+fn records_errors_name_the_load_case() {
+    let mut f = Function::time_response(1, 1, 13, 0.0, 1e-3, vec![1.0; 16]);
+    f.load_case = 5;
+    let e = uff::records(std::slice::from_ref(&f), "a.uff").unwrap_err();
+    assert_eq!(e.kind(), "inconsistent_records");
+    assert!(
+        e.to_string().starts_with("a.uff: load case 5: 1 force"),
+        "{e}"
+    );
+    let mut x = Function::time_response(1, 1, 8, 0.0, 2e-3, vec![1.0; 16]);
+    x.load_case = 5;
+    let e = uff::records(&[f.clone(), x.clone()], "a.uff").unwrap_err();
+    assert!(e.to_string().contains("increments differ"), "{e}");
+    x.abscissa = Abscissa::Uneven(vec![0.0; 16]);
+    let e = uff::records(&[f, x], "a.uff").unwrap_err();
+    assert!(e.to_string().contains("uneven"), "{e}");
+    let e = uff::records(&[], "a.uff").unwrap_err();
+    assert!(e.to_string().contains("no time history"), "{e}");
+}
+
+#[cfg(feature = "cli")]
+mod cli {
+    use super::*;
+    use serde_json::Value;
+    use std::process::{Command, Output};
+
+    fn run(args: &[&str]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_bearing-ident"))
+            .args(args)
+            .output()
+            .expect("the binary runs")
+    }
+
+    fn json(args: &[&str]) -> Value {
+        let out = run(args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).expect("valid JSON")
+    }
+
+    fn path(name: &str) -> String {
+        data(name).display().to_string()
+    }
+
+    #[test]
+    fn inspect_json_lists_every_field_and_value() {
+        let v = json(&[
+            "inspect",
+            "--json",
+            &path("dataset58_case7_ascii.unv"),
+            &path("dataset58_coh.unv"),
+        ]);
+        let records = v["records"].as_array().unwrap();
+        assert_eq!(records.len(), 2);
+        let r = &records[0];
+        assert_eq!(r["function_type"], 4);
+        assert_eq!(r["ordinate_type"], 6);
+        assert_eq!(r["n"], 801);
+        assert_eq!(r["even"], true);
+        assert_eq!(r["x0"], 0.0);
+        assert_eq!(r["dx"], 0.25);
+        assert_eq!(r["response_node"], 1);
+        assert_eq!(r["response_dir"], 1);
+        assert_eq!(r["reference_node"], 22);
+        assert_eq!(r["reference_dir"], 1);
+        assert_eq!(r["abscissa_type"], 18);
+        assert_eq!(r["ordinate_type_num"], 12);
+        assert_eq!(r["id"].as_array().unwrap().len(), 5);
+        assert_eq!(r["id"][2], "28-Jan-21 14:01:42");
+        assert_eq!(r["x"].as_array().unwrap().len(), 801);
+        assert_eq!(r["x"][800], 200.0);
+        assert_eq!(r["re"][0], 1.733310054988e-4);
+        assert_eq!(r["im"][1], -1.329629958491e-5);
+        let c = &records[1];
+        assert_eq!(c["function_type"], 6);
+        assert_eq!(c["ordinate_type"], 2);
+        assert_eq!(c["re"][0], 0.369221);
+        assert!(c["im"].is_null());
+    }
+
+    #[test]
+    fn inspect_table_and_errors() {
+        let out = run(&["inspect", &path("dataset58_case4_binary.unv")]);
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains("1 dataset 58 functions"), "{text}");
+        assert!(text.contains("Frf"), "{text}");
+        assert!(text.contains("complex single"), "{text}");
+        assert!(text.contains("uneven"), "{text}");
+        assert!(text.contains("1+X") && text.contains("22+X"), "{text}");
+
+        let dir = tempfile::tempdir().unwrap();
+        let bad = dir.path().join("bad.uff");
+        std::fs::write(&bad, "    -1\n    58\n").unwrap();
+        let out = run(&["inspect", "--json", bad.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2));
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["error"], "malformed_uff");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("bad.uff, block 1, line 2"), "{stderr}");
+    }
+
+    #[test]
+    fn identify_reads_uff_as_csv() {
+        let records = simulated();
+        let dir = tempfile::tempdir().unwrap();
+        let mut csv = Vec::new();
+        let layout = bearing_ident::io::CsvLayout::for_dofs(2);
+        let mut functions = Vec::new();
+        for (k, r) in records.iter().enumerate() {
+            let p = dir.path().join(format!("r{k}.csv"));
+            bearing_ident::io::write_record(&p, r, &layout).unwrap();
+            csv.push(p.display().to_string());
+            functions.extend(histories(r, k as i64));
+        }
+        // Every record in one binary file, as load cases.
+        let uff_path = dir.path().join("all.uff");
+        let mut file = std::fs::File::create(&uff_path).unwrap();
+        uff::write_binary(&mut file, &functions, ByteOrder::Little).unwrap();
+        let args = ["identify", "--json", "--band", "8,49"];
+        let from_csv = json(
+            &[
+                &args[..],
+                &csv.iter().map(String::as_str).collect::<Vec<_>>(),
+            ]
+            .concat(),
+        );
+        let from_uff = json(&[&args[..], &[uff_path.to_str().unwrap()]].concat());
+        assert_eq!(from_uff["n_records"], from_csv["n_records"]);
+        assert_eq!(from_csv["n_records"], records.len());
+        for key in ["M", "C", "K"] {
+            let (a, b) = (&from_uff[key], &from_csv[key]);
+            let norm: f64 = b
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .map(|x| x * x)
+                .sum::<f64>()
+                .sqrt();
+            for i in 0..2 {
+                for j in 0..2 {
+                    let (x, y) = (a[i][j].as_f64().unwrap(), b[i][j].as_f64().unwrap());
+                    assert!((x - y).abs() <= 1e-12 * norm, "{key}[{i}][{j}]: {x} vs {y}");
+                }
+            }
+        }
+    }
+}
