@@ -337,9 +337,9 @@ fn read_block(lines: &mut Lines, at: &Where, binary: Option<BinaryHeader>) -> Re
 
     // Records 8–11.
     let mut axes = Vec::with_capacity(4);
-    for k in 7..11 {
+    for (k, text_line) in header.iter().enumerate().skip(7) {
         let line = first + k as u64;
-        let c = fortran::columns(header[k], &AXIS);
+        let c = fortran::columns(text_line, &AXIS);
         let code = small(int(c[0], line, "data type")?, line, "data type")?;
         axes.push(Axis {
             data_type: DataType::from_code(code),

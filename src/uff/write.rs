@@ -75,7 +75,7 @@ pub fn write(w: &mut impl Write, functions: &[Function]) -> Result<()> {
 /// values round-trip exactly.
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write()`].
 ///
 /// # Examples
 /// ```
