@@ -153,8 +153,8 @@ mod tests {
     #[test]
     fn splits_touching_fields_and_falls_back_to_whitespace() {
         let mut out = Vec::new();
-        values(b"-1.23450E-01-4.56000E+02  7.00000E+00", &[13], &mut out).unwrap();
-        assert_eq!(out, [-0.12345, -456.0, 7.0]);
+        values(b"-1.23450E-100-4.56000E+002  7.00000E+00", &[13], &mut out).unwrap();
+        assert_eq!(out, [-1.2345e-100, -456.0, 7.0]);
         out.clear();
         values(b"1.5 2.5 -3", &[13], &mut out).unwrap();
         assert_eq!(out, [1.5, 2.5, -3.0]);

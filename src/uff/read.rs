@@ -208,7 +208,10 @@ struct BinaryHeader {
 fn binary_header(line: &[u8]) -> Option<BinaryHeader> {
     let c = fortran::columns(line, &[6, 1, 6, 6, 12, 12]);
     let fixed = || -> Option<BinaryHeader> {
-        if c[0].trim_ascii() != b"58" || c[1] != b"b" {
+        if c[0].trim_ascii() != b"58"
+            || c[1] != b"b"
+            || c[2..].iter().any(|f| f.trim_ascii().is_empty())
+        {
             return None;
         }
         Some(BinaryHeader {
@@ -635,5 +638,74 @@ fn binary_values(
             lines.line,
             format!("the file ends after the {expected} bytes of values, before the closing `-1`"),
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_strip_crlf_and_count() {
+        let mut l = Lines {
+            data: b"a\r\nb\n\nc",
+            pos: 0,
+            line: 0,
+        };
+        assert_eq!(l.next(), Some(&b"a"[..]));
+        assert_eq!(l.next(), Some(&b"b"[..]));
+        assert_eq!(l.take(2), Some(&b"\nc"[..]));
+        assert_eq!(l.line, 3);
+        assert_eq!(l.take(1), None);
+        assert_eq!(l.next(), None);
+    }
+
+    #[test]
+    fn binary_header_at_widths_or_whitespace() {
+        let h = binary_header(b"    58b     2     2          11        6408     0").unwrap();
+        assert_eq!(
+            (h.order, h.format, h.ascii_lines, h.bytes),
+            (2, 2, 11, 6408)
+        );
+        let h = binary_header(b"58b 1 2 11 32").unwrap();
+        assert_eq!((h.order, h.bytes), (1, 32));
+        assert!(binary_header(b"    58b     1").is_none());
+    }
+
+    #[test]
+    fn uff_error_names_file_block_and_line() {
+        let e = Where {
+            path: "f.uff",
+            block: 3,
+        }
+        .error(17, "value `x` is not a number".into());
+        assert_eq!(e.kind(), "malformed_uff");
+        assert_eq!(
+            e.to_string(),
+            "f.uff, block 3, line 17: value `x` is not a number"
+        );
+    }
+
+    #[test]
+    fn unsupported_binary_formats_are_errors() {
+        let head = "    -1\n    58b     3     2          11           0\n1\n2\n3\n4\n5\n\
+            \x20   1         0    0         0 NONE               1   1 NONE               0   0\n\
+            \x20        2         0         1  0.00000E+00  1.00000E+00  0.00000E+00\n\
+            0\n0\n0\n0\n    -1\n";
+        for (from, to, says) in [
+            ("    3     2", "    3     2", "byte order 3"),
+            ("    3     2", "    1     1", "float format 1"),
+        ] {
+            let text = head.replacen(from, to, 1);
+            let e = parse(text.as_bytes(), "b.uff").unwrap_err();
+            assert!(e.to_string().contains(says), "{e}");
+        }
+        let e = Error::UffRecord {
+            path: "b.uff".into(),
+            load_case: 2,
+            message: "no force".into(),
+        };
+        assert_eq!(e.kind(), "inconsistent_records");
+        assert_eq!(e.to_string(), "b.uff: load case 2: no force");
     }
 }
