@@ -79,7 +79,10 @@
 //! - `plot` — [`plot`]: SVG figures of an identification (flexibility, impedance, coherence
 //!   and conditioning, per-frequency coefficients, time records, IVF convergence) and a static
 //!   HTML report, drawn by plotters' SVG backend (no system libraries);
-//! - `cli` — the `bearing-ident` command-line tool (implies `csv`, `json`, `serde` and `plot`);
+//! - `uff` — [`uff`]: read and write Universal File Format dataset 58 / 58b (time histories,
+//!   FRFs, coherence, spectra; ASCII and binary) and build records from its time histories;
+//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `csv`, `json`, `serde` and
+//!   `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build.
 //!
@@ -120,6 +123,8 @@ pub mod solve;
 pub mod spectra;
 pub mod stepped;
 pub mod tolerance;
+#[cfg(feature = "uff")]
+pub mod uff;
 
 // The types the façade's signatures name, at the crate root.
 pub use conditioning::{ConditionLimits, Conditioning};

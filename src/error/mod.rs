@@ -442,6 +442,34 @@ pub enum Error {
         /// The length of the one that differs.
         actual: usize,
     },
+    /// A Universal File (dataset 58 / 58b) is malformed: a header field that is not a number, an
+    /// unknown ordinate type, too few values, a binary block shorter than its byte count, a
+    /// block that is never closed.
+    #[cfg(feature = "uff")]
+    #[error("{path}, block {block}, line {line}: {message}")]
+    Uff {
+        /// The file (or the label given to [`uff::parse`](crate::uff::parse)).
+        path: String,
+        /// One-based number of the `-1`-delimited block in the file.
+        block: usize,
+        /// One-based line number in the file (of the line at fault, or where the block starts).
+        line: u64,
+        /// What is wrong.
+        message: String,
+    },
+    /// Time histories read from a Universal File do not make a record: a load case without a
+    /// force or displacement channel, channels of different lengths or sample rates, or an
+    /// uneven abscissa.
+    #[cfg(feature = "uff")]
+    #[error("{path}: load case {load_case}: {message}")]
+    UffRecord {
+        /// The file (or the label given).
+        path: String,
+        /// The load case (record 6) of the time histories.
+        load_case: i64,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 /// `line spacing … Hz`, or that it is unknown.
@@ -458,7 +486,7 @@ impl Error {
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
     /// `baseline_mismatch`, `ml_needs_repeats`, `plot_error`, `dead_channel`, `too_large`,
-    /// `bad_baseline`. The README's table lists every one (a unit test checks it).
+    /// `bad_baseline`, `malformed_uff`. The README's table lists every one (a unit test checks it).
     ///
     /// # Examples
     /// ```
@@ -513,6 +541,10 @@ impl Error {
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
             | Error::DofCountMismatch { .. } => "bad_coefficients",
+            #[cfg(feature = "uff")]
+            Error::Uff { .. } => "malformed_uff",
+            #[cfg(feature = "uff")]
+            Error::UffRecord { .. } => "inconsistent_records",
         }
     }
 }

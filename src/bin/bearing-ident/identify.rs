@@ -169,7 +169,10 @@ pub struct IdentifyArgs {
     /// draws a few of the first 32 files (read again for it).
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
-    /// Record files (CSV).
+    /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
+    /// case of their dataset 58 time histories: force channels of data type 13, displacement
+    /// channels of data type 8, each sorted by direction, then node; `--force`, `--disp`,
+    /// `--time` do not apply to them).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -278,21 +281,34 @@ fn run(
     first: Record,
     files: &[PathBuf],
     reading: &mut std::time::Duration,
+    labels: &mut Vec<String>,
 ) -> Result<Identification, Failure> {
     let layout = layout(args)?;
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(files.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    let rest = files[1..].iter().map(|path| {
+    // A Universal File may hold several records (load cases): the first file's others follow
+    // the one read already.
+    let rest = files.iter().enumerate().flat_map(|(i, path)| {
+        if i == 0 && !is_uff(path) {
+            return Vec::new();
+        }
         let t = Instant::now();
         bar.set_message(path.display().to_string());
-        let record = io::read_record(path, &layout);
+        let records = match read_records(path, &layout) {
+            Ok(r) => r.into_iter().skip(usize::from(i == 0)).map(Ok).collect(),
+            Err(e) => vec![Err(e)],
+        };
         bar.inc(1);
         *reading += t.elapsed();
-        record
+        records
     });
-    let records = std::iter::once(Ok(first)).chain(rest);
+    let records = std::iter::once(Ok(first)).chain(rest).inspect(|r| {
+        if let Ok(r) = r {
+            labels.push(r.label().to_owned());
+        }
+    });
     let id = if excitation == Excitation::SteppedSine {
         let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
         let dofs = records[0].dofs();
@@ -333,9 +349,17 @@ fn baseline(
                 path.display()
             )));
         }
-        let first = io::read_record(&files[0], &layout(args)?)?;
+        let first = read_record(&files[0], &layout(args)?)?;
         let mut reading = std::time::Duration::ZERO;
-        let id = run(args, identifier, excitation, first, &files, &mut reading)?;
+        let id = run(
+            args,
+            identifier,
+            excitation,
+            first,
+            &files,
+            &mut reading,
+            &mut Vec::new(),
+        )?;
         return Ok(Baseline::from(&id));
     }
     // Read at most the limit (a sparse file or /dev/zero must not fill memory).
@@ -373,14 +397,14 @@ const MAX_BASELINE_BYTES: u64 = 1 << 24;
 pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
     let start = Instant::now();
-    let first = io::read_record(&args.files[0], &layout)?;
+    let first = read_record(&args.files[0], &layout)?;
     let mut crest = crest_factor(&first);
     if args.excitation == ExcitationArg::Auto && crest <= 0.0 {
         // A flat force (a hammer hit that did not register) says nothing of the excitation:
         // decide from the first record with a force; with none, say so.
         crest = args.files[1..]
             .iter()
-            .map(|path| io::read_record(path, &layout).map(|r| crest_factor(&r)))
+            .map(|path| read_record(path, &layout).map(|r| crest_factor(&r)))
             .find(|c| !matches!(c, Ok(c) if *c <= 0.0))
             .transpose()?
             .ok_or_else(|| Error::DeadChannel {
@@ -396,6 +420,8 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .unwrap_or_else(|| Excitation::from_crest_factor(crest));
     let (identifier, segment_len) = settings(args, excitation, &first)?;
     let sample_rate = first.sample_rate();
+    // The labels of the records identified: the files, or a file's load cases for a UFF.
+    let mut labels = Vec::new();
     let id = run(
         args,
         &identifier,
@@ -403,6 +429,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         first,
         &args.files,
         &mut reading,
+        &mut labels,
     )?;
     let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
     let bearing = match &args.baseline {
@@ -419,7 +446,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         crest_factor: crest,
         segment_len,
         sample_rate,
-        files: args.files.iter().map(|p| p.display().to_string()).collect(),
+        files: labels,
         compute_ms,
         axes: args.disp.clone(),
         bearing,
@@ -431,12 +458,47 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             .files
             .iter()
             .take(PLOTTED_FILES)
-            .map(|path| io::read_record(path, &layout))
+            .map(|path| read_record(path, &layout))
             .collect::<bearing_ident::Result<Vec<_>>>()?;
         let checks = (excitation == Excitation::Impact).then(ImpactChecks::default);
         write_report(dir, &id, &records, &context, None, checks)?;
     }
     emit(&id, &context, None, args.json)
+}
+
+/// Whether `path` is a Universal File (`.uff`, `.unv`, any case) rather than a CSV record.
+fn is_uff(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|x| x.to_str())
+        .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
+}
+
+/// The records of a file: one from a CSV file; one per load case of the time histories of a
+/// Universal File (forces of data type 13 and displacements of data type 8, by
+/// [`uff::records`](bearing_ident::uff::records)'s rule).
+fn read_records(path: &std::path::Path, layout: &CsvLayout) -> bearing_ident::Result<Vec<Record>> {
+    if is_uff(path) {
+        let functions = bearing_ident::uff::read(path)?;
+        bearing_ident::uff::records(&functions, &path.display().to_string())
+    } else {
+        io::read_record(path, layout).map(|r| vec![r])
+    }
+}
+
+/// The first record of a file ([`read_records`]).
+fn read_record(path: &std::path::Path, layout: &CsvLayout) -> bearing_ident::Result<Record> {
+    if is_uff(path) {
+        read_records(path, layout)?
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::UffRecord {
+                path: path.display().to_string(),
+                load_case: 0,
+                message: "no record".into(),
+            })
+    } else {
+        io::read_record(path, layout)
+    }
 }
 
 /// Files read again for the record figure of `identify --plot`.

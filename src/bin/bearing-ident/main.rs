@@ -5,13 +5,14 @@
 //! A reader of stdout that goes away early (`… | head -1`) ends the tool quietly with status 0.
 //!
 //! This file parses the command line and dispatches; each subcommand lives in its own file
-//! (`identify.rs`, `demo.rs`, `simulate.rs`), with the string parsers in `parse.rs`, the
+//! (`identify.rs`, `demo.rs`, `simulate.rs`, `inspect.rs`), with the string parsers in `parse.rs`, the
 //! failure type and stdout in `failure.rs`, and the table, JSON and figures in `output.rs`
 //! and `report.rs`.
 
 mod demo;
 mod failure;
 mod identify;
+mod inspect;
 mod output;
 mod parse;
 mod report;
@@ -25,6 +26,7 @@ use clap::{Parser, Subcommand};
 use crate::demo::{DemoArgs, demo};
 use crate::failure::print_out;
 use crate::identify::{IdentifyArgs, identify};
+use crate::inspect::{InspectArgs, inspect};
 use crate::simulate::{SimulateArgs, simulate};
 
 /// Dynamic force coefficients (M, C, K) of bearings, seals and dampers from test records.
@@ -37,12 +39,15 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Identify M, C, K from CSV records (one file per record).
+    /// Identify M, C, K from CSV records (one file per record) or Universal Files
+    /// (`.uff`/`.unv`: a record per load case of their time histories).
     Identify(IdentifyArgs),
     /// Simulate the seed's test rig and identify it, as the quickstart example does.
     Demo(DemoArgs),
     /// Simulate impact records of a given system and write them as CSV files.
     Simulate(SimulateArgs),
+    /// List the dataset 58 / 58b functions of Universal Files (`--json`: every value).
+    Inspect(InspectArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,11 +61,13 @@ fn main() -> ExitCode {
         Command::Identify(a) => a.json,
         Command::Demo(a) => a.json,
         Command::Simulate(a) => a.json,
+        Command::Inspect(a) => a.json,
     };
     let outcome = match cli.command {
         Command::Identify(args) => identify(&args),
         Command::Demo(args) => demo(&args),
         Command::Simulate(args) => simulate(&args),
+        Command::Inspect(args) => inspect(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

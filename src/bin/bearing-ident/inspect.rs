@@ -1,0 +1,155 @@
+//! `bearing-ident inspect`: the dataset 58 / 58b functions of Universal Files, as a table or as
+//! JSON with every value.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use bearing_ident::uff::{self, Abscissa, Function, Ordinate};
+use serde_json::{Value, json};
+
+use crate::failure::{Failure, print_out};
+
+#[derive(Debug, clap::Args)]
+pub struct InspectArgs {
+    /// Print `{"records": [...]}` on stdout: one object per dataset 58 block with its header
+    /// fields and every value (`x`, `re`, `im`; `im` null for real data).
+    #[arg(long)]
+    pub json: bool,
+    /// Universal Files (`.uff`, `.unv`); other datasets in them are skipped.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+}
+
+/// Reads every file and prints its functions.
+pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
+    let mut all = Vec::new();
+    for path in &args.files {
+        let functions = uff::read(path)?;
+        all.push((path.display().to_string(), functions));
+    }
+    if args.json {
+        let records: Vec<Value> = all
+            .iter()
+            .flat_map(|(file, fs)| fs.iter().map(move |f| record_json(file, f)))
+            .collect();
+        print_out(format_args!("{}\n", json!({ "records": records })))
+    } else {
+        print_out(format_args!("{}", table(&all)))
+    }
+}
+
+/// One function as JSON: the fields of issue 13 item 5 (codes as in the file), and `file`.
+fn record_json(file: &str, f: &Function) -> Value {
+    let x = f.abscissa.values();
+    let (even, x0, dx) = match &f.abscissa {
+        Abscissa::Even { x0, dx, .. } => (true, Some(*x0), Some(*dx)),
+        Abscissa::Uneven(x) => (false, x.first().copied(), None),
+    };
+    let (re, im): (Vec<f64>, Option<Vec<f64>>) = match &f.ordinate {
+        Ordinate::Real(v) => (v.clone(), None),
+        Ordinate::Complex(v) => (
+            v.iter().map(|c| c.re).collect(),
+            Some(v.iter().map(|c| c.im).collect()),
+        ),
+    };
+    json!({
+        "file": file,
+        "function_type": f.function_type.code(),
+        "ordinate_type": f.ordinate_type(),
+        "n": f.ordinate.len(),
+        "even": even,
+        "x0": x0,
+        "dx": dx,
+        "response_node": f.response.node,
+        "response_dir": f.response.direction,
+        "reference_node": f.reference.node,
+        "reference_dir": f.reference.direction,
+        "abscissa_type": f.abscissa_axis.data_type.code(),
+        "ordinate_type_num": f.numerator.data_type.code(),
+        "load_case": f.load_case,
+        "id": f.id,
+        "x": x,
+        "re": re,
+        "im": im,
+    })
+}
+
+/// `22+X`, `3-Y`, `0` (scalar): a node and its direction.
+fn dof(node: i64, dir: i64) -> String {
+    let axis = match dir.saturating_abs() {
+        0 => return node.to_string(),
+        1 => "X",
+        2 => "Y",
+        3 => "Z",
+        4 => "RX",
+        5 => "RY",
+        6 => "RZ",
+        _ => return format!("{node}:{dir}"),
+    };
+    format!("{node}{}{axis}", if dir < 0 { '-' } else { '+' })
+}
+
+/// The summary table: one line per function.
+fn table(all: &[(String, Vec<Function>)]) -> String {
+    let mut s = String::new();
+    for (file, fs) in all {
+        let _ = writeln!(s, "{file}: {} dataset 58 functions", fs.len());
+        if fs.is_empty() {
+            continue;
+        }
+        let _ = writeln!(
+            s,
+            "  {:>3}  {:<16} {:<14} {:>8} {:<7} {:>12} {:>12} {:>9} {:>9} {:>6} {:>6}  id",
+            "#",
+            "type",
+            "ordinate",
+            "n",
+            "spacing",
+            "x0",
+            "dx",
+            "response",
+            "ref",
+            "xtype",
+            "ytype"
+        );
+        for (k, f) in fs.iter().enumerate() {
+            let (spacing, x0, dx) = match &f.abscissa {
+                Abscissa::Even { x0, dx, .. } => ("even", format!("{x0:e}"), format!("{dx:e}")),
+                Abscissa::Uneven(x) => (
+                    "uneven",
+                    x.first().map_or_else(String::new, |v| format!("{v:e}")),
+                    "-".into(),
+                ),
+            };
+            let ordinate = format!(
+                "{} {}",
+                if f.ordinate.is_complex() {
+                    "complex"
+                } else {
+                    "real"
+                },
+                match f.precision {
+                    uff::Precision::Single => "single",
+                    uff::Precision::Double => "double",
+                }
+            );
+            let _ = writeln!(
+                s,
+                "  {:>3}  {:<16} {:<14} {:>8} {:<7} {:>12} {:>12} {:>9} {:>9} {:>6} {:>6}  {}",
+                k + 1,
+                format!("{:?}", f.function_type),
+                ordinate,
+                f.ordinate.len(),
+                spacing,
+                x0,
+                dx,
+                dof(f.response.node, f.response.direction),
+                dof(f.reference.node, f.reference.direction),
+                f.abscissa_axis.data_type.code(),
+                f.numerator.data_type.code(),
+                bearing_ident::error::excerpt(&f.id[0]),
+            );
+        }
+    }
+    s
+}
