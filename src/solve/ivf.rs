@@ -40,11 +40,15 @@ impl IvfOptions {
     /// # Errors
     /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)` or zero iterations.
     pub fn validate(&self) -> Result<()> {
-        super::check_stopping(
-            self.tolerance,
-            self.max_iterations,
-            ["ivf tolerance", "ivf max iterations"],
-        )
+        super::check_tolerance(self.tolerance, "ivf tolerance")?;
+        if self.max_iterations == 0 {
+            return Err(crate::Error::InvalidParameter {
+                name: "ivf max iterations",
+                value: 0.0,
+                expected: "at least 1",
+            });
+        }
+        Ok(())
     }
 }
 

@@ -212,10 +212,11 @@ pub struct MlOptions {
 }
 
 impl MlOptions {
-    /// Checks the ranges.
+    /// Checks the tolerance. Zero iterations are allowed: [`fit`] then returns the start with
+    /// its cost.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)` or zero iterations.
+    /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)`.
     ///
     /// # Examples
     /// ```
@@ -224,11 +225,7 @@ impl MlOptions {
     /// assert!(MlOptions { tolerance: 0.0, max_iterations: 10 }.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<()> {
-        super::check_stopping(
-            self.tolerance,
-            self.max_iterations,
-            ["ml tolerance", "ml max iterations"],
-        )
+        super::check_tolerance(self.tolerance, "ml tolerance")
     }
 }
 

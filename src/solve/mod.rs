@@ -96,29 +96,19 @@ impl std::fmt::Display for Method {
     }
 }
 
-/// The one check of an iterative fit's stopping rule ([`IvfOptions::validate`],
-/// [`MlOptions::validate`](ml::MlOptions::validate)): a relative tolerance in `(0, 1)` and at
-/// least one iteration; `names` are the two parameters as the error names them.
-pub(crate) fn check_stopping(
-    tolerance: f64,
-    max_iterations: usize,
-    names: [&'static str; 2],
-) -> Result<()> {
-    if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(crate::Error::InvalidParameter {
-            name: names[0],
+/// The one check of an iterative fit's tolerance ([`IvfOptions::validate`],
+/// [`MlOptions::validate`](ml::MlOptions::validate)): relative, in `(0, 1)`; `name` is the
+/// parameter as the error names it.
+pub(crate) fn check_tolerance(tolerance: f64, name: &'static str) -> Result<()> {
+    if tolerance > 0.0 && tolerance < 1.0 {
+        Ok(())
+    } else {
+        Err(crate::Error::InvalidParameter {
+            name,
             value: tolerance,
             expected: "0 < tolerance < 1",
-        });
+        })
     }
-    if max_iterations == 0 {
-        return Err(crate::Error::InvalidParameter {
-            name: names[1],
-            value: 0.0,
-            expected: "at least 1",
-        });
-    }
-    Ok(())
 }
 
 /// How an iterative fit ended.
