@@ -3,7 +3,9 @@
 //! timings ([`Identification::timings`](bearing_ident::Identification::timings)) printed
 //! after each group.
 //!
-//! `cargo bench --bench shapes` runs both; `cargo bench --bench shapes -- three_dof` one.
+//! `cargo bench --bench shapes` runs all three; `cargo bench --bench shapes -- three_dof` one.
+//! - `seed_rig`: the seed's 16 impact records × 8040 samples, 2 DOF, 8–49 Hz, IVF, sandwich
+//!   error bars (the library's defaults), for the stage timings beside the other shapes;
 //! - `three_dof`: 18 impact records × 8192 samples at 4096 samples/s, 3 DOF (6 channels),
 //!   20–250 Hz (461 lines), IVF with 4 iterations, without error bars and with the jackknife;
 //! - `random`: 2 random-excitation records × 40 000 samples on the seed's rig, H1 with Welch
@@ -172,5 +174,29 @@ fn random(c: &mut Criterion) {
     report("random (H1, Welch)", &id, &records, &mut floor);
 }
 
-criterion_group!(benches, three_dof, random);
+fn seed(c: &mut Criterion) {
+    let records = ImpactTest {
+        noise: 0.05,
+        ..ImpactTest::seed_rig()
+    }
+    .run(&seed_rig())
+    .expect("simulated");
+    let id = Identifier::new(8.0, 49.0);
+    let mut est = SpectralEstimator::new(8040, 6700.0, Window::Rectangular).expect("plan");
+    let mut group = c.benchmark_group("seed_rig");
+    group.sample_size(10);
+    group.bench_function("identify", |b| {
+        b.iter(|| black_box(id.identify(&records).unwrap()))
+    });
+    group.bench_function("fft_only", |b| {
+        b.iter(|| black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord)))
+    });
+    group.finish();
+    let mut floor = || {
+        black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord));
+    };
+    report("seed_rig (sandwich)", &id, &records, &mut floor);
+}
+
+criterion_group!(benches, seed, three_dof, random);
 criterion_main!(benches);
