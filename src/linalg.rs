@@ -181,7 +181,11 @@ pub(crate) fn mul_into(a: &[c64], b: &[c64], out: &mut [c64], n: usize) {
 /// `out` in no particular order, by one-sided Jacobi (Hestenes) rotations: column pairs are
 /// rotated until all are mutually orthogonal, when the singular values are the column norms.
 /// Unitary column operations keep the singular values exact to rounding; no allocation.
-pub(crate) fn singular_values_in_place(a: &mut [c64], n: usize, out: &mut [f64]) {
+///
+/// The entries must be scaled to at most 1 in modulus (as [`condition_number_with`] does):
+/// squares then neither overflow nor, for any matrix whose condition number is representable,
+/// underflow, so moduli are `√(re² + im²)` rather than libm's `hypot`.
+fn singular_values_in_place(a: &mut [c64], n: usize, out: &mut [f64]) {
     const SWEEPS: usize = 64;
     let col_norm2 = |a: &[c64], p: usize| {
         a[p * n..(p + 1) * n]
@@ -189,33 +193,45 @@ pub(crate) fn singular_values_in_place(a: &mut [c64], n: usize, out: &mut [f64])
             .map(|v| v.norm_sqr())
             .sum::<f64>()
     };
+    // Squared column norms, kept up to date through the rotations (`out` is their home until
+    // the end) and recomputed at each sweep's start so that rounding cannot accumulate.
     for _ in 0..SWEEPS {
+        for (p, o) in out.iter_mut().enumerate().take(n) {
+            *o = col_norm2(a, p);
+        }
         let mut rotated = false;
         for p in 0..n {
             for q in p + 1..n {
-                let (alpha, beta) = (col_norm2(a, p), col_norm2(a, q));
+                let (alpha, beta) = (out[p], out[q]);
+                let (col_p, col_q) = {
+                    let (left, right) = a.split_at_mut(q * n);
+                    (&mut left[p * n..(p + 1) * n], &mut right[..n])
+                };
                 let mut gamma = c64::new(0.0, 0.0);
-                for i in 0..n {
-                    gamma += a[i + p * n].conj() * a[i + q * n];
+                for (x, y) in col_p.iter().zip(col_q.iter()) {
+                    gamma += x.conj() * y;
                 }
-                let g = gamma.norm();
+                let g = gamma.norm_sqr().sqrt();
                 if g <= f64::EPSILON * (alpha * beta).sqrt() || g == 0.0 {
                     continue;
                 }
                 rotated = true;
                 // Rotate a_p and e^{-iφ} a_q (γ = g e^{iφ}) by the real Jacobi rotation that
                 // makes them orthogonal.
-                let phase = (gamma / g).conj();
+                let phase = c64::new(gamma.re / g, -gamma.im / g);
                 let zeta = (beta - alpha) / (2.0 * g);
                 let t = zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt());
                 let c = 1.0 / (1.0 + t * t).sqrt();
                 let s = c * t;
-                for i in 0..n {
-                    let ap = a[i + p * n];
-                    let aq = a[i + q * n] * phase;
-                    a[i + p * n] = ap * c - aq * s;
-                    a[i + q * n] = ap * s + aq * c;
+                for (x, y) in col_p.iter_mut().zip(col_q.iter_mut()) {
+                    let ap = *x;
+                    let aq = *y * phase;
+                    *x = ap * c - aq * s;
+                    *y = ap * s + aq * c;
                 }
+                // The rotation moves t·g of squared norm from column p to column q.
+                out[p] = alpha - t * g;
+                out[q] = beta + t * g;
             }
         }
         if !rotated {
@@ -227,27 +243,70 @@ pub(crate) fn singular_values_in_place(a: &mut [c64], n: usize, out: &mut [f64])
     }
 }
 
-/// Condition number `σ_max / σ_min` of the column-major `n × n` complex matrix `a`, by
-/// [`singular_values_in_place`] on the caller's `scratch` (`n²`) and `sigma` (`n`) buffers
-/// (`∞` when `σ_min = 0`, NaN if `a` is not finite).
+/// Condition number `σ_max / σ_min` of the column-major 2 × 2 complex matrix `a` whose
+/// largest entry has modulus 1, in closed form from the Hermitian Gram matrix
+/// $G = A^H A = \begin{pmatrix} g_{11} & g_{12} \\ \bar g_{12} & g_{22} \end{pmatrix}$:
+/// $\lambda_+ = \bigl(g_{11} + g_{22} + \sqrt{(g_{11} - g_{22})^2 + 4|g_{12}|^2}\bigr)/2$
+/// (a sum of non-negative terms, so no cancellation), $\lambda_+\lambda_- = |\det A|^2$, and
+/// $\kappa = \sqrt{\lambda_+/\lambda_-} = \lambda_+ / |\det A|$. Its relative error is that
+/// of `det A`, `ε·κ`, as for any backward-stable SVD.
+fn condition_number_2x2(a: &[c64]) -> f64 {
+    let (a11, a21, a12, a22) = (a[0], a[1], a[2], a[3]);
+    let g11 = a11.norm_sqr() + a21.norm_sqr();
+    let g22 = a12.norm_sqr() + a22.norm_sqr();
+    let g12 = a11.conj() * a12 + a21.conj() * a22;
+    let diff = g11 - g22;
+    let lambda = 0.5 * (g11 + g22 + (diff * diff + 4.0 * g12.norm_sqr()).sqrt());
+    let det = (a11 * a22 - a12 * a21).norm_sqr().sqrt();
+    if det > 0.0 {
+        lambda / det
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Condition number `σ_max / σ_min` of the column-major `n × n` complex matrix `a` (`∞` when
+/// `σ_min = 0`, NaN if an entry is not finite): for n = 1, 1; for n = 2 in closed form from
+/// the eigenvalues of `AᴴA` (no iteration, no `hypot`); above, by one-sided Jacobi on the
+/// caller's `scratch` (`n²`) and `sigma` (`n`) buffers. No allocation.
 pub(crate) fn condition_number_with(
     a: &[c64],
     n: usize,
     scratch: &mut [c64],
     sigma: &mut [f64],
 ) -> f64 {
-    // The condition number does not depend on scale; scaling to a largest entry of 1 keeps the
-    // Jacobi rotations' squares in range for entries anywhere in f64.
-    let largest = a[..n * n].iter().fold(0.0, |m: f64, z| m.max(z.norm()));
-    let scale = if largest > 0.0 && largest.is_finite() {
-        largest
-    } else {
-        1.0
-    };
-    for (dst, z) in scratch[..n * n].iter_mut().zip(&a[..n * n]) {
-        *dst = c64::new(z.re / scale, z.im / scale);
+    let a = &a[..n * n];
+    // The condition number does not depend on scale; scaling to a largest entry of 1 keeps
+    // every square in range for entries anywhere in f64. The largest modulus comes from the
+    // squared moduli (no `hypot`) unless those leave the normal range.
+    let mut largest2 = 0.0_f64;
+    let mut finite = true;
+    for z in a {
+        finite &= z.re.is_finite() && z.im.is_finite();
+        largest2 = largest2.max(z.norm_sqr());
     }
-    singular_values_in_place(&mut scratch[..n * n], n, sigma);
+    if !finite {
+        return f64::NAN;
+    }
+    let largest = if largest2.is_finite() && largest2 >= f64::MIN_POSITIVE {
+        largest2.sqrt()
+    } else {
+        // Entries beyond 1e154 or all below 1e-154: their squares leave the normal range.
+        a.iter().fold(0.0, |m: f64, z| m.max(z.norm()))
+    };
+    if largest == 0.0 {
+        return f64::INFINITY;
+    }
+    let scratch = &mut scratch[..n * n];
+    for (dst, z) in scratch.iter_mut().zip(a) {
+        *dst = c64::new(z.re / largest, z.im / largest);
+    }
+    match n {
+        1 => return 1.0,
+        2 => return condition_number_2x2(scratch),
+        _ => {}
+    }
+    singular_values_in_place(scratch, n, sigma);
     let max = sigma[..n].iter().cloned().fold(0.0, f64::max);
     let min = sigma[..n].iter().cloned().fold(f64::INFINITY, f64::min);
     if min > 0.0 {
@@ -376,6 +435,126 @@ mod tests {
         ];
         let c = condition_number_with(&a, 2, &mut [c64::new(0.0, 0.0); 4], &mut [0.0; 2]);
         assert!(c > 1e15);
+    }
+
+    /// A random complex matrix `U diag(σ) Vᴴ` with condition number about `kappa`, from
+    /// random unitary `U`, `V` (QR of Gaussian matrices), column-major.
+    fn with_condition(n: usize, kappa: f64, rng: &mut impl rand::Rng) -> Vec<c64> {
+        use rand_distr::{Distribution, StandardNormal};
+        let mut gaussian = || -> f64 { StandardNormal.sample(&mut *rng) };
+        let mut unitary = || {
+            let g = Mat::<c64>::from_fn(n, n, |_, _| c64::new(gaussian(), gaussian()));
+            g.qr().compute_Q()
+        };
+        let (u, v) = (unitary(), unitary());
+        let sigma = Mat::<c64>::from_fn(n, n, |i, j| {
+            let exponent = if n > 1 {
+                i as f64 / (n - 1) as f64
+            } else {
+                0.0
+            };
+            c64::new(if i == j { kappa.powf(-exponent) } else { 0.0 }, 0.0)
+        });
+        let a = &u * &sigma * v.adjoint();
+        (0..n * n).map(|k| a[(k % n, k / n)]).collect()
+    }
+
+    fn ours(a: &[c64], n: usize) -> f64 {
+        condition_number_with(
+            a,
+            n,
+            &mut vec![c64::new(0.0, 0.0); n * n],
+            &mut vec![0.0; n],
+        )
+    }
+
+    fn faer_condition(a: &[c64], n: usize) -> f64 {
+        condition_number(MatRef::from_column_major_slice(a, n, n))
+    }
+
+    #[test]
+    fn closed_form_and_jacobi_match_faer_svd_on_random_matrices() {
+        use rand::SeedableRng;
+        let mut rng = rand::rngs::StdRng::seed_from_u64(12);
+        for n in 1..=6 {
+            for kappa in [1.0, 1.5, 10.0, 1e3] {
+                for _ in 0..50 {
+                    let a = with_condition(n, kappa, &mut rng);
+                    let (ours, theirs) = (ours(&a, n), faer_condition(&a, n));
+                    assert!(
+                        (ours / theirs - 1.0).abs() < 1e-12,
+                        "n = {n}, κ ≈ {kappa:e}: {ours} vs {theirs}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ill_conditioned_matrices_are_within_rounding_of_faer() {
+        use rand::SeedableRng;
+        let mut rng = rand::rngs::StdRng::seed_from_u64(13);
+        for n in 2..=4 {
+            for kappa in [1e8, 1e12] {
+                for _ in 0..20 {
+                    let a = with_condition(n, kappa, &mut rng);
+                    let (ours, theirs) = (ours(&a, n), faer_condition(&a, n));
+                    // Both carry a relative error of order ε·κ (the smallest singular value
+                    // is known to ε·σ_max only).
+                    let bound = 64.0 * f64::EPSILON * kappa;
+                    assert!(
+                        (ours / theirs - 1.0).abs() < bound,
+                        "n = {n}, κ ≈ {kappa:e}: {ours} vs {theirs}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn scale_does_not_matter_and_bad_input_is_flagged() {
+        use rand::SeedableRng;
+        let mut rng = rand::rngs::StdRng::seed_from_u64(14);
+        for n in 1..=4 {
+            let a = with_condition(n, 7.0, &mut rng);
+            let reference = ours(&a, n);
+            for scale in [1e-300, 1e-160, 1e160, 1e300] {
+                let scaled: Vec<c64> = a.iter().map(|z| z * scale).collect();
+                let c = ours(&scaled, n);
+                assert!(
+                    (c / reference - 1.0).abs() < 1e-12,
+                    "n = {n}, {scale:e}: {c}"
+                );
+            }
+            let zero = vec![c64::new(0.0, 0.0); n * n];
+            assert!(ours(&zero, n).is_infinite());
+            let mut bad = a.clone();
+            bad[n * n - 1] = c64::new(f64::NAN, 0.0);
+            assert!(ours(&bad, n).is_nan());
+            bad[n * n - 1] = c64::new(0.0, f64::INFINITY);
+            assert!(ours(&bad, n).is_nan());
+        }
+        // Exactly dependent columns: σ_min = 0.
+        let a = [
+            c64::new(1.0, 1.0),
+            c64::new(2.0, 0.0),
+            c64::new(2.0, 2.0),
+            c64::new(4.0, 0.0),
+        ];
+        assert!(ours(&a, 2).is_infinite());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+        #[test]
+        fn two_by_two_closed_form_matches_faer(
+            entries in proptest::collection::vec(-1.0e3..1.0e3_f64, 8),
+        ) {
+            let a: Vec<c64> = entries.chunks(2).map(|p| c64::new(p[0], p[1])).collect();
+            let (ours, theirs) = (ours(&a, 2), faer_condition(&a, 2));
+            let bound = 64.0 * f64::EPSILON * theirs.max(1.0);
+            proptest::prop_assert!((ours / theirs - 1.0).abs() < bound, "{} vs {}", ours, theirs);
+        }
     }
 
     #[test]

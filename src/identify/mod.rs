@@ -16,6 +16,7 @@
 //! | `diagnostics.rs` | the flexibility `r²` and the warnings of a finished fit |
 //! | `uncertainty/` | [`Uncertainty`]: sandwich, jackknife, bootstrap, Student's t |
 //! | `result.rs` | [`Identification`] and its accessors |
+//! | `timings.rs` | [`Timings`]: wall time per stage |
 //! | `baseline.rs` | [`Baseline`] and [`Identification::subtract_baseline`] |
 //! | `serialize.rs` | the JSON form of an [`Identification`] (feature `serde`) |
 
@@ -27,11 +28,13 @@ mod screen;
 #[cfg(feature = "serde")]
 mod serialize;
 mod settings;
+mod timings;
 mod uncertainty;
 
 pub use baseline::Baseline;
 pub use result::Identification;
 pub use settings::{NonConvergence, Screening, Settings};
+pub use timings::Timings;
 pub use uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;

@@ -3,6 +3,8 @@
 //! coherence selection, line count, conditioning, fit, diagnostics, error bars). Each entry
 //! point checks the settings once ([`Identifier::check`]) and runs on the [`Settings`].
 
+use std::time::Instant;
+
 use crate::conditioning::Conditioning;
 use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Estimator, Frf, FrfBuilder};
@@ -15,7 +17,8 @@ use crate::tolerance;
 
 use super::diagnostics::flexibility_r2;
 use super::screen::{kept_records, observe, reported, screen_batch};
-use super::{Identification, Identifier, Settings};
+use super::timings::{Untimed, timed};
+use super::{Identification, Identifier, Settings, Timings};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
 
@@ -167,22 +170,28 @@ impl Identifier {
 impl Settings {
     /// [`Identifier::identify`] on checked settings.
     fn identify(&self, records: &[Record]) -> Result<Identification> {
+        let start = Instant::now();
+        let mut t = Timings::default();
         let mut builder = self.builder();
-        let pulses = self.pulse_warning(records);
+        let pulses = timed(&mut t.screen, || self.pulse_warning(records));
         let Some((checks, reject)) = self.screening else {
-            builder.push_all(records)?;
-            return self.finish(builder, pulses.into_iter().collect());
+            timed(&mut t.spectra, || builder.push_all(records))?;
+            return self.finish(builder, pulses.into_iter().collect(), t, start);
         };
         // Every record is at hand: decide all but the per-line test before the spectra.
-        let (kept, mut warnings) = screen_batch(records, checks, reject);
-        if kept.iter().all(|&k| k) {
-            builder.push_all(records)?;
-        } else {
-            builder.push_all(&kept_records(records, &kept))?;
-        }
-        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        let (kept, mut warnings) = timed(&mut t.screen, || screen_batch(records, checks, reject));
+        timed(&mut t.spectra, || {
+            if kept.iter().all(|&k| k) {
+                builder.push_all(records)
+            } else {
+                builder.push_all(&kept_records(records, &kept))
+            }
+        })?;
+        timed(&mut t.screen, || {
+            self.screen_sets(&mut builder, &checks, reject, &mut warnings)
+        })?;
         warnings.extend(pulses);
-        self.finish(builder, warnings)
+        self.finish(builder, warnings, t, start)
     }
 
     /// [`Identifier::identify_stream`] on checked settings.
@@ -190,17 +199,21 @@ impl Settings {
         &self,
         records: impl IntoIterator<Item = Result<Record>>,
     ) -> Result<Identification> {
+        let start = Instant::now();
+        let mut t = Timings::default();
         let mut builder = self.builder();
         let mut pulses = self.pulse_check();
         let Some((checks, reject)) = self.screening else {
             for r in records {
                 let r = r?;
-                observe(&r, &mut pulses);
-                builder.push(&r)?;
+                timed(&mut t.screen, || observe(&r, &mut pulses));
+                timed(&mut t.spectra, || builder.push(&r))?;
             }
             return self.finish(
                 builder,
                 pulses.and_then(|p| p.warning()).into_iter().collect(),
+                t,
+                start,
             );
         };
         if reject {
@@ -211,16 +224,19 @@ impl Settings {
         let (mut findings, mut pushed) = (Vec::new(), Vec::new());
         for r in records {
             let r = r?;
-            observe(&r, &mut pulses);
-            let found = screener.push(&r);
+            let found = timed(&mut t.screen, || {
+                observe(&r, &mut pulses);
+                screener.push(&r)
+            });
             if reject && !found.is_empty() {
                 pushed.push(None);
             } else {
-                builder.push(&r)?;
+                timed(&mut t.spectra, || builder.push(&r))?;
                 pushed.push(Some(builder.records() - 1));
             }
             findings.push(found);
         }
+        let screen_start = Instant::now();
         let excluded: Vec<bool> = pushed.iter().map(Option::is_none).collect();
         let mut out = Vec::new();
         for (r, w) in screener.across(&excluded) {
@@ -232,8 +248,9 @@ impl Settings {
         builder.remove(&out);
         let mut warnings = reported(screener.summaries(), findings, reject);
         self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
+        t.screen += screen_start.elapsed();
         warnings.extend(pulses.and_then(|p| p.warning()));
-        self.finish(builder, warnings)
+        self.finish(builder, warnings, t, start)
     }
 
     /// [`Identifier::identify_stepped_sine`] on checked settings.
@@ -242,18 +259,23 @@ impl Settings {
         records: &[Record],
         step_tolerance: f64,
     ) -> Result<Identification> {
-        let (kept, warnings) = match self.screening {
+        let start = Instant::now();
+        let mut t = Timings::default();
+        let (kept, warnings) = timed(&mut t.screen, || match self.screening {
             None => (records.to_vec(), Vec::new()),
             Some((checks, reject)) => {
                 let (kept, warnings) = screen_batch(records, checks, reject);
                 (kept_records(records, &kept), warnings)
             }
-        };
+        });
         if kept.is_empty() {
             return Err(Error::NoRecords);
         }
-        let frf = crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)?;
-        let mut id = self.identify_frf(frf)?;
+        // The stepped-sine estimate is a single-frequency DFT per record and step: spectra.
+        let frf = timed(&mut t.spectra, || {
+            crate::stepped::stepped_sine(&kept, &self.assignment, self.dofs, step_tolerance)
+        })?;
+        let mut id = self.identify_frf_timed(frf, t, start)?;
         id.warnings.splice(0..0, warnings);
         Ok(id)
     }
@@ -261,26 +283,49 @@ impl Settings {
     /// [`Identifier::identify_frf`] on checked settings: the lines inside the band (to
     /// [`tolerance::READY_FRF_BAND_EDGE`] of its upper edge), then [`Settings::conclude`].
     fn identify_frf(&self, frf: Frf) -> Result<Identification> {
+        self.identify_frf_timed(frf, Timings::default(), Instant::now())
+    }
+
+    /// [`Settings::identify_frf`] with the clock started at `start` and the stages before
+    /// already in `t`.
+    fn identify_frf_timed(
+        &self,
+        frf: Frf,
+        mut t: Timings,
+        start: Instant,
+    ) -> Result<Identification> {
         let band = self.band;
         let slack = tolerance::READY_FRF_BAND_EDGE * band.high_hz();
         let inside = |f: f64| f >= band.low_hz() - slack && f <= band.high_hz() + slack;
-        let frf = frf.retain_lines(|k| inside(frf.freqs_hz()[k]));
-        self.conclude(frf, None, Vec::new(), Vec::new())
+        let frf = timed(&mut t.frf, || {
+            frf.retain_lines(|k| inside(frf.freqs_hz()[k]))
+        });
+        self.conclude(frf, None, Vec::new(), Vec::new(), t, start)
     }
 
     /// The spectra of `builder`'s records, then [`Settings::conclude`]; a record without force
     /// or response is named ([`Error::DeadChannel`]) instead of the rank or singularity error
     /// it causes.
-    fn finish(&self, builder: FrfBuilder, screened: Vec<Warning>) -> Result<Identification> {
+    fn finish(
+        &self,
+        builder: FrfBuilder,
+        screened: Vec<Warning>,
+        mut t: Timings,
+        start: Instant,
+    ) -> Result<Identification> {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
-        let outcome = builder.finish(&self.assignment).and_then(|frf| {
+        let frf = timed(&mut t.frf, || {
+            let frf = builder.finish(&self.assignment)?;
             let excitations = match self.estimator {
                 Estimator::PairedSets => builder.excitations(&self.assignment)?,
                 _ => builder.excitations(&Assignment::DominantForce)?,
             };
-            self.conclude(frf, Some(&builder), excitations, screened)
+            Ok((frf, excitations))
+        });
+        let outcome = frf.and_then(|(frf, excitations)| {
+            self.conclude(frf, Some(&builder), excitations, screened, t, start)
         });
         // A record without force or without response shows up later as missing rank or a
         // singular fit: name the record instead. (A band with too few lines stays `bad_band`.)
@@ -303,10 +348,15 @@ impl Settings {
         builder: Option<&FrfBuilder>,
         excitations: Vec<usize>,
         mut warnings: Vec<Warning>,
+        mut t: Timings,
+        start: Instant,
     ) -> Result<Identification> {
-        let (frf, low_coherence) = self.select_coherent(frf);
+        let (frf, low_coherence) = timed(&mut t.frf, || self.select_coherent(frf));
         require_lines(&frf)?;
-        let conditioning = Conditioning::assess(&frf, self.limits)?;
+        let conditioning = timed(&mut t.conditioning, || {
+            Conditioning::assess(&frf, self.limits)
+        })?;
+        let solve_start = Instant::now();
         let (fit, ml) = match self.method {
             Method::Ml => self.fit_ml(&frf, builder, &mut warnings)?,
             method => (solve::fit(&frf, method, &self.ivf)?, None),
@@ -317,7 +367,11 @@ impl Settings {
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
-        let bars = self.error_bars(&fit, &frf, builder, &mut warnings)?;
+        t.solve += solve_start.elapsed();
+        let bars = timed(&mut t.uncertainty, || {
+            self.error_bars(&fit, &frf, builder, &mut warnings)
+        })?;
+        t.total = start.elapsed();
         Ok(Identification {
             ml,
             band: self.band,
@@ -338,6 +392,7 @@ impl Settings {
             fit_r2,
             excitations,
             warnings,
+            timings: Untimed(t),
         })
     }
 

@@ -12,7 +12,8 @@ use crate::solve::ml::MlReport;
 use crate::solve::{Convergence, Fit, Iteration, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
-use super::Uncertainty;
+use super::timings::Untimed;
+use super::{Timings, Uncertainty};
 
 /// The result of an identification: coefficients and the evidence to defend them.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +33,7 @@ pub struct Identification {
     pub(super) fit_r2: Mat<f64>,
     pub(super) excitations: Vec<usize>,
     pub(super) warnings: Vec<Warning>,
+    pub(super) timings: Untimed,
 }
 
 impl Identification {
@@ -207,5 +209,21 @@ impl Identification {
     /// What the user should know.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
+    }
+
+    /// Wall time per stage of the run that produced this result ([`Timings`]; not part of
+    /// the result's value, so not compared by `==` nor serialized).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// let t = Identifier::new(8.0, 49.0).identify(&records)?.timings();
+    /// assert!(t.total >= t.spectra + t.frf + t.solve);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn timings(&self) -> Timings {
+        self.timings.0
     }
 }

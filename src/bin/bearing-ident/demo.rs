@@ -45,6 +45,8 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         sample_rate: test.sample_rate,
         files: records.iter().map(|r| r.label().to_owned()).collect(),
         compute_ms: start.elapsed().as_secs_f64() * 1e3,
+        read_ms: 0.0,
+        show_timings: false,
         axes: vec!["x".into(), "y".into()],
         bearing: None,
         per_frequency: None,

@@ -84,6 +84,10 @@ pub struct IdentifyArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Print the wall time of each stage (read, screen, spectra, frf, conditioning, solve,
+    /// uncertainty, total) in the table output; the JSON output always carries `timings_ms`.
+    #[arg(long)]
+    timings: bool,
     /// Fitting method.
     #[arg(long, value_enum, default_value = "ivf")]
     method: MethodArg,
@@ -448,6 +452,8 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         sample_rate,
         files: labels,
         compute_ms,
+        read_ms: reading.as_secs_f64() * 1e3,
+        show_timings: args.timings,
         axes: args.disp.clone(),
         bearing,
         per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,

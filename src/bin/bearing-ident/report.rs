@@ -24,6 +24,10 @@ pub struct Context {
     pub files: Vec<String>,
     /// Wall time after the data were in memory (ms).
     pub compute_ms: f64,
+    /// Wall time spent reading the record files (ms; 0 for simulated records).
+    pub read_ms: f64,
+    /// Print the stage timings in the table (`--timings`).
+    pub show_timings: bool,
     /// Names of the degrees of freedom (the displacement columns).
     pub axes: Vec<String>,
     /// System minus baseline (coefficients, standard deviations) and where the baseline came
@@ -45,6 +49,7 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         map.insert("n_records".into(), c.files.len().into());
         map.insert("files".into(), c.files.clone().into());
         map.insert("compute_ms".into(), c.compute_ms.into());
+        map.insert("timings_ms".into(), timings_ms(id, c));
         if let Some((b, std, source)) = &c.bearing {
             let block = |m: MatRef<'_, f64>| serde_json::Value::from(rows(m));
             let std_block = |get: Block| std.as_ref().map(|s| block(get(s)));
@@ -64,6 +69,18 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         }
     }
     Ok(v)
+}
+
+/// `read`, the library's stages ([`bearing_ident::identify::Timings`]) and `total` (reading
+/// plus compute), in milliseconds.
+fn timings_ms(id: &Identification, c: &Context) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    map.insert("read".into(), c.read_ms.into());
+    for (name, d) in id.timings().stages() {
+        map.insert(name.into(), (d.as_secs_f64() * 1e3).into());
+    }
+    map.insert("total".into(), (c.read_ms + c.compute_ms).into());
+    serde_json::Value::Object(map)
 }
 
 /// One object per line: `freq_hz`, `K`, `C` (rows), `K_std`, `C_std` (null without an FRF
@@ -216,6 +233,21 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         id.residual_norm(),
         c.compute_ms
     );
+    if c.show_timings {
+        let stages: Vec<String> = id
+            .timings()
+            .stages()
+            .iter()
+            .map(|(name, d)| format!("{name} {:.2}", d.as_secs_f64() * 1e3))
+            .collect();
+        let _ = writeln!(
+            out,
+            "  timings (ms): read {:.2}, {}, total {:.2}",
+            c.read_ms,
+            stages.join(", "),
+            c.read_ms + c.compute_ms
+        );
+    }
     if let Some(ml) = id.ml() {
         let _ = writeln!(
             out,

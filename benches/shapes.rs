@@ -1,0 +1,202 @@
+//! Criterion benches of the shapes users have, each beside its FFT-only floor measured in the
+//! same run (the same FFTs through [`SpectralEstimator`] alone), with the ratio and the stage
+//! timings ([`Identification::timings`](bearing_ident::Identification::timings)) printed
+//! after each group.
+//!
+//! `cargo bench --bench shapes` runs all three; `cargo bench --bench shapes -- three_dof` one.
+//! - `seed_rig`: the seed's 16 impact records × 8040 samples, 2 DOF, 8–49 Hz, IVF, sandwich
+//!   error bars (the library's defaults), for the stage timings beside the other shapes;
+//! - `three_dof`: 18 impact records × 8192 samples at 4096 samples/s, 3 DOF (6 channels),
+//!   20–250 Hz (461 lines), IVF with 4 iterations, without error bars and with the jackknife;
+//! - `random`: 2 random-excitation records × 40 000 samples on the seed's rig, H1 with Welch
+//!   segments of 4096 samples (Hann, 50 % overlap), 5–60 Hz.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use bearing_ident::excitation::welch_len;
+use bearing_ident::model::Coefficients;
+use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
+use bearing_ident::spectra::{Segmentation, SpectralEstimator, Window};
+use bearing_ident::{Estimator, Identifier, Record, Uncertainty};
+use criterion::{Criterion, criterion_group, criterion_main};
+use faer::{c64, mat};
+use rand::SeedableRng;
+use rand::rngs::StdRng;
+
+/// A 3-DOF bearing with natural frequencies near 70–90 Hz, cross-coupled in every block.
+fn three_dof_system() -> Coefficients {
+    Coefficients::new(
+        mat![[2.0, 0.1, 0.0], [0.1, 2.5, 0.2], [0.0, 0.2, 3.0]],
+        mat![[60.0, 8.0, -3.0], [-5.0, 70.0, 4.0], [2.0, -6.0, 80.0]],
+        mat![[4e5, 6e4, -1e4], [2e4, 6e5, 5e4], [-2e4, 1e4, 9e5]],
+    )
+    .expect("valid system")
+}
+
+fn three_dof_records() -> Vec<Record> {
+    ImpactTest {
+        per_direction: 6,
+        sample_rate: 4096.0,
+        duration_s: 2.0,
+        noise: 0.03,
+        seed: 5,
+        ..ImpactTest::seed_rig()
+    }
+    .run(&three_dof_system())
+    .expect("simulated")
+}
+
+fn random_records() -> Vec<Record> {
+    let mut sim =
+        Simulator::new(&seed_rig(), 6700.0, 40_000, AntiAlias::default()).expect("simulator");
+    let mut rng = StdRng::seed_from_u64(9);
+    (0..2)
+        .map(|r| {
+            let clean = sim
+                .random_record(format!("random-{r}"), 50.0, r)
+                .expect("record");
+            add_noise(&clean, 0.02, &mut rng).expect("noise")
+        })
+        .collect()
+}
+
+/// The FFTs of every channel of every record, segment by segment, through one planned
+/// estimator: what the identification cannot go below.
+fn fft_floor(est: &mut SpectralEstimator, records: &[Record], segmentation: Segmentation) -> c64 {
+    let len = est.len();
+    let mut acc = c64::new(0.0, 0.0);
+    for r in records {
+        for ch in 0..r.dofs() {
+            for s in segmentation.starts(r.len()) {
+                acc += est.transform_force(&r.force(ch)[s..s + len])[3];
+                acc += est.transform(&r.displacement(ch)[s..s + len])[3];
+            }
+        }
+    }
+    acc
+}
+
+/// Median wall time of `runs` calls of `f`.
+fn median(runs: usize, mut f: impl FnMut()) -> Duration {
+    let mut times: Vec<Duration> = (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed()
+        })
+        .collect();
+    times.sort();
+    times[runs / 2]
+}
+
+/// Prints the median identify time, the floor, their ratio, and the median of each stage.
+fn report(name: &str, id: &Identifier, records: &[Record], floor: &mut dyn FnMut()) {
+    const RUNS: usize = 15;
+    let identify = median(RUNS, || {
+        black_box(id.identify(records).expect("identifies"));
+    });
+    let fft = median(RUNS, floor);
+    let mut stages: Vec<Vec<(&str, Duration)>> = Vec::new();
+    for _ in 0..RUNS {
+        let t = id.identify(records).expect("identifies").timings();
+        let mut row = t.stages().to_vec();
+        row.push(("total", t.total));
+        stages.push(row);
+    }
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let stage_medians: Vec<String> = (0..stages[0].len())
+        .map(|k| {
+            let mut v: Vec<Duration> = stages.iter().map(|row| row[k].1).collect();
+            v.sort();
+            format!("{} {:.3}", stages[0][k].0, ms(v[RUNS / 2]))
+        })
+        .collect();
+    eprintln!(
+        "{name}: identify {:.3} ms, FFT floor {:.3} ms, ratio {:.2}; stages (ms, medians): {}",
+        ms(identify),
+        ms(fft),
+        identify.as_secs_f64() / fft.as_secs_f64(),
+        stage_medians.join(", ")
+    );
+}
+
+fn three_dof(c: &mut Criterion) {
+    let records = three_dof_records();
+    let plain = Identifier::new(20.0, 250.0)
+        .max_iterations(4)
+        .uncertainty(Uncertainty::None);
+    let jackknife = plain.clone().uncertainty(Uncertainty::Jackknife);
+    let id = plain.identify(&records).expect("identifies");
+    assert_eq!(id.freqs_hz().len(), 461);
+    let mut est = SpectralEstimator::new(8192, 4096.0, Window::Rectangular).expect("plan");
+    let mut group = c.benchmark_group("three_dof");
+    group.sample_size(10);
+    group.bench_function("identify", |b| {
+        b.iter(|| black_box(plain.identify(&records).unwrap()))
+    });
+    group.bench_function("identify_jackknife", |b| {
+        b.iter(|| black_box(jackknife.identify(&records).unwrap()))
+    });
+    group.bench_function("fft_only", |b| {
+        b.iter(|| black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord)))
+    });
+    group.finish();
+    let mut floor = || {
+        black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord));
+    };
+    report("three_dof (no error bars)", &plain, &records, &mut floor);
+    report("three_dof (jackknife)", &jackknife, &records, &mut floor);
+}
+
+fn random(c: &mut Criterion) {
+    let records = random_records();
+    let len = welch_len(40_000);
+    let segmentation = Segmentation::Welch { len };
+    let id = Identifier::new(5.0, 60.0)
+        .estimator(Estimator::H1)
+        .segmentation(segmentation)
+        .window(Window::Hann);
+    id.identify(&records).expect("identifies");
+    let mut est = SpectralEstimator::new(len, 6700.0, Window::Hann).expect("plan");
+    let mut group = c.benchmark_group("random");
+    group.sample_size(10);
+    group.bench_function("identify", |b| {
+        b.iter(|| black_box(id.identify(&records).unwrap()))
+    });
+    group.bench_function("fft_only", |b| {
+        b.iter(|| black_box(fft_floor(&mut est, &records, segmentation)))
+    });
+    group.finish();
+    let mut floor = || {
+        black_box(fft_floor(&mut est, &records, segmentation));
+    };
+    report("random (H1, Welch)", &id, &records, &mut floor);
+}
+
+fn seed(c: &mut Criterion) {
+    let records = ImpactTest {
+        noise: 0.05,
+        ..ImpactTest::seed_rig()
+    }
+    .run(&seed_rig())
+    .expect("simulated");
+    let id = Identifier::new(8.0, 49.0);
+    let mut est = SpectralEstimator::new(8040, 6700.0, Window::Rectangular).expect("plan");
+    let mut group = c.benchmark_group("seed_rig");
+    group.sample_size(10);
+    group.bench_function("identify", |b| {
+        b.iter(|| black_box(id.identify(&records).unwrap()))
+    });
+    group.bench_function("fft_only", |b| {
+        b.iter(|| black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord)))
+    });
+    group.finish();
+    let mut floor = || {
+        black_box(fft_floor(&mut est, &records, Segmentation::WholeRecord));
+    };
+    report("seed_rig (sandwich)", &id, &records, &mut floor);
+}
+
+criterion_group!(benches, seed, three_dof, random);
+criterion_main!(benches);
