@@ -3,6 +3,9 @@
 
 use std::fmt;
 
+#[cfg(doc)]
+use super::Error;
+
 /// A measured channel of a [`Record`](crate::records::Record).
 ///
 /// Force channels and displacement channels are numbered from zero, in the order of the
