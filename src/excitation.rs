@@ -60,6 +60,49 @@ pub fn crest_factor(record: &Record) -> f64 {
     if rms > 0.0 { peak / rms } else { 0.0 }
 }
 
+/// The crest factor that decides the excitation ([`Excitation::detect`]): that of the first
+/// record whose force is not flat, reading `records` only as far as needed, so records that
+/// arrive one at a time (files read in turn) are read no further than the first with a force.
+///
+/// # Errors
+/// The first error of `records`; [`Error::NoRecords`] for none; [`Error::DeadChannel`] naming
+/// the first record's force 0 when every record's force is flat.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::{IMPACT_CREST_FACTOR, deciding_crest_factor};
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// let records = ImpactTest::seed_rig().run(&seed_rig())?;
+/// let crest = deciding_crest_factor(records.iter().map(Ok::<_, bearing_ident::Error>))?;
+/// assert!(crest > IMPACT_CREST_FACTOR);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn deciding_crest_factor<R, E>(
+    records: impl IntoIterator<Item = std::result::Result<R, E>>,
+) -> std::result::Result<f64, E>
+where
+    R: std::borrow::Borrow<Record>,
+    E: From<Error>,
+{
+    let mut first: Option<(String, f64)> = None;
+    for record in records {
+        let record = record?;
+        let record = record.borrow();
+        let crest = crest_factor(record);
+        if crest > 0.0 {
+            return Ok(crest);
+        }
+        first.get_or_insert_with(|| (record.label().to_owned(), record.force(0)[0]));
+    }
+    let (record, value) = first.ok_or(Error::NoRecords)?;
+    Err(Error::DeadChannel {
+        record,
+        channel: Channel::Force(0),
+        value,
+    }
+    .into())
+}
+
 /// Welch segment length for random excitation: the largest power of two not above an eighth
 /// of the record, and at least 8 samples,
 ///
@@ -163,16 +206,7 @@ impl Excitation {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn detect(records: &[Record]) -> Result<Excitation> {
-        let first = records.first().ok_or(Error::NoRecords)?;
-        let crest = records
-            .iter()
-            .map(crest_factor)
-            .find(|c| *c > 0.0)
-            .ok_or_else(|| Error::DeadChannel {
-                record: first.label().to_owned(),
-                channel: Channel::Force(0),
-                value: first.force(0)[0],
-            })?;
+        let crest = deciding_crest_factor(records.iter().map(Ok::<_, Error>))?;
         Ok(Excitation::from_crest_factor(crest))
     }
 
@@ -318,7 +352,7 @@ impl std::str::FromStr for Excitation {
     /// Reads a [`name`](Excitation::name) back.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] named `"excitation"` (value NaN) listing the accepted names.
+    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
     fn from_str(s: &str) -> Result<Excitation> {
         Excitation::ALL
             .into_iter()

@@ -317,7 +317,7 @@ impl std::str::FromStr for Segmentation {
     /// `Display`. The length is checked against a record by [`Segmentation::segment_len`].
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the accepted forms.
+    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
     ///
     /// # Examples
     /// ```

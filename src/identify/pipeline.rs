@@ -3,6 +3,7 @@
 //! coherence selection, line count, conditioning, fit, diagnostics, error bars). Each entry
 //! point checks the settings once ([`Identifier::check`]) and runs on the [`Settings`].
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use crate::conditioning::Conditioning;
@@ -181,11 +182,7 @@ impl Settings {
         // Every record is at hand: decide all but the per-line test before the spectra.
         let (kept, mut warnings) = timed(&mut t.screen, || screen_batch(records, checks, reject));
         timed(&mut t.spectra, || {
-            if kept.iter().all(|&k| k) {
-                builder.push_all(records)
-            } else {
-                builder.push_all(&kept_records(records, &kept))
-            }
+            builder.push_all(&kept_records(records, &kept))
         })?;
         timed(&mut t.screen, || {
             self.screen_sets(&mut builder, &checks, reject, &mut warnings)
@@ -262,7 +259,7 @@ impl Settings {
         let start = Instant::now();
         let mut t = Timings::default();
         let (kept, warnings) = timed(&mut t.screen, || match self.screening {
-            None => (records.to_vec(), Vec::new()),
+            None => (Cow::Borrowed(records), Vec::new()),
             Some((checks, reject)) => {
                 let (kept, warnings) = screen_batch(records, checks, reject);
                 (kept_records(records, &kept), warnings)

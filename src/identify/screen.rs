@@ -2,6 +2,8 @@
 //! and for records that stream in, the per-line test of paired sets, and the force-gate check
 //! against the force pulses ([`ForceGateCheck`]).
 
+use std::borrow::Cow;
+
 use crate::error::{Result, Warning};
 use crate::frf::FrfBuilder;
 use crate::gate::ForceGateCheck;
@@ -94,14 +96,13 @@ pub(super) fn screen_batch(
     (kept, reported(screener.summaries(), findings, reject))
 }
 
-/// The records marked in `kept`.
-pub(super) fn kept_records(records: &[Record], kept: &[bool]) -> Vec<Record> {
-    records
-        .iter()
-        .zip(kept)
-        .filter(|(_, k)| **k)
-        .map(|(r, _)| r.clone())
-        .collect()
+/// The records `kept`, borrowed when all are (the usual case: nothing is copied).
+pub(super) fn kept_records<'a>(records: &'a [Record], kept: &[bool]) -> Cow<'a, [Record]> {
+    if kept.iter().all(|&k| k) {
+        return Cow::Borrowed(records);
+    }
+    let kept = records.iter().zip(kept).filter(|(_, k)| **k);
+    Cow::Owned(kept.map(|(r, _)| r.clone()).collect())
 }
 
 /// The screening's warnings in record order, each faulty record's findings followed, under

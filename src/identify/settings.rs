@@ -54,14 +54,14 @@ impl FromStr for NonConvergence {
     /// Parses a [`NonConvergence::name`].
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the accepted values.
+    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
     fn from_str(s: &str) -> Result<Self> {
         match s {
             "warn" => Ok(NonConvergence::Warn),
             "fail" => Ok(NonConvergence::Fail),
-            _ => Err(Error::InvalidParameter {
-                name: "non-convergence policy",
-                value: f64::NAN,
+            _ => Err(Error::UnknownName {
+                what: "non-convergence policy",
+                given: s.to_owned(),
                 expected: "warn or fail",
             }),
         }
@@ -371,7 +371,7 @@ mod tests {
         }
         assert!(matches!(
             "stop".parse::<NonConvergence>(),
-            Err(Error::InvalidParameter { .. })
+            Err(Error::UnknownName { .. })
         ));
     }
 }

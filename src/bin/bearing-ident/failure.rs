@@ -12,12 +12,9 @@ pub struct Failure {
 impl From<bearing_ident::Error> for Failure {
     fn from(e: bearing_ident::Error) -> Self {
         let mut message = e.to_string();
-        // The library speaks of its own types; the tool names its flags.
+        // The library speaks of its own types; the tool adds its flags.
         if matches!(e, bearing_ident::Error::MlNeedsRepeats) {
-            message = message.replace(
-                "`Segmentation::Periods`",
-                "`Segmentation::Periods` (CLI `--excitation periodic --period S`)",
-            );
+            message.push_str(" (on the command line: `--excitation periodic --period S`)");
         }
         Failure {
             kind: e.kind(),

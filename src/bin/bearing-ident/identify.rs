@@ -2,17 +2,18 @@
 //! excitation ([`Excitation`]), the streamed run over the record files, the dry-structure
 //! baseline, and the report, figures and JSON written at the end.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use bearing_ident::excitation::{Excitation, crest_factor};
+use bearing_ident::excitation::{Excitation, crest_factor, deciding_crest_factor};
 use bearing_ident::gate::FitGate;
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::{
-    Assignment, Baseline, Channel, Error, Estimator, Identification, Identifier, Method,
-    NonConvergence, Record, Screening, Segmentation, Uncertainty,
+    Assignment, Baseline, Error, Estimator, Identification, Identifier, Method, NonConvergence,
+    Record, Screening, Segmentation, Uncertainty,
 };
 use clap::ValueEnum;
 
@@ -402,21 +403,16 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
     let start = Instant::now();
     let first = read_record(&args.files[0], &layout)?;
-    let mut crest = crest_factor(&first);
-    if args.excitation == ExcitationArg::Auto && crest <= 0.0 {
+    let crest = if args.excitation == ExcitationArg::Auto {
         // A flat force (a hammer hit that did not register) says nothing of the excitation:
-        // decide from the first record with a force; with none, say so.
-        crest = args.files[1..]
+        // the library decides from the first record with a force, reading no further.
+        let rest = args.files[1..]
             .iter()
-            .map(|path| read_record(path, &layout).map(|r| crest_factor(&r)))
-            .find(|c| !matches!(c, Ok(c) if *c <= 0.0))
-            .transpose()?
-            .ok_or_else(|| Error::DeadChannel {
-                record: first.label().to_owned(),
-                channel: Channel::Force(0),
-                value: first.force(0)[0],
-            })?;
-    }
+            .map(|path| read_record(path, &layout).map(Cow::Owned));
+        deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(&first))).chain(rest))?
+    } else {
+        crest_factor(&first)
+    };
     let mut reading = start.elapsed();
     let excitation = args
         .excitation

@@ -99,7 +99,7 @@ impl FromStr for Uncertainty {
     /// `"bootstrap"` is [`Uncertainty::BOOTSTRAP`].
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the accepted values.
+    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
     fn from_str(s: &str) -> Result<Self> {
         match s {
             "none" => Ok(Uncertainty::None),

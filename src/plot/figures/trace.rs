@@ -2,10 +2,11 @@
 //! plot's span around an impact, and min/max decimation to a few points per pixel.
 
 use crate::Channel;
+use crate::excitation::{IMPACT_CREST_FACTOR, crest_factor};
 use crate::quality::ImpactIssue;
 use crate::records::Record;
 
-/// The time span of the force plot: for an impulsive record (crest factor ≥ [`IMPACT_CREST_FACTOR`](crate::quality::IMPACT_CREST_FACTOR)) the pulse
+/// The time span of the force plot: for an impulsive record (its [`crest_factor`] at least [`IMPACT_CREST_FACTOR`]) the pulse
 /// and what follows it closely — four times the peak's time, at least 80 ms past it, and the
 /// force gate and any double hit with a quarter to spare; else the whole record.
 pub(crate) fn force_span(
@@ -15,10 +16,12 @@ pub(crate) fn force_span(
 ) -> f64 {
     let fs = record.sample_rate();
     let whole = record.len() as f64 / fs;
+    if crest_factor(record) < IMPACT_CREST_FACTOR {
+        return whole;
+    }
     let f = record.force(record.dominant_force());
-    let mean = f.iter().sum::<f64>() / f.len().max(1) as f64;
-    let rms = (f.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / f.len().max(1) as f64).sqrt();
-    let Some((m, peak)) = f
+    let mean = f.iter().sum::<f64>() / f.len() as f64;
+    let Some((m, _)) = f
         .iter()
         .map(|v| (v - mean).abs())
         .enumerate()
@@ -26,9 +29,6 @@ pub(crate) fn force_span(
     else {
         return whole;
     };
-    if !(rms > 0.0 && peak / rms >= crate::quality::IMPACT_CREST_FACTOR) {
-        return whole;
-    }
     let t_peak = m as f64 / fs;
     let mut end = (4.0 * t_peak).max(t_peak + 0.08);
     if let Some(g) = gate {
