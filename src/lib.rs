@@ -103,6 +103,8 @@
 pub mod conditioning;
 pub mod error;
 pub mod excitation;
+#[cfg(any(feature = "uff", feature = "ross"))]
+pub mod export;
 pub mod frf;
 pub mod gate;
 pub mod identify;

@@ -470,6 +470,18 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// An identification exported to a format of a fixed number of degrees of freedom has
+    /// another: a ROSS bearing element is 2-DOF (`x`, `y`).
+    #[cfg(feature = "ross")]
+    #[error("{format} needs {expected} degrees of freedom; this identification has {dofs}")]
+    ExportDofs {
+        /// What was asked for.
+        format: &'static str,
+        /// Degrees of freedom of the identification.
+        dofs: usize,
+        /// Degrees of freedom the format takes.
+        expected: usize,
+    },
 }
 
 /// `line spacing … Hz`, or that it is unknown.
@@ -545,6 +557,8 @@ impl Error {
             Error::Uff { .. } => "malformed_uff",
             #[cfg(feature = "uff")]
             Error::UffRecord { .. } => "inconsistent_records",
+            #[cfg(feature = "ross")]
+            Error::ExportDofs { .. } => "invalid_argument",
         }
     }
 }
@@ -678,6 +692,21 @@ mod tests {
                 "f.csv, line 1: line length (bytes) past the limit of 1048576"
             );
         }
+    }
+
+    #[test]
+    #[cfg(feature = "ross")]
+    fn export_dofs_name_both_counts() {
+        let e = Error::ExportDofs {
+            format: "a ROSS bearing element",
+            dofs: 3,
+            expected: 2,
+        };
+        assert_eq!(e.kind(), "invalid_argument");
+        assert_eq!(
+            e.to_string(),
+            "a ROSS bearing element needs 2 degrees of freedom; this identification has 3"
+        );
     }
 
     #[test]
