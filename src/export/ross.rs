@@ -52,8 +52,33 @@
 
 use std::fmt::Write as _;
 
+use faer::MatRef;
+
 use crate::error::{Block, Error, Result};
+use crate::frf::Band;
 use crate::identify::Identification;
+use crate::model::Coefficients;
+use crate::per_frequency::PerFrequency;
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// `[[m00, m01], [m10, m11]]` of a 2 × 2 matrix.
+fn two(m: MatRef<'_, f64>) -> Matrix2 {
+    [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]]
+}
+
+/// [`Error::ExportDofs`] unless `dofs` is 2.
+fn check_dofs(dofs: usize) -> Result<()> {
+    if dofs == 2 {
+        Ok(())
+    } else {
+        Err(Error::ExportDofs {
+            format: "a ROSS bearing element",
+            dofs,
+            expected: 2,
+        })
+    }
+}
 
 /// The fewest points of a coefficient table: ROSS 3.x warns below this
 /// (`MIN_RECOMMENDED_AXIS_POINTS`), interpolating sparser tables poorly.
@@ -96,10 +121,9 @@ impl BearingElement {
     /// `tag`, with the coefficients of `table`.
     ///
     /// # Errors
-    /// [`Error::ExportDofs`] unless the identification has 2 degrees of freedom;
-    /// [`Error::InvalidParameter`] for [`Table::PerFrequency`] with fewer than [`MIN_POINTS`]
-    /// lines or lines not strictly increasing; [`Error::NonFiniteCoefficient`] for a
-    /// per-frequency coefficient that is not finite (a fitted one always is).
+    /// As [`BearingElement::constant`] and [`BearingElement::per_frequency`]: the
+    /// identification must have 2 degrees of freedom, and 5 lines or more for
+    /// [`Table::PerFrequency`].
     ///
     /// # Examples
     /// ```
@@ -116,60 +140,108 @@ impl BearingElement {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn new(id: &Identification, node: usize, tag: &str, table: Table) -> Result<Self> {
-        let coefficients = id.coefficients();
-        let dofs = coefficients.dofs();
-        if dofs != 2 {
-            return Err(Error::ExportDofs {
-                format: "a ROSS bearing element",
-                dofs,
-                expected: 2,
-            });
-        }
-        let two = |m: faer::MatRef<'_, f64>| [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]];
-        let mass = two(coefficients.mass());
-        let two_pi = 2.0 * std::f64::consts::PI;
-        let (frequency_rad_s, stiffness, damping) = match table {
-            Table::Constant => {
-                let band = id.band();
-                let (lo, hi) = (band.low_hz(), band.high_hz());
-                let last = (MIN_POINTS - 1) as f64;
-                let frequency: Vec<f64> = (0..MIN_POINTS)
-                    .map(|p| two_pi * (lo + (hi - lo) * p as f64 / last))
-                    .collect();
-                (
-                    frequency,
-                    vec![two(coefficients.stiffness()); MIN_POINTS],
-                    vec![two(coefficients.damping()); MIN_POINTS],
-                )
-            }
+        match table {
+            Table::Constant => Self::constant(id.coefficients(), id.band(), node, tag),
             Table::PerFrequency => {
                 let pf = id.per_frequency()?;
-                let freqs = pf.freqs_hz();
-                if freqs.len() < MIN_POINTS || freqs.windows(2).any(|w| w[1] <= w[0]) {
-                    return Err(Error::InvalidParameter {
-                        name: "per-frequency lines",
-                        value: freqs.len() as f64,
-                        expected: "at least 5 lines, strictly increasing (ROSS tables)",
-                    });
-                }
-                (
-                    freqs.iter().map(|f| two_pi * f).collect(),
-                    (0..freqs.len()).map(|k| two(pf.stiffness(k))).collect(),
-                    (0..freqs.len()).map(|k| two(pf.damping(k))).collect(),
-                )
+                Self::per_frequency(&pf, id.coefficients().mass(), node, tag)
             }
-        };
-        let points = frequency_rad_s.len();
-        let element = Self {
+        }
+    }
+
+    /// The constant coefficients `coefficients` (e.g. a bearing's own, system minus dry
+    /// structure, [`Identification::subtract_baseline`]) at [`MIN_POINTS`] points evenly
+    /// spread over `band`.
+    ///
+    /// # Errors
+    /// [`Error::ExportDofs`] unless `coefficients` are 2 × 2.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Band, Coefficients};
+    /// use bearing_ident::export::ross::BearingElement;
+    /// use bearing_ident::faer::mat;
+    /// let c = Coefficients::new(
+    ///     mat![[0.5, 0.0], [0.0, 0.5]],
+    ///     mat![[110.0, 5.0], [-5.0, 110.0]],
+    ///     mat![[2e5, 1e4], [-1e4, 2e5]],
+    /// )?;
+    /// let brg = BearingElement::constant(&c, Band::new(10.0, 50.0)?, 4, "sfd")?;
+    /// assert_eq!(brg.frequency_rad_s()[4], 100.0 * std::f64::consts::PI);
+    /// assert_eq!(brg.stiffness(2)[1][0], -1e4);
+    /// assert_eq!(brg.damping(4)[0][1], 5.0);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn constant(
+        coefficients: &Coefficients,
+        band: Band,
+        node: usize,
+        tag: &str,
+    ) -> Result<Self> {
+        check_dofs(coefficients.dofs())?;
+        let (lo, hi) = (band.low_hz(), band.high_hz());
+        let last = (MIN_POINTS - 1) as f64;
+        let frequency_rad_s = (0..MIN_POINTS)
+            .map(|p| TWO_PI * (lo + (hi - lo) * p as f64 / last))
+            .collect();
+        Self {
             node,
             tag: tag.to_owned(),
             frequency_rad_s,
-            stiffness,
-            damping,
-            mass: vec![mass; points],
-        };
-        element.check_finite()?;
-        Ok(element)
+            stiffness: vec![two(coefficients.stiffness()); MIN_POINTS],
+            damping: vec![two(coefficients.damping()); MIN_POINTS],
+            mass: vec![two(coefficients.mass()); MIN_POINTS],
+        }
+        .checked()
+    }
+
+    /// `K(ω)`, `C(ω)` of `per_frequency` at its every line, with the constant `mass`.
+    ///
+    /// # Errors
+    /// [`Error::ExportDofs`] unless 2 × 2; [`Error::InvalidParameter`] for fewer than
+    /// [`MIN_POINTS`] lines, lines not strictly increasing, or `mass` not 2 × 2;
+    /// [`Error::NonFiniteCoefficient`] for a term that is not finite.
+    pub fn per_frequency(
+        per_frequency: &PerFrequency,
+        mass: MatRef<'_, f64>,
+        node: usize,
+        tag: &str,
+    ) -> Result<Self> {
+        let freqs = per_frequency.freqs_hz();
+        if let Some(k) = (!freqs.is_empty()).then(|| per_frequency.stiffness(0)) {
+            check_dofs(k.nrows())?;
+        }
+        if mass.nrows() != 2 || mass.ncols() != 2 {
+            return Err(Error::InvalidParameter {
+                name: "mass matrix size",
+                value: mass.nrows() as f64,
+                expected: "2 × 2",
+            });
+        }
+        if freqs.len() < MIN_POINTS || freqs.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidParameter {
+                name: "per-frequency lines",
+                value: freqs.len() as f64,
+                expected: "at least 5 lines, strictly increasing (ROSS tables)",
+            });
+        }
+        let lines = 0..freqs.len();
+        Self {
+            node,
+            tag: tag.to_owned(),
+            frequency_rad_s: freqs.iter().map(|f| TWO_PI * f).collect(),
+            stiffness: lines.clone().map(|k| two(per_frequency.stiffness(k))).collect(),
+            damping: lines.map(|k| two(per_frequency.damping(k))).collect(),
+            mass: vec![two(mass); freqs.len()],
+        }
+        .checked()
+    }
+
+    /// `self` if every term is finite, else [`Error::NonFiniteCoefficient`] at the first one
+    /// that is not.
+    fn checked(self) -> Result<Self> {
+        self.check_finite()?;
+        Ok(self)
     }
 
     /// [`Error::NonFiniteCoefficient`] at the first term that is not finite.

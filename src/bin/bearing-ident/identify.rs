@@ -174,6 +174,8 @@ pub struct IdentifyArgs {
     /// draws a few of the first 32 files (read again for it).
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
+    #[command(flatten)]
+    export: crate::export::ExportArgs,
     /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
     /// case of their dataset 58 time histories: force channels of data type 13, displacement
     /// channels of data type 8, each sorted by direction, then node; `--force`, `--disp`,
@@ -401,6 +403,7 @@ const MAX_BASELINE_BYTES: u64 = 1 << 24;
 /// one at a time).
 pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
+    crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
     let start = Instant::now();
     let first = read_record(&args.files[0], &layout)?;
     let crest = if args.excitation == ExcitationArg::Auto {
@@ -465,6 +468,8 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         let checks = (excitation == Excitation::Impact).then(ImpactChecks::default);
         write_report(dir, &id, &records, &context, None, checks)?;
     }
+    let bearing = context.bearing.as_ref().map(|(b, _, _)| b);
+    crate::export::write(&args.export, &id, bearing, args.per_frequency)?;
     emit(&id, &context, None, args.json)
 }
 

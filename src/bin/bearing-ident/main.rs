@@ -10,6 +10,7 @@
 //! and `report.rs`.
 
 mod demo;
+mod export;
 mod failure;
 mod identify;
 mod inspect;

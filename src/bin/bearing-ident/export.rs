@@ -1,0 +1,106 @@
+//! `identify --uff OUT` and `identify --ross OUT.toml|OUT.json`: the result written for modal
+//! software (Universal File dataset 58) and for ROSS (a bearing element).
+
+use std::path::{Path, PathBuf};
+
+use bearing_ident::export::ross::{BearingElement, Table};
+use bearing_ident::uff::ByteOrder;
+use bearing_ident::{Coefficients, Identification};
+use clap::ValueEnum;
+
+use crate::failure::{Failure, invalid};
+
+#[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
+pub enum UffEncoding {
+    /// Dataset 58, values in `E20.12` (13 significant digits).
+    Ascii,
+    /// Dataset 58b, values as little-endian `f64` (every bit).
+    Binary,
+}
+
+/// The export flags of `identify`.
+#[derive(Debug, clap::Args)]
+pub struct ExportArgs {
+    /// Write the measured impedances H and flexibilities G, the fitted model's H and G and the
+    /// coherences as Universal File dataset 58 FRFs to OUT (DOF d at node 1 + (d−1)/6,
+    /// direction (d−1) mod 6 + 1: 1 +X, 2 +Y, …).
+    #[arg(long, value_name = "OUT")]
+    uff: Option<PathBuf>,
+    /// Encoding of `--uff`.
+    #[arg(long, value_enum, default_value = "ascii", requires = "uff")]
+    uff_encoding: UffEncoding,
+    /// Write a ROSS 3.x bearing element to OUT (`.json`: JSON, else TOML), loadable with
+    /// `ross.BearingElement.load(OUT)`: the fitted constant M, C, K at 5 points over the band
+    /// (the bearing's own, system − baseline, with `--baseline`), or with `--per-frequency`
+    /// K(ω), C(ω) at every line with the fitted M. 2-DOF results only.
+    #[arg(long, value_name = "OUT")]
+    ross: Option<PathBuf>,
+    /// ROSS node of the bearing element (`n`).
+    #[arg(long, default_value_t = 0, requires = "ross")]
+    ross_node: usize,
+    /// Tag of the bearing element (`tag`; the table is `BearingElement_<tag>`).
+    #[arg(long, default_value = "brg1", requires = "ross")]
+    ross_tag: String,
+}
+
+/// Refuses, before any work, what [`write`] could not do: a per-frequency ROSS table of a
+/// baseline-subtracted bearing.
+pub fn check(args: &ExportArgs, baseline: bool, per_frequency: bool) -> Result<(), Failure> {
+    if args.ross.is_some() && baseline && per_frequency {
+        return Err(invalid(
+            "--ross with --per-frequency and --baseline: per-frequency tables are of the whole \
+             test system; drop --per-frequency to export the bearing's constant M, C, K"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Writes the files asked for. `bearing` is the bearing's own coefficients when a baseline
+/// was subtracted; `per_frequency` is `--per-frequency`.
+pub fn write(
+    args: &ExportArgs,
+    id: &Identification,
+    bearing: Option<&Coefficients>,
+    per_frequency: bool,
+) -> Result<(), Failure> {
+    if let Some(path) = &args.uff {
+        let functions = bearing_ident::export::uff::functions(id, 1)?;
+        let mut bytes = Vec::new();
+        match args.uff_encoding {
+            UffEncoding::Ascii => bearing_ident::uff::write(&mut bytes, &functions)?,
+            UffEncoding::Binary => {
+                bearing_ident::uff::write_binary(&mut bytes, &functions, ByteOrder::Little)?
+            }
+        }
+        save(path, &bytes)?;
+    }
+    if let Some(path) = &args.ross {
+        let (node, tag) = (args.ross_node, args.ross_tag.as_str());
+        let element = match (bearing, per_frequency) {
+            (None, false) => BearingElement::new(id, node, tag, Table::Constant)?,
+            (None, true) => BearingElement::new(id, node, tag, Table::PerFrequency)?,
+            (Some(b), false) => BearingElement::constant(b, id.band(), node, tag)?,
+            (Some(_), true) => return check(args, true, true),
+        };
+        let json = path
+            .extension()
+            .and_then(|x| x.to_str())
+            .is_some_and(|x| x.eq_ignore_ascii_case("json"));
+        let text = if json {
+            element.to_json()
+        } else {
+            element.to_toml()
+        };
+        save(path, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Writes `bytes` to `path`; an `io_error` naming the file otherwise.
+fn save(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    std::fs::write(path, bytes).map_err(|e| Failure {
+        kind: "io_error",
+        message: format!("{}: {e}", path.display()),
+    })
+}
