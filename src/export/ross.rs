@@ -230,7 +230,10 @@ impl BearingElement {
             node,
             tag: tag.to_owned(),
             frequency_rad_s: freqs.iter().map(|f| TWO_PI * f).collect(),
-            stiffness: lines.clone().map(|k| two(per_frequency.stiffness(k))).collect(),
+            stiffness: lines
+                .clone()
+                .map(|k| two(per_frequency.stiffness(k)))
+                .collect(),
             damping: lines.map(|k| two(per_frequency.damping(k))).collect(),
             mass: vec![two(mass); freqs.len()],
         }
@@ -441,14 +444,14 @@ mod tests {
     fn arrays_are_floats_to_the_last_bit() {
         let v = [146300.0, 1e-7, -2.5e20, 0.1, 1.0 / 3.0];
         let text = array(&v, ", ");
-        assert_eq!(
-            text,
-            "[146300.0, 1e-7, -2.5e20, 0.1, 0.3333333333333333]"
-        );
+        assert_eq!(text, "[146300.0, 1e-7, -2.5e20, 0.1, 0.3333333333333333]");
         let back: Vec<f64> = text[1..text.len() - 1]
             .split(", ")
             .map(|x| x.parse().unwrap())
             .collect();
-        assert_eq!(back.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), v.map(f64::to_bits));
+        assert_eq!(
+            back.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            v.map(f64::to_bits)
+        );
     }
 }

@@ -213,9 +213,10 @@ fn abscissa(freqs: &[f64]) -> Abscissa {
         [first, .., last] => {
             let dx = (last - first) / (n - 1) as f64;
             let on_grid = dx > 0.0
-                && freqs.iter().enumerate().all(|(k, f)| {
-                    (f - (first + k as f64 * dx)).abs() <= BAND_EDGE_SLACK * dx
-                });
+                && freqs
+                    .iter()
+                    .enumerate()
+                    .all(|(k, f)| (f - (first + k as f64 * dx)).abs() <= BAND_EDGE_SLACK * dx);
             if on_grid {
                 Abscissa::Even { x0: *first, dx, n }
             } else {
@@ -350,7 +351,13 @@ impl Header {
             ),
         };
         Function {
-            id: [what, self.fit.clone(), "NONE".into(), dofs, self.window.clone()],
+            id: [
+                what,
+                self.fit.clone(),
+                "NONE".into(),
+                dofs,
+                self.window.clone(),
+            ],
             function_type,
             function_id: 0,
             version: 0,
