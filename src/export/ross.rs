@@ -97,7 +97,7 @@ pub enum Table {
     #[default]
     Constant,
     /// `K(ω) = Re H + ω²M` and `C(ω) = Im H/ω` at every line used, with the fitted `M`
-    /// ([`PerFrequency`](crate::PerFrequency)).
+    /// ([`PerFrequency`]).
     PerFrequency,
 }
 

@@ -118,7 +118,7 @@ pub fn functions(id: &Identification, node: i64) -> Result<Vec<Function>> {
         },
     };
     let mut out = Vec::new();
-    let kinds: [(&str, Kind, &dyn Fn(usize, usize, usize) -> c64); 4] = [
+    let kinds: [(&str, Kind, &Element); 4] = [
         ("Measured impedance H", Kind::Impedance, &|k, i, j| {
             frf.impedance(k)[(i, j)]
         }),
@@ -270,6 +270,9 @@ impl<'a> Model<'a> {
         Ok((h, g))
     }
 }
+
+/// Element `(i, j)` at line `k` of one kind of function.
+type Element<'a> = dyn Fn(usize, usize, usize) -> c64 + 'a;
 
 /// Which quantity a function holds: its data types and units.
 #[derive(Clone, Copy)]
