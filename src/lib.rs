@@ -81,8 +81,11 @@
 //!   HTML report, drawn by plotters' SVG backend (no system libraries);
 //! - `uff` — [`uff`]: read and write Universal File Format dataset 58 / 58b (time histories,
 //!   FRFs, coherence, spectra; ASCII and binary) and build records from its time histories;
-//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `csv`, `json`, `serde` and
-//!   `plot`);
+//! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
+//!   (TOML or JSON), constant or per frequency; with `uff`, [`export::uff`] writes the measured
+//!   and model FRFs and the coherences of an identification as dataset 58 functions;
+//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `ross`, `csv`, `json`,
+//!   `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build.
 //!

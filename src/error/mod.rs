@@ -471,8 +471,7 @@ pub enum Error {
         message: String,
     },
     /// An identification exported to a format of a fixed number of degrees of freedom has
-    /// another: a ROSS bearing element is 2-DOF (`x`, `y`).
-    #[cfg(feature = "ross")]
+    /// another: a ROSS bearing element (feature `ross`) is 2-DOF (`x`, `y`).
     #[error("{format} needs {expected} degrees of freedom; this identification has {dofs}")]
     ExportDofs {
         /// What was asked for.
@@ -557,7 +556,6 @@ impl Error {
             Error::Uff { .. } => "malformed_uff",
             #[cfg(feature = "uff")]
             Error::UffRecord { .. } => "inconsistent_records",
-            #[cfg(feature = "ross")]
             Error::ExportDofs { .. } => "invalid_argument",
         }
     }
@@ -695,7 +693,6 @@ mod tests {
     }
 
     #[test]
-    #[cfg(feature = "ross")]
     fn export_dofs_name_both_counts() {
         let e = Error::ExportDofs {
             format: "a ROSS bearing element",
