@@ -70,11 +70,12 @@ use crate::uff::{Abscissa, Axis, DataType, Dof, Function, FunctionType, Ordinate
 /// let records = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
 /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
 /// let f = functions(&id, 1)?;
-/// // Four kinds of FRF for each of the 2 × 2 pairs (one impact per direction: no coherence).
-/// assert_eq!(f.len(), 16);
-/// assert_eq!(f[1].id[0], "Model impedance H(1,2)");
-/// assert_eq!(f[1].function_type, FunctionType::Frf);
-/// assert_eq!((f[1].response.direction, f[1].reference.direction), (1, 2));
+/// // Four kinds of FRF for each of the 2 × 2 pairs, then 4 ordinary and 2 multiple coherences.
+/// assert_eq!(f.len(), 16 + 4 + 2);
+/// assert_eq!(f[16].function_type, FunctionType::Coherence);
+/// assert_eq!(f[5].id[0], "Model impedance H(1,2)");
+/// assert_eq!(f[5].function_type, FunctionType::Frf);
+/// assert_eq!((f[5].response.direction, f[5].reference.direction), (1, 2));
 /// // 49 lines, 1/1.2 s apart, from 8.33 Hz.
 /// let Abscissa::Even { x0, dx, n } = f[0].abscissa else { panic!("uneven") };
 /// assert_eq!(n, 49);
