@@ -8,7 +8,7 @@ use faer::c64;
 
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Channel, Error, Result};
-use crate::records::{Record, check_against, common_shape};
+use crate::records::{Record, Response, check_against, common_shape};
 use crate::spectra::{ForceGate, Segmentation, SpectralEstimator, Window};
 
 /// What one record contributes to an estimator, computed independently of the others (so that
@@ -48,6 +48,9 @@ pub(super) struct Plan {
     pub(super) seg_len: usize,
     pub(super) lines: Vec<usize>,
     pub(super) resolution_hz: f64,
+    /// Per band line, the factors $1/s^p$ that turn a response of order `p` (displacement,
+    /// velocity, acceleration) into displacement ([`Response::to_displacement`]).
+    pub(super) to_displacement: Vec<[Option<c64>; 3]>,
 }
 
 /// Collects records one at a time into what an estimator needs — band-line spectra for paired
@@ -234,6 +237,8 @@ impl FrfBuilder {
                 let seg_len = self.segmentation.segment_len(record.len())?;
                 let lines = self.band.lines(record.sample_rate(), seg_len)?;
                 let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window)?;
+                let to_displacement =
+                    to_displacement(&lines, spectral.resolution_hz(), self.window);
                 let plan = Plan {
                     n,
                     sample_rate: record.sample_rate(),
@@ -241,6 +246,7 @@ impl FrfBuilder {
                     seg_len,
                     resolution_hz: spectral.resolution_hz(),
                     lines,
+                    to_displacement,
                 };
                 let size = plan.lines.len() * n * n;
                 if self.estimator.is_cross_spectral() {
@@ -446,8 +452,13 @@ fn contribute(
                 forces[l * n + c] = spec[k];
             }
             let spec = spectral.transform(&record.displacement(c)[seg.clone()]);
+            let order = record.response(c).order() as usize;
             for (l, &k) in lines.iter().enumerate() {
-                displacements[l * n + c] = spec[k];
+                displacements[l * n + c] = match (order, plan.to_displacement[l][order]) {
+                    (0, _) => spec[k],
+                    (_, Some(factor)) => spec[k] * factor,
+                    (_, None) => return Err(response_at_dc(record, plan, c, l)),
+                };
             }
         }
         for (values, channel) in [
@@ -523,6 +534,31 @@ fn contribute(
                 sx,
             })
         }
+    }
+}
+
+/// Per line of `lines` (spacing `resolution_hz`), the factors $1/s^p$, $p = 0, 1, 2$, with
+/// $s = \sigma + i\omega$ and $\sigma$ the exponential window's decay (0 for the others): the
+/// conversion of velocity and acceleration spectra to displacement at the band lines, before any
+/// cross-spectral sum, so that every estimator sees displacement (see [`Response`]).
+fn to_displacement(lines: &[usize], resolution_hz: f64, window: Window) -> Vec<[Option<c64>; 3]> {
+    let sigma = window.decay_per_s().unwrap_or(0.0);
+    lines
+        .iter()
+        .map(|&k| {
+            let omega = 2.0 * std::f64::consts::PI * k as f64 * resolution_hz;
+            Response::ALL.map(|r| r.divisor(sigma, omega))
+        })
+        .collect()
+}
+
+/// [`Error::ResponseAtZeroFrequency`] for response channel `c` of `record` at line `l`.
+fn response_at_dc(record: &Record, plan: &Plan, c: usize, l: usize) -> Error {
+    Error::ResponseAtZeroFrequency {
+        record: record.label().to_owned(),
+        channel: Channel::Displacement(c),
+        response: record.response(c),
+        freq_hz: plan.lines[l] as f64 * plan.resolution_hz,
     }
 }
 

@@ -9,7 +9,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
-use crate::records::Record;
+use crate::records::{Record, Response};
 
 /// One half-sine force pulse `f(t) = peak · d · sin(π (t − start)/duration)` on
 /// `start ≤ t ≤ start + duration`.
@@ -60,6 +60,9 @@ pub struct ImpactTest {
     pub seed: u64,
     /// Anti-alias filter of the simulated acquisition.
     pub anti_alias: AntiAlias,
+    /// What the response channels record: none (displacement), one kind for all, or one per
+    /// degree of freedom (see [`Simulator::responding`]).
+    pub responses: Vec<Response>,
 }
 
 impl ImpactTest {
@@ -77,6 +80,7 @@ impl ImpactTest {
             noise: 0.0,
             seed: 1,
             anti_alias: AntiAlias::default(),
+            responses: Vec::new(),
         }
     }
 
@@ -91,7 +95,8 @@ impl ImpactTest {
     /// Noise-free records of the test on `system`, hits along DOF 0 first, then DOF 1, ….
     ///
     /// # Errors
-    /// As [`Simulator::new`], [`Simulator::record`], [`sample_count`] and [`slowest_decay`]
+    /// As [`Simulator::new`], [`Simulator::responding`], [`Simulator::record`],
+    /// [`sample_count`] and [`slowest_decay`]
     /// (a mass that is not positive definite, a mode that does not decay);
     /// [`Error::InvalidParameter`] if the slowest mode has not decayed to `10⁻⁶` of its
     /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
@@ -116,7 +121,8 @@ impl ImpactTest {
                 expected: "long enough for the slowest mode to decay to 1e-6",
             });
         }
-        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?;
+        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?
+            .responding(&self.responses)?;
         let mut out = Vec::with_capacity(n * self.per_direction);
         for dof in 0..n {
             for hit in 0..self.per_direction {
