@@ -614,3 +614,69 @@ fn overflow_check(
         peak: samples.iter().fold(0.0, |m, v| m.max(v.abs())),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn conversion_divides_by_s_with_the_window_decay() {
+        let window = Window::exponential(3.0).unwrap();
+        let factors = to_displacement(&[2], 0.5, window);
+        let s = c64::new(3.0, 2.0 * std::f64::consts::PI);
+        let one = c64::new(1.0, 0.0);
+        let [d, v, a] = factors[0].map(Option::unwrap);
+        assert!((d - one).norm() < 1e-15);
+        assert!((v * s - one).norm() < 1e-15);
+        assert!((a * s * s - one).norm() < 1e-15);
+        // No window: s = iω; DC has no conversion.
+        let factors = to_displacement(&[0, 1], 1.0, Window::Rectangular);
+        assert_eq!(factors[0][1], None);
+        assert_eq!(factors[0][2], None);
+        assert!(
+            (factors[1][1].unwrap() * c64::new(0.0, 2.0 * std::f64::consts::PI) - one).norm()
+                < 1e-15
+        );
+    }
+
+    #[test]
+    fn a_velocity_line_at_dc_is_a_typed_error() {
+        let record = Record::new(
+            "v",
+            8.0,
+            vec![vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
+            vec![vec![0.0; 8]],
+        )
+        .unwrap()
+        .with_responses(vec![Response::Velocity])
+        .unwrap();
+        let mut spectral = SpectralEstimator::new(8, 8.0, Window::Rectangular).unwrap();
+        let plan = Plan {
+            n: 1,
+            sample_rate: 8.0,
+            len: 8,
+            seg_len: 8,
+            lines: vec![0, 1],
+            resolution_hz: 1.0,
+            to_displacement: to_displacement(&[0, 1], 1.0, Window::Rectangular),
+        };
+        let e = contribute(
+            Estimator::PairedSets,
+            Segmentation::WholeRecord,
+            &plan,
+            &mut spectral,
+            &record,
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            Error::ResponseAtZeroFrequency {
+                record: "v".into(),
+                channel: Channel::Displacement(0),
+                response: Response::Velocity,
+                freq_hz: 0.0
+            }
+        );
+        assert_eq!(e.kind(), "bad_band");
+    }
+}
