@@ -207,10 +207,9 @@ fn impacts_from_velocity_and_acceleration_recover_the_rig() {
     let records = |kind| {
         ImpactTest {
             per_direction: 2,
-            responses: vec![kind],
             ..ImpactTest::seed_rig()
         }
-        .run(&truth)
+        .run_responding(&truth, &[kind])
         .unwrap()
     };
     println!("impacts, rectangular window:");
@@ -234,11 +233,10 @@ fn without_a_filter_acceleration_aliases() {
     let records = |kind| {
         ImpactTest {
             per_direction: 2,
-            responses: vec![kind],
             anti_alias: AntiAlias::None,
             ..ImpactTest::seed_rig()
         }
-        .run(&truth)
+        .run_responding(&truth, &[kind])
         .unwrap()
     };
     println!("impacts, no anti-alias filter:");
@@ -388,11 +386,10 @@ fn filtered_acceleration_is_the_equation_of_motion() {
         let records = |kind| {
             ImpactTest {
                 per_direction: 1,
-                responses: vec![kind],
                 anti_alias: aa,
                 ..ImpactTest::seed_rig()
             }
-            .run(&truth)
+            .run_responding(&truth, &[kind])
             .unwrap()
             .remove(0)
         };
@@ -418,9 +415,9 @@ fn filtered_acceleration_is_the_equation_of_motion() {
                 (m[(1, 1)] * rhs[0] - m[(0, 1)] * rhs[1]) / det,
                 (m[(0, 0)] * rhs[1] - m[(1, 0)] * rhs[0]) / det,
             ];
-            for i in 0..2 {
-                worst = worst.max((a.displacement(i)[s] - want[i]).abs());
-                peak = peak.max(want[i].abs());
+            for (i, want) in want.iter().enumerate() {
+                worst = worst.max((a.displacement(i)[s] - want).abs());
+                peak = peak.max(want.abs());
             }
         }
         println!("{aa:?}: max |a − M⁻¹(f − Cv − Kx)| {worst:.2e} m/s², peak {peak:.1} m/s²");

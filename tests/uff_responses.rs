@@ -21,10 +21,9 @@ fn mixed_records() -> Vec<Record> {
     ImpactTest {
         per_direction: 2,
         sample_rate: FS,
-        responses: vec![Response::Velocity, Response::Acceleration],
         ..ImpactTest::seed_rig()
     }
-    .run(&seed_rig())
+    .run_responding(&seed_rig(), &[Response::Velocity, Response::Acceleration])
     .unwrap()
 }
 
@@ -73,7 +72,11 @@ fn data_types_11_and_12_are_velocity_and_acceleration() {
         .enumerate()
         .flat_map(|(i, r)| functions(r, i as i64 + 1))
         .collect();
-    let back = uff::records(&uff::parse(&binary(&all), "mixed.uff").unwrap(), "mixed.uff").unwrap();
+    let back = uff::records(
+        &uff::parse(&binary(&all), "mixed.uff").unwrap(),
+        "mixed.uff",
+    )
+    .unwrap();
     assert_eq!(back.len(), records.len());
     for (a, b) in back.iter().zip(&records) {
         assert_eq!(a.responses(), &[Response::Velocity, Response::Acceleration]);
@@ -160,7 +163,12 @@ fn bin() -> Command {
 }
 
 fn identify_json(args: &[&str]) -> serde_json::Value {
-    let out = bin().arg("identify").args(args).arg("--json").output().unwrap();
+    let out = bin()
+        .arg("identify")
+        .args(args)
+        .arg("--json")
+        .output()
+        .unwrap();
     serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
         panic!(
             "{}\n{}",
@@ -183,13 +191,28 @@ fn k(v: &serde_json::Value) -> Vec<f64> {
 fn command_line_velocity_csv_and_uff_give_the_displacement_result() {
     let dir = tempfile::tempdir().unwrap();
     let path = |p: &str| dir.path().join(p).display().to_string();
-    for (sub, response) in [("d", "displacement"), ("v", "velocity"), ("a", "acceleration,velocity")] {
+    for (sub, response) in [
+        ("d", "displacement"),
+        ("v", "velocity"),
+        ("a", "acceleration,velocity"),
+    ] {
         let out = bin()
-            .args(["simulate", "--impacts", "2", "--response", response, "--out"])
+            .args([
+                "simulate",
+                "--impacts",
+                "2",
+                "--response",
+                response,
+                "--out",
+            ])
             .arg(path(sub))
             .output()
             .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
     let files = |sub: &str| -> Vec<String> {
         let mut f: Vec<String> = std::fs::read_dir(path(sub))
@@ -210,7 +233,10 @@ fn command_line_velocity_csv_and_uff_give_the_displacement_result() {
         let kv = k(&identify_json(&args));
         for (a, b) in kv.iter().zip(&kd) {
             // Both within the simulation's error budget (`common::EXACT`) of the truth.
-            assert!((a - b).abs() < 2.0 * common::EXACT * 169.1e3, "{sub}: {kv:?} vs {kd:?}");
+            assert!(
+                (a - b).abs() < 2.0 * common::EXACT * 169.1e3,
+                "{sub}: {kv:?} vs {kd:?}"
+            );
         }
     }
     // Velocity columns without --response: the x,y columns are missing.
@@ -259,7 +285,9 @@ fn command_line_velocity_csv_and_uff_give_the_displacement_result() {
     }
     // A channel the file does not hold: an error naming the file and the channel.
     let out = bin()
-        .args(["identify", "--band", "8,49", "--json", "--force", "9+X,1+Y", "--disp", "2+X,2+Y"])
+        .args([
+            "identify", "--band", "8,49", "--json", "--force", "9+X,1+Y", "--disp", "2+X,2+Y",
+        ])
         .arg(&uff_path)
         .output()
         .unwrap();
@@ -268,7 +296,9 @@ fn command_line_velocity_csv_and_uff_give_the_displacement_result() {
     assert!(text.contains("mixed.uff") && text.contains("9+X"), "{text}");
     // A bad channel name.
     let out = bin()
-        .args(["identify", "--json", "--force", "9X,1+Y", "--disp", "2+X,2+Y"])
+        .args([
+            "identify", "--json", "--force", "9X,1+Y", "--disp", "2+X,2+Y",
+        ])
         .arg(&uff_path)
         .output()
         .unwrap();

@@ -406,9 +406,13 @@ mod tests {
             } else {
                 (wave(1e-3, p), Response::Velocity)
             };
-            let r = record(&format!("r{k}"), [wave(10.0, p), wave(2.0, p)], [x0, wave(1e-7, p)])
-                .with_responses(vec![kind, Response::Displacement])
-                .unwrap();
+            let r = record(
+                &format!("r{k}"),
+                [wave(10.0, p), wave(2.0, p)],
+                [x0, wave(1e-7, p)],
+            )
+            .with_responses(vec![kind, Response::Displacement])
+            .unwrap();
             assert_eq!(s.push(&r), vec![]);
         }
         assert_eq!(s.across(&[]), vec![]);
@@ -417,13 +421,19 @@ mod tests {
         for k in 0..7 {
             let p = k as f64;
             let x0 = wave(if k < 4 { 1e-6 } else { 1e-3 }, p);
-            s.push(&record(&format!("r{k}"), [wave(10.0, p), wave(2.0, p)], [x0, wave(1e-7, p)]));
+            s.push(&record(
+                &format!("r{k}"),
+                [wave(10.0, p), wave(2.0, p)],
+                [x0, wave(1e-7, p)],
+            ));
         }
         let found = s.across(&[]);
         assert_eq!(found.len(), 3, "{found:?}");
-        assert!(found
-            .iter()
-            .all(|(r, w)| *r >= 4 && matches!(w, Warning::LevelOutlier { .. })));
+        assert!(
+            found
+                .iter()
+                .all(|(r, w)| *r >= 4 && matches!(w, Warning::LevelOutlier { .. }))
+        );
     }
 
     #[test]

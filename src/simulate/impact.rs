@@ -60,9 +60,6 @@ pub struct ImpactTest {
     pub seed: u64,
     /// Anti-alias filter of the simulated acquisition.
     pub anti_alias: AntiAlias,
-    /// What the response channels record: none (displacement), one kind for all, or one per
-    /// degree of freedom (see [`Simulator::responding`]).
-    pub responses: Vec<Response>,
 }
 
 impl ImpactTest {
@@ -80,7 +77,6 @@ impl ImpactTest {
             noise: 0.0,
             seed: 1,
             anti_alias: AntiAlias::default(),
-            responses: Vec::new(),
         }
     }
 
@@ -102,6 +98,11 @@ impl ImpactTest {
     /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
     /// more than [`MAX_RECORDS`] records or [`MAX_TOTAL_SAMPLES`] samples in all.
     pub fn run_clean(&self, system: &Coefficients) -> Result<Vec<Record>> {
+        self.clean(system, &[])
+    }
+
+    /// [`ImpactTest::run_clean`] with response channels recording `responses`.
+    fn clean(&self, system: &Coefficients, responses: &[Response]) -> Result<Vec<Record>> {
         let samples = self.samples()?;
         let n = system.dofs();
         let records = self.per_direction as f64 * n as f64;
@@ -122,7 +123,7 @@ impl ImpactTest {
             });
         }
         let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?
-            .responding(&self.responses)?;
+            .responding(responses)?;
         let mut out = Vec::with_capacity(n * self.per_direction);
         for dof in 0..n {
             for hit in 0..self.per_direction {
@@ -156,7 +157,32 @@ impl ImpactTest {
     /// # Errors
     /// As [`ImpactTest::run_clean`] and [`add_noise`].
     pub fn run(&self, system: &Coefficients) -> Result<Vec<Record>> {
-        let clean = self.run_clean(system)?;
+        self.run_responding(system, &[])
+    }
+
+    /// [`ImpactTest::run`] with the response channels recording velocity or acceleration:
+    /// `responses` holds none (displacement), one kind for all, or one per degree of freedom
+    /// (see [`Simulator::responding`]). The noise is [`ImpactTest::noise`] of each channel's
+    /// own RMS.
+    ///
+    /// # Errors
+    /// As [`ImpactTest::run`] and [`Simulator::responding`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Response;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let records = test.run_responding(&seed_rig(), &[Response::Acceleration])?;
+    /// assert_eq!(records[0].responses(), &[Response::Acceleration; 2]);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn run_responding(
+        &self,
+        system: &Coefficients,
+        responses: &[Response],
+    ) -> Result<Vec<Record>> {
+        let clean = self.clean(system, responses)?;
         let mut rng = StdRng::seed_from_u64(self.seed);
         clean
             .iter()

@@ -221,7 +221,11 @@ pub fn records(functions: &[Function], label: &str) -> Result<Vec<Record>> {
 /// response has a data type other than 8, 11 or 12 and `layout.kinds` is empty; when the
 /// numbers of forces and responses named differ; [`Error::LengthMismatch`] for a count of
 /// kinds other than 0, 1 or the degrees of freedom.
-pub fn records_with(functions: &[Function], label: &str, layout: &UffLayout) -> Result<Vec<Record>> {
+pub fn records_with(
+    functions: &[Function],
+    label: &str,
+    layout: &UffLayout,
+) -> Result<Vec<Record>> {
     let mut cases: Vec<i64> = Vec::new();
     for f in functions {
         if f.function_type == FunctionType::TimeResponse && !cases.contains(&f.load_case) {

@@ -314,11 +314,10 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         pulse_s: args.pulse,
         noise: args.noise,
         seed: args.seed,
-        responses: args.response.clone(),
         ..base
     };
     let records = match args.kind {
-        KindArg::Impact => test.run(&system)?,
+        KindArg::Impact => test.run_responding(&system, &args.response)?,
         KindArg::Multisine | KindArg::SteppedSine | KindArg::Sweep => {
             driven_records(args, &system, decay_s)?
         }
