@@ -143,7 +143,7 @@ pub use identify::{
 pub use model::{Coefficients, Mode};
 pub use per_frequency::PerFrequency;
 pub use quality::ImpactChecks;
-pub use records::Record;
+pub use records::{Record, Response};
 pub use solve::ml::{MlOptions, MlReport};
 pub use solve::{Convergence, Fit, Iteration, IvfOptions, Method};
 pub use spectra::{ForceGate, Segmentation, Window};

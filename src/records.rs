@@ -1,12 +1,18 @@
-//! Stage 1: validated time records of forces and displacements.
+//! Stage 1: validated time records of forces and responses.
 //!
-//! A [`Record`] is one test: `n` force channels (N) and `n` displacement channels (m), sampled
-//! together at one rate, one channel per degree of freedom. Validation happens once, when the
-//! record is built: every later stage may assume equal lengths and finite samples.
+//! A [`Record`] is one test: `n` force channels (N) and `n` response channels, sampled
+//! together at one rate, one channel per degree of freedom. A response channel holds
+//! displacement (m, the default), velocity (m/s) or acceleration (m/s²), its [`Response`];
+//! the [`frf`](crate::frf) stage turns every response into displacement at its band lines.
+//! Validation happens once, when the record is built: every later stage may assume equal
+//! lengths and finite samples.
 
 use std::ops::Range;
 
 use crate::error::{Channel, Error, Result};
+
+mod response;
+pub use response::Response;
 
 /// Smallest number of samples a record may have.
 pub const MIN_SAMPLES: usize = 8;
@@ -158,6 +164,8 @@ pub struct Record {
     sample_rate: f64,
     forces: Vec<Vec<f64>>,
     displacements: Vec<Vec<f64>>,
+    /// What each response channel measures.
+    responses: Vec<Response>,
 }
 
 impl Record {
@@ -226,12 +234,61 @@ impl Record {
                 minimum: MIN_SAMPLES,
             });
         }
+        let responses = vec![Response::Displacement; forces.len()];
         Ok(Self {
             label,
             sample_rate,
             forces,
             displacements,
+            responses,
         })
+    }
+
+    /// The same record with response channel `i` measuring `responses[i]` (velocity or
+    /// acceleration records; [`Record::new`] makes every channel a displacement).
+    ///
+    /// # Errors
+    /// [`Error::ResponseCount`] unless there is one kind per degree of freedom (see
+    /// [`Response::per_channel`] for one kind for all).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::records::{Record, Response};
+    /// let r = Record::new("a", 100.0, vec![vec![0.0; 8]; 2], vec![vec![0.0; 8]; 2])?
+    ///     .with_responses(vec![Response::Acceleration, Response::Displacement])?;
+    /// assert_eq!(r.response(0), Response::Acceleration);
+    /// assert_eq!(r.responses(), &[Response::Acceleration, Response::Displacement]);
+    /// assert!(r.clone().with_responses(vec![Response::Velocity]).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn with_responses(mut self, responses: Vec<Response>) -> Result<Self> {
+        if responses.len() != self.dofs() {
+            return Err(Error::ResponseCount {
+                record: self.label,
+                expected: self.forces.len(),
+                actual: responses.len(),
+            });
+        }
+        self.responses = responses;
+        Ok(self)
+    }
+
+    /// What response channel `i` measures.
+    ///
+    /// # Panics
+    /// If `i >= self.dofs()`.
+    pub fn response(&self, i: usize) -> Response {
+        self.responses[i]
+    }
+
+    /// What every response channel measures, one per degree of freedom.
+    pub fn responses(&self) -> &[Response] {
+        &self.responses
+    }
+
+    /// Whether every response channel is a displacement.
+    pub fn is_displacement(&self) -> bool {
+        self.responses.iter().all(|&r| r == Response::Displacement)
     }
 
     /// The record's label, as used in errors and warnings.
@@ -272,7 +329,8 @@ impl Record {
         &self.forces[i]
     }
 
-    /// Displacement channel `i` (m).
+    /// Response channel `i`: displacement (m) unless [`Record::response`] says it measures
+    /// velocity (m/s) or acceleration (m/s²).
     ///
     /// # Panics
     /// If `i >= self.dofs()`.
@@ -316,7 +374,8 @@ impl Record {
             self.sample_rate,
             cut(&self.forces),
             cut(&self.displacements),
-        )
+        )?
+        .with_responses(self.responses.clone())
     }
 
     /// The force channel with the largest energy about its mean: the direction this record

@@ -24,7 +24,7 @@ use std::f64::consts::PI;
 
 use faer::c64;
 
-use crate::error::{Error, Result};
+use crate::error::{Channel, Error, Result};
 use crate::frf::{Assignment, Estimator, Frf, PairedKernel, Share};
 use crate::records::{MIN_SAMPLES, Record, finite_positive, require_finite_positive};
 use crate::spectra::{SpectralEstimator, Window};
@@ -429,7 +429,19 @@ pub fn stepped_sine(
                 freq_hz,
                 forces: (0..n).map(|c| at(r.force(c))).collect::<Result<_>>()?,
                 displacements: (0..n)
-                    .map(|c| at(r.displacement(c)))
+                    .map(|c| {
+                        let response = r.response(c);
+                        let omega = 2.0 * PI * freq_hz;
+                        let value = at(r.displacement(c))?;
+                        response.to_displacement(value, 0.0, omega).ok_or_else(|| {
+                            Error::ResponseAtZeroFrequency {
+                                record: r.label().to_owned(),
+                                channel: Channel::Displacement(c),
+                                response,
+                                freq_hz,
+                            }
+                        })
+                    })
                     .collect::<Result<_>>()?,
             })
         })

@@ -40,6 +40,35 @@ pub enum Error {
         /// Number of displacement channels given.
         displacements: usize,
     },
+    /// A record was given a different number of response kinds than it has response channels.
+    #[error(
+        "record `{record}`: {actual} response kinds for {expected} response channels; \
+         give one per degree of freedom"
+    )]
+    ResponseCount {
+        /// Label of the record.
+        record: String,
+        /// Number of response channels.
+        expected: usize,
+        /// Number of kinds given.
+        actual: usize,
+    },
+    /// A velocity or acceleration channel cannot be turned into displacement at a line where
+    /// $s = \sigma + i\omega$ is zero (DC with no exponential window): $X = V/s$ is not defined.
+    #[error(
+        "record `{record}`: {channel} measures {response}, which has no displacement at \
+         {freq_hz} Hz (X = V/(iω) = A/(−ω²) needs ω ≠ 0): choose a band above 0 Hz"
+    )]
+    ResponseAtZeroFrequency {
+        /// Label of the record.
+        record: String,
+        /// The response channel.
+        channel: Channel,
+        /// What it measures.
+        response: crate::records::Response,
+        /// The line's frequency (Hz).
+        freq_hz: f64,
+    },
     /// A channel of a record is longer or shorter than the record's first force channel.
     #[error("record `{record}`: {channel} has {actual} samples, expected {expected}")]
     ChannelLength {
@@ -520,6 +549,7 @@ impl Error {
             Error::NonUniformTime { .. } => "nonuniform_time",
             Error::InvalidSampleRate { .. }
             | Error::ChannelCount { .. }
+            | Error::ResponseCount { .. }
             | Error::ChannelLength { .. }
             | Error::NoRecords
             | Error::DofMismatch { .. }
@@ -529,7 +559,8 @@ impl Error {
             | Error::AssignmentLength { .. } => "inconsistent_records",
             Error::InvalidBand { .. }
             | Error::BandAboveNyquist { .. }
-            | Error::TooFewLines { .. } => "bad_band",
+            | Error::TooFewLines { .. }
+            | Error::ResponseAtZeroFrequency { .. } => "bad_band",
             Error::RankDeficient { .. } | Error::IncompleteStep { .. } => "rank_deficient",
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",

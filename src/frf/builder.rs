@@ -6,6 +6,7 @@
 use crate::error::SpectrumKind;
 use faer::c64;
 
+use super::conversion::{response_at_dc, to_displacement};
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Channel, Error, Result};
 use crate::records::{Record, check_against, common_shape};
@@ -48,6 +49,9 @@ pub(super) struct Plan {
     pub(super) seg_len: usize,
     pub(super) lines: Vec<usize>,
     pub(super) resolution_hz: f64,
+    /// Per band line, the factors $1/s^p$ that turn a response of order `p` (displacement,
+    /// velocity, acceleration) into displacement ([`Response::to_displacement`]).
+    pub(super) to_displacement: Vec<[Option<c64>; 3]>,
 }
 
 /// Collects records one at a time into what an estimator needs — band-line spectra for paired
@@ -234,6 +238,8 @@ impl FrfBuilder {
                 let seg_len = self.segmentation.segment_len(record.len())?;
                 let lines = self.band.lines(record.sample_rate(), seg_len)?;
                 let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window)?;
+                let to_displacement =
+                    to_displacement(&lines, spectral.resolution_hz(), self.window);
                 let plan = Plan {
                     n,
                     sample_rate: record.sample_rate(),
@@ -241,6 +247,7 @@ impl FrfBuilder {
                     seg_len,
                     resolution_hz: spectral.resolution_hz(),
                     lines,
+                    to_displacement,
                 };
                 let size = plan.lines.len() * n * n;
                 if self.estimator.is_cross_spectral() {
@@ -427,7 +434,7 @@ impl FrfBuilder {
 }
 
 /// One record's contribution: its band-line spectra (paired) or its segment sums (H1).
-fn contribute(
+pub(super) fn contribute(
     estimator: Estimator,
     segmentation: Segmentation,
     plan: &Plan,
@@ -446,8 +453,13 @@ fn contribute(
                 forces[l * n + c] = spec[k];
             }
             let spec = spectral.transform(&record.displacement(c)[seg.clone()]);
+            let order = record.response(c).order() as usize;
             for (l, &k) in lines.iter().enumerate() {
-                displacements[l * n + c] = spec[k];
+                displacements[l * n + c] = match (order, plan.to_displacement[l][order]) {
+                    (0, _) => spec[k],
+                    (_, Some(factor)) => spec[k] * factor,
+                    (_, None) => return Err(response_at_dc(record, plan, c, l)),
+                };
             }
         }
         for (values, channel) in [

@@ -31,6 +31,7 @@ mod assignment;
 mod band;
 mod builder;
 mod coherence;
+mod conversion;
 mod cross;
 mod h1;
 mod h2;

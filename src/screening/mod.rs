@@ -242,7 +242,7 @@ pub(crate) fn reason(warning: &Warning) -> String {
 mod tests {
     use super::*;
     use crate::error::Channel;
-    use crate::records::Record;
+    use crate::records::{Record, Response};
     use faer::{Mat, c64};
 
     fn record(label: &str, f: [Vec<f64>; 2], x: [Vec<f64>; 2]) -> Record {
@@ -392,6 +392,48 @@ mod tests {
         // Left out, a record neither is judged nor counts.
         let found = s.across(&[false, false, true, false, true]);
         assert_eq!(found, vec![]);
+    }
+
+    #[test]
+    fn levels_compare_only_responses_of_one_kind() {
+        // Four displacement records (1e-6 m) and three of velocity (1e-3 m/s) on channel 0:
+        // neither kind looks dead or out of level beside the other.
+        let mut s = Screener::new(Checks::without_double_hits());
+        for k in 0..7 {
+            let p = k as f64;
+            let (x0, kind) = if k < 4 {
+                (wave(1e-6, p), Response::Displacement)
+            } else {
+                (wave(1e-3, p), Response::Velocity)
+            };
+            let r = record(
+                &format!("r{k}"),
+                [wave(10.0, p), wave(2.0, p)],
+                [x0, wave(1e-7, p)],
+            )
+            .with_responses(vec![kind, Response::Displacement])
+            .unwrap();
+            assert_eq!(s.push(&r), vec![]);
+        }
+        assert_eq!(s.across(&[]), vec![]);
+        // The same levels all called displacement: the velocity records are level outliers.
+        let mut s = Screener::new(Checks::without_double_hits());
+        for k in 0..7 {
+            let p = k as f64;
+            let x0 = wave(if k < 4 { 1e-6 } else { 1e-3 }, p);
+            s.push(&record(
+                &format!("r{k}"),
+                [wave(10.0, p), wave(2.0, p)],
+                [x0, wave(1e-7, p)],
+            ));
+        }
+        let found = s.across(&[]);
+        assert_eq!(found.len(), 3, "{found:?}");
+        assert!(
+            found
+                .iter()
+                .all(|(r, w)| *r >= 4 && matches!(w, Warning::LevelOutlier { .. }))
+        );
     }
 
     #[test]

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use crate::error::{Channel, Warning};
 use crate::quality::{self, ImpactChecks};
-use crate::records::Record;
+use crate::records::{Record, Response};
 
 use super::summary::{Summary, flat};
 use super::{Checks, MAD_TO_SIGMA, MIN_SIBLINGS, median};
@@ -133,7 +133,8 @@ impl Screener {
         }
         let mut found = Vec::new();
         let log_floor = self.checks.level_factor.ln();
-        let mut cache: HashMap<(Option<usize>, Channel), Siblings> = HashMap::new();
+        type Key = (Option<usize>, Channel, Option<Response>);
+        let mut cache: HashMap<Key, Siblings> = HashMap::new();
         for &r in &included {
             let summary = &self.summaries[r];
             let key = summary.pattern();
@@ -146,9 +147,10 @@ impl Screener {
                 if summary.flat.contains(&channel) {
                     continue;
                 }
+                let kind = summary.kind(channel);
                 let s = cache
-                    .entry((key, channel))
-                    .or_insert_with(|| self.siblings(siblings, channel));
+                    .entry((key, channel, kind))
+                    .or_insert_with(|| self.siblings(siblings, channel, kind));
                 if s.median_rms <= 0.0 {
                     continue;
                 }
@@ -185,10 +187,12 @@ impl Screener {
         found
     }
 
-    /// The statistics of `channel` over the records `siblings`.
-    fn siblings(&self, siblings: &[usize], channel: Channel) -> Siblings {
+    /// The statistics of `channel` over the records `siblings` whose channel measures `kind`
+    /// (a response's [`Response`]; `None` for a force).
+    fn siblings(&self, siblings: &[usize], channel: Channel, kind: Option<Response>) -> Siblings {
         let values: Vec<f64> = siblings
             .iter()
+            .filter(|&&r| self.summaries[r].kind(channel) == kind)
             .map(|&r| self.summaries[r].rms(channel))
             .collect();
         let median_rms = median(&mut values.clone());

@@ -4,7 +4,7 @@
 use std::hash::{DefaultHasher, Hash, Hasher};
 
 use crate::error::Channel;
-use crate::records::Record;
+use crate::records::{Record, Response};
 
 use super::{DOMINANCE, FLAT_TOLERANCE};
 
@@ -16,6 +16,9 @@ pub struct Summary {
     pub(super) dominant: usize,
     pub(super) force_rms: Vec<f64>,
     pub(super) displacement_rms: Vec<f64>,
+    /// What each response channel measures: levels are compared only between records whose
+    /// channel measures the same quantity (m, m/s and m/s² differ by orders of magnitude).
+    pub(super) responses: Vec<Response>,
     pub(super) hash: u64,
     /// Channels reported flat on arrival.
     pub(super) flat: Vec<Channel>,
@@ -49,6 +52,7 @@ impl Summary {
             dominant: record.dominant_force(),
             force_rms: (0..n).map(|c| rms(record.force(c))).collect(),
             displacement_rms: (0..n).map(|c| rms(record.displacement(c))).collect(),
+            responses: record.responses().to_vec(),
             hash: hasher.finish(),
             flat: Vec::new(),
         }
@@ -73,7 +77,15 @@ impl Summary {
         &self.label
     }
 
-    /// The RMS of a channel about its mean (N or m).
+    /// What a response channel measures; `None` for a force channel.
+    pub(super) fn kind(&self, channel: Channel) -> Option<Response> {
+        match channel {
+            Channel::Force(_) => None,
+            Channel::Displacement(c) => Some(self.responses[c]),
+        }
+    }
+
+    /// The RMS of a channel about its mean (N; m, m/s or m/s² for a response).
     ///
     /// # Panics
     /// If the channel is not one of the record's.

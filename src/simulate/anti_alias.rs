@@ -66,7 +66,9 @@ impl AntiAlias {
 
     /// Writes the filters of the `2n` channels (forces first) into the simulator's state matrix
     /// `a`: per channel a cascade of `order / 2` second-order sections in companion form, the
-    /// states from index `5n + channel · order` on (see [`Simulator`](super::Simulator)).
+    /// states from index `5n + channel · order` on (see [`Simulator`](super::Simulator)). Each
+    /// channel's input is force `c` (pulse generator plus held force) or displacement `c − n`;
+    /// [`AntiAlias::connect`] changes it.
     pub(super) fn fill_state_matrix(self, a: &mut Mat<f64>, n: usize, sample_rate: f64) {
         if let AntiAlias::Butterworth {
             order,
@@ -75,26 +77,51 @@ impl AntiAlias {
         {
             let wc = 2.0 * PI * cutoff_ratio * sample_rate;
             for c in 0..2 * n {
-                // Channel input: force c (pulse generator plus held force) or displacement c − n.
-                let inputs: &[usize] = if c < n {
-                    &[2 * n + 2 * c, 4 * n + c]
-                } else {
-                    &[c - n]
-                };
                 for s in 0..order / 2 {
                     let q = 1.0 / (2.0 * (PI * (2 * s + 1) as f64 / (2 * order) as f64).cos());
                     let y = 5 * n + c * order + 2 * s;
-                    if s == 0 {
-                        for &u in inputs {
-                            a[(y + 1, u)] += wc * wc;
-                        }
-                    } else {
+                    if s > 0 {
                         a[(y + 1, y - 2)] += wc * wc;
                     }
                     a[(y, y + 1)] = 1.0;
                     a[(y + 1, y)] -= wc * wc;
                     a[(y + 1, y + 1)] = -wc / q;
                 }
+                let inputs: Vec<(usize, f64)> = if c < n {
+                    vec![(2 * n + 2 * c, 1.0), (4 * n + c, 1.0)]
+                } else {
+                    vec![(c - n, 1.0)]
+                };
+                self.connect(a, n, sample_rate, c, &inputs);
+            }
+        }
+    }
+
+    /// Makes the input of channel `channel`'s filter (forces first, then responses) the
+    /// weighted sum `Σ w · s[u]` of the structure's states `inputs = [(u, w)]` (indices below
+    /// `5n`): a response channel then filters displacement, velocity or acceleration, and the
+    /// filtered velocity is the derivative of the filtered displacement (the filter is linear
+    /// and starts from rest). Nothing for [`AntiAlias::None`].
+    pub(super) fn connect(
+        self,
+        a: &mut Mat<f64>,
+        n: usize,
+        sample_rate: f64,
+        channel: usize,
+        inputs: &[(usize, f64)],
+    ) {
+        if let AntiAlias::Butterworth {
+            order,
+            cutoff_ratio,
+        } = self
+        {
+            let wc = 2.0 * PI * cutoff_ratio * sample_rate;
+            let row = 5 * n + channel * order + 1;
+            for u in 0..5 * n {
+                a[(row, u)] = 0.0;
+            }
+            for &(u, w) in inputs {
+                a[(row, u)] += wc * wc * w;
             }
         }
     }

@@ -9,7 +9,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
-use crate::records::Record;
+use crate::records::{Record, Response};
 
 /// One half-sine force pulse `f(t) = peak · d · sin(π (t − start)/duration)` on
 /// `start ≤ t ≤ start + duration`.
@@ -91,12 +91,18 @@ impl ImpactTest {
     /// Noise-free records of the test on `system`, hits along DOF 0 first, then DOF 1, ….
     ///
     /// # Errors
-    /// As [`Simulator::new`], [`Simulator::record`], [`sample_count`] and [`slowest_decay`]
+    /// As [`Simulator::new`], [`Simulator::responding`], [`Simulator::record`],
+    /// [`sample_count`] and [`slowest_decay`]
     /// (a mass that is not positive definite, a mode that does not decay);
     /// [`Error::InvalidParameter`] if the slowest mode has not decayed to `10⁻⁶` of its
     /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
     /// more than [`MAX_RECORDS`] records or [`MAX_TOTAL_SAMPLES`] samples in all.
     pub fn run_clean(&self, system: &Coefficients) -> Result<Vec<Record>> {
+        self.clean(system, &[])
+    }
+
+    /// [`ImpactTest::run_clean`] with response channels recording `responses`.
+    fn clean(&self, system: &Coefficients, responses: &[Response]) -> Result<Vec<Record>> {
         let samples = self.samples()?;
         let n = system.dofs();
         let records = self.per_direction as f64 * n as f64;
@@ -116,7 +122,8 @@ impl ImpactTest {
                 expected: "long enough for the slowest mode to decay to 1e-6",
             });
         }
-        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?;
+        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?
+            .responding(responses)?;
         let mut out = Vec::with_capacity(n * self.per_direction);
         for dof in 0..n {
             for hit in 0..self.per_direction {
@@ -150,7 +157,32 @@ impl ImpactTest {
     /// # Errors
     /// As [`ImpactTest::run_clean`] and [`add_noise`].
     pub fn run(&self, system: &Coefficients) -> Result<Vec<Record>> {
-        let clean = self.run_clean(system)?;
+        self.run_responding(system, &[])
+    }
+
+    /// [`ImpactTest::run`] with the response channels recording velocity or acceleration:
+    /// `responses` holds none (displacement), one kind for all, or one per degree of freedom
+    /// (see [`Simulator::responding`]). The noise is [`ImpactTest::noise`] of each channel's
+    /// own RMS.
+    ///
+    /// # Errors
+    /// As [`ImpactTest::run`] and [`Simulator::responding`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Response;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+    /// let records = test.run_responding(&seed_rig(), &[Response::Acceleration])?;
+    /// assert_eq!(records[0].responses(), &[Response::Acceleration; 2]);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn run_responding(
+        &self,
+        system: &Coefficients,
+        responses: &[Response],
+    ) -> Result<Vec<Record>> {
+        let clean = self.clean(system, responses)?;
         let mut rng = StdRng::seed_from_u64(self.seed);
         clean
             .iter()

@@ -55,7 +55,8 @@ pub fn add_noise(record: &Record, level: f64, rng: &mut StdRng) -> Result<Record
     };
     let forces = (0..n).map(|c| noisy(record.force(c), sf)).collect();
     let displacements = (0..n).map(|c| noisy(record.displacement(c), sx)).collect();
-    Record::new(record.label(), record.sample_rate(), forces, displacements)
+    Record::new(record.label(), record.sample_rate(), forces, displacements)?
+        .with_responses(record.responses().to_vec())
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use super::{
 };
 use crate::error::{Channel, Error, Result};
 use crate::model::Coefficients;
-use crate::records::Record;
+use crate::records::{Record, Response};
 
 /// Mixed into the seed of [`Simulator::random_record`]'s forcing, so that measurement noise
 /// seeded with the same number is an unrelated stream.
@@ -41,6 +41,8 @@ pub struct Simulator {
     sample_rate: f64,
     samples: usize,
     anti_alias: AntiAlias,
+    /// What each response channel records.
+    responses: Vec<Response>,
     /// Structure part of `A` without the pulse generators' frequency.
     base: Mat<f64>,
     dim: usize,
@@ -97,6 +99,7 @@ impl Simulator {
             sample_rate,
             samples,
             anti_alias,
+            responses: vec![Response::Displacement; n],
             base: a,
             dim,
             cache: Vec::new(),
@@ -114,13 +117,108 @@ impl Simulator {
         a
     }
 
-    /// The state entries whose sum is the sampled value of `channel` (forces first).
-    fn output_indices(&self, channel: usize) -> Vec<usize> {
+    /// Records velocity or acceleration instead of displacement on the response channels:
+    /// `kinds` holds one [`Response`] for all channels or one per degree of freedom (none:
+    /// displacement). Velocity is the state `v`; acceleration is
+    /// $a = M^{-1}(f - C v - K x)$ at the sample instant (with a held force, the force from
+    /// that sample on). With an anti-alias filter the filter's input is that signal, so the
+    /// recorded velocity is exactly the derivative of the filtered displacement. Records
+    /// carry their kinds ([`Record::responses`]).
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] for a number of kinds other than 0, 1 or the degrees of
+    /// freedom.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Response;
+    /// use bearing_ident::model::Coefficients;
+    /// use bearing_ident::simulate::{AntiAlias, Simulator};
+    /// use faer::mat;
+    /// // A static load on an SDOF spring: once settled, no velocity and no acceleration.
+    /// let sdof = Coefficients::new(mat![[1.0]], mat![[40.0]], mat![[1.0e4]])?;
+    /// let mut sim = Simulator::new(&sdof, 1000.0, 2000, AntiAlias::None)?
+    ///     .responding(&[Response::Acceleration])?;
+    /// let rec = sim.held_record("static", &[vec![10.0; 2000]])?;
+    /// assert_eq!(rec.response(0), Response::Acceleration);
+    /// assert!((rec.displacement(0)[0] - 10.0).abs() < 1e-12); // a(0) = f/m
+    /// assert!(rec.displacement(0)[1999].abs() < 1e-9);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn responding(mut self, kinds: &[Response]) -> Result<Self> {
+        self.responses = Response::per_channel(kinds, self.n)?;
+        for c in 0..self.n {
+            // The filter sees its input scaled to unit largest weight and the output is
+            // scaled back: an acceleration's weights (K/M ≈ 10⁴–10⁵ 1/s²) times the filter's
+            // ω_c² would otherwise inflate ‖A Δt‖ and the matrix exponential's rounding, which
+            // showed as a 10⁻⁵ relative error of the filtered acceleration.
+            let scale = self.input_scale(c);
+            let inputs: Vec<(usize, f64)> = self
+                .response_inputs(c)
+                .into_iter()
+                .map(|(u, w)| (u, w / scale))
+                .collect();
+            self.anti_alias.connect(
+                &mut self.base,
+                self.n,
+                self.sample_rate,
+                self.n + c,
+                &inputs,
+            );
+        }
+        self.cache.clear();
+        Ok(self)
+    }
+
+    /// What each response channel records.
+    pub fn responses(&self) -> &[Response] {
+        &self.responses
+    }
+
+    /// The structure's states and weights whose sum is response `c` before any filter:
+    /// displacement `x_c`, velocity `v_c`, or acceleration, the row `n + c` of `A` over the
+    /// structure's and force generators' states.
+    fn response_inputs(&self, c: usize) -> Vec<(usize, f64)> {
+        let n = self.n;
+        match self.responses[c] {
+            Response::Displacement => vec![(c, 1.0)],
+            Response::Velocity => vec![(n + c, 1.0)],
+            Response::Acceleration => (0..5 * n)
+                .map(|u| (u, self.base[(n + c, u)]))
+                .filter(|&(_, w)| w != 0.0)
+                .collect(),
+        }
+    }
+
+    /// The largest weight of response `c`'s inputs ([`Simulator::response_inputs`]); 1 for
+    /// displacement and velocity.
+    fn input_scale(&self, c: usize) -> f64 {
+        match self.responses[c] {
+            Response::Acceleration => self
+                .response_inputs(c)
+                .iter()
+                .fold(0.0_f64, |m, &(_, w)| m.max(w.abs()))
+                .max(f64::MIN_POSITIVE),
+            _ => 1.0,
+        }
+    }
+
+    /// The state entries and weights whose weighted sum is the sampled value of `channel`
+    /// (forces first).
+    fn output_indices(&self, channel: usize) -> Vec<(usize, f64)> {
         let n = self.n;
         match self.anti_alias {
-            AntiAlias::Butterworth { order, .. } => vec![5 * n + channel * order + order - 2],
-            AntiAlias::None if channel < n => vec![2 * n + 2 * channel, 4 * n + channel],
-            AntiAlias::None => vec![channel - n],
+            AntiAlias::Butterworth { order, .. } => {
+                let scale = match channel.checked_sub(n) {
+                    Some(c) => self.input_scale(c),
+                    None => 1.0,
+                };
+                vec![(5 * n + channel * order + order - 2, scale)]
+            }
+            AntiAlias::None if channel < n => {
+                vec![(2 * n + 2 * channel, 1.0), (4 * n + channel, 1.0)]
+            }
+            AntiAlias::None => self.response_inputs(channel - n),
         }
     }
 
@@ -283,11 +381,13 @@ impl Simulator {
         let mut next = vec![0.0; dim];
         let mut forces = vec![vec![0.0; self.samples]; self.n];
         let mut displacements = vec![vec![0.0; self.samples]; self.n];
-        let out_f: Vec<Vec<usize>> = (0..self.n).map(|c| self.output_indices(c)).collect();
-        let out_x: Vec<Vec<usize>> = (0..self.n)
+        let out_f: Vec<Vec<(usize, f64)>> = (0..self.n).map(|c| self.output_indices(c)).collect();
+        let out_x: Vec<Vec<(usize, f64)>> = (0..self.n)
             .map(|c| self.output_indices(self.n + c))
             .collect();
-        let sample = |state: &[f64], idx: &[usize]| idx.iter().map(|&i| state[i]).sum::<f64>();
+        let sample = |state: &[f64], idx: &[(usize, f64)]| {
+            idx.iter().map(|&(i, w)| w * state[i]).sum::<f64>()
+        };
         let mut ev = 0;
         let mut current: Option<usize> = None;
         // Φ for "no pulse running" is any of them: generators are idle at zero state.
@@ -333,7 +433,8 @@ impl Simulator {
                 propagate(phi, &mut state, &mut next);
             }
         }
-        Record::new(label, self.sample_rate, forces, displacements)
+        Record::new(label, self.sample_rate, forces, displacements)?
+            .with_responses(self.responses.clone())
     }
 
     fn step_matrix(&mut self, duration_s: f64) -> &Mat<f64> {

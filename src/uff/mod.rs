@@ -5,7 +5,9 @@
 //! is a sequence of blocks, each between two lines `    -1`; the line after the opening `-1`
 //! names the dataset. This module reads and writes dataset 58 (ASCII) and 58b (binary values),
 //! skips every other dataset, and builds [`Record`](crate::Record)s from time histories
-//! ([`records`]).
+//! ([`records`]: forces of data type 13; displacement, velocity and acceleration responses of
+//! data types 8, 11 and 12), or from channels named by node and direction or ID line
+//! ([`records_with`], [`UffLayout`], [`UffChannel`]).
 //!
 //! # The layout of a dataset 58 block
 //! | record | format | content |
@@ -68,6 +70,6 @@ mod types;
 mod write;
 
 pub use read::{parse, read};
-pub use records::{record, records};
+pub use records::{UffChannel, UffLayout, record, records, records_with};
 pub use types::{Abscissa, Axis, DataType, Dof, Function, FunctionType, Ordinate, Precision};
 pub use write::{ByteOrder, write, write_binary};

@@ -1,8 +1,164 @@
-//! [`Record`]s from dataset 58 time histories.
+//! [`Record`]s from dataset 58 time histories, by data type or by an explicit [`UffLayout`].
 
 use super::types::{Abscissa, DataType, Function, FunctionType, Ordinate};
 use crate::error::{Error, Result};
-use crate::records::Record;
+use crate::records::{Record, Response};
+
+/// One time history of a Universal File named on the command line or in a [`UffLayout`]: a
+/// response node and signed direction (`5+X`, `12-Y`, `3+2`), or the text of the first ID line
+/// (`id:TEXT`).
+///
+/// # Matching
+/// - `NODE+DIR` / `NODE-DIR` match the time history whose response node is `NODE` and whose
+///   signed direction (record 6) is `+DIR` / `−DIR` exactly. Directions are `X`, `Y`, `Z`,
+///   `RX`, `RY`, `RZ` (any case) or their codes `1`…`6`.
+/// - `id:TEXT` matches the time history whose first ID line (record 1), with leading and
+///   trailing spaces removed, equals `TEXT` exactly (case and inner spaces count): a substring
+///   would match `force x` inside `force xy`.
+///
+/// Either way a time history with a negative direction is negated, as by the rule.
+///
+/// A name that matches no time history of a load case, or more than one, is an error.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::uff::UffChannel;
+/// assert_eq!("5+X".parse::<UffChannel>()?, UffChannel::Dof { node: 5, direction: 1 });
+/// assert_eq!("12-ry".parse::<UffChannel>()?, UffChannel::Dof { node: 12, direction: -5 });
+/// assert_eq!("3+2".parse::<UffChannel>()?, UffChannel::Dof { node: 3, direction: 2 });
+/// assert_eq!("id:Hammer X".parse::<UffChannel>()?, UffChannel::Id("Hammer X".into()));
+/// assert!("5X".parse::<UffChannel>().is_err());
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum UffChannel {
+    /// Response node and signed direction code (±1…±6 for ±X, ±Y, ±Z, ±RX, ±RY, ±RZ).
+    Dof {
+        /// Response node (record 6).
+        node: i64,
+        /// Signed direction code.
+        direction: i64,
+    },
+    /// The first ID line, trimmed, equal to this text.
+    Id(String),
+}
+
+impl UffChannel {
+    /// Whether time history `f` is this channel.
+    fn matches(&self, f: &Function) -> bool {
+        match self {
+            UffChannel::Dof { node, direction } => {
+                f.response.node == *node && f.response.direction == *direction
+            }
+            UffChannel::Id(text) => f.id[0].trim() == text,
+        }
+    }
+}
+
+impl std::fmt::Display for UffChannel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            UffChannel::Dof { node, direction } => {
+                let name = (direction.unsigned_abs() as usize)
+                    .checked_sub(1)
+                    .and_then(|d| ["X", "Y", "Z", "RX", "RY", "RZ"].get(d))
+                    .copied()
+                    .unwrap_or("?");
+                let sign = if *direction < 0 { '-' } else { '+' };
+                write!(f, "{node}{sign}{name}")
+            }
+            UffChannel::Id(text) => write!(f, "id:{text}"),
+        }
+    }
+}
+
+impl std::str::FromStr for UffChannel {
+    type Err = Error;
+
+    /// Parses `NODE+DIR`, `NODE-DIR` or `id:TEXT` (see [`UffChannel`]).
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] quoting the text given.
+    fn from_str(s: &str) -> Result<Self> {
+        let bad = || Error::UnknownName {
+            what: "Universal File channel",
+            given: s.to_owned(),
+            expected: "NODE+DIR or NODE-DIR (DIR one of X, Y, Z, RX, RY, RZ or 1-6), or id:TEXT",
+        };
+        if let Some(text) = s.strip_prefix("id:") {
+            return Ok(UffChannel::Id(text.trim().to_owned()));
+        }
+        let at = s.find(['+', '-']).filter(|&i| i > 0).ok_or_else(bad)?;
+        let node: i64 = s[..at].trim().parse().map_err(|_| bad())?;
+        let dir = s[at + 1..].trim().to_ascii_uppercase();
+        let code = match dir.as_str() {
+            "X" | "1" => 1,
+            "Y" | "2" => 2,
+            "Z" | "3" => 3,
+            "RX" | "4" => 4,
+            "RY" | "5" => 5,
+            "RZ" | "6" => 6,
+            _ => return Err(bad()),
+        };
+        let sign = if s.as_bytes()[at] == b'-' { -1 } else { 1 };
+        Ok(UffChannel::Dof {
+            node,
+            direction: sign * code,
+        })
+    }
+}
+
+/// Which time histories of a Universal File make a record, beyond the default rule of
+/// [`records`]: explicit force and response channels, and the kind of the responses.
+///
+/// Empty lists keep the rule: forces are the time histories of data type 13, responses those
+/// of data types 8, 11 and 12, each sorted by direction, then node; a response's kind is its
+/// data type (8 displacement, 11 velocity, 12 acceleration). Channels named here are taken in
+/// the order given, whatever their data type; a named response of another data type needs
+/// its kind in `kinds`.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::uff::{self, Function, UffLayout};
+/// use bearing_ident::Response;
+/// let t: Vec<f64> = (0..16).map(|k| k as f64).collect();
+/// let mut hammer = Function::time_response(9, 1, 13, 0.0, 1e-3, t.clone());
+/// hammer.id[0] = "hammer".into();
+/// let functions = [
+///     hammer,
+///     Function::time_response(5, 1, 12, 0.0, 1e-3, t.clone()), // an accelerometer, +X
+///     Function::time_response(6, 1, 8, 0.0, 1e-3, t.clone()), // a probe elsewhere
+/// ];
+/// let layout = UffLayout {
+///     forces: vec!["id:hammer".parse()?],
+///     responses: vec!["5+X".parse()?],
+///     kinds: vec![],
+/// };
+/// let r = &uff::records_with(&functions, "rig.uff", &layout)?[0];
+/// assert_eq!((r.dofs(), r.response(0)), (1, Response::Acceleration));
+/// assert_eq!(r.force(0)[2], 2.0);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct UffLayout {
+    /// Force channels, one per degree of freedom, in order; empty: data type 13.
+    pub forces: Vec<UffChannel>,
+    /// Response channels, one per degree of freedom, in order; empty: data types 8, 11, 12.
+    pub responses: Vec<UffChannel>,
+    /// What the responses measure: empty (by data type), one for all, or one per degree of
+    /// freedom ([`Response::per_channel`]); given, it overrides the data types.
+    pub kinds: Vec<Response>,
+}
+
+/// The response kind of a data type: 8, 11, 12.
+fn response_kind(data_type: DataType) -> Option<Response> {
+    match data_type {
+        DataType::Displacement => Some(Response::Displacement),
+        DataType::Velocity => Some(Response::Velocity),
+        DataType::Acceleration => Some(Response::Acceleration),
+        _ => None,
+    }
+}
 
 /// Builds one [`Record`] per load case from the time histories among `functions`; `label`
 /// names the source (a file) in labels and errors.
@@ -12,10 +168,11 @@ use crate::records::Record;
 /// - Time histories with the same load case (record 6) form one record, in the order of the
 ///   load cases' first appearance. A file whose time histories all carry one load case (0, as
 ///   most writers leave it) is one record.
-/// - The ordinate numerator's data type assigns a channel: 13 (excitation force, N) a force,
-///   8 (displacement, m) a displacement. Other quantities (velocity 11 and acceleration 12
-///   included, for now) are ignored.
-/// - Forces and displacements are each sorted by the absolute response direction
+/// - The ordinate numerator's data type assigns a channel: 13 (excitation force, N) a force;
+///   8 (displacement, m), 11 (velocity, m/s) and 12 (acceleration, m/s²) a response of that
+///   [`Response`] kind (a record may mix them). Other quantities are ignored.
+///   [`records_with`] and a [`UffLayout`] name the channels instead.
+/// - Forces and responses are each sorted by the absolute response direction
 ///   (1 X, 2 Y, 3 Z, …), then by response node: with `n` of each, degree of freedom `i` is the
 ///   `i`-th of each list. A negative direction (−X is −1) is a sensor pointing the other way;
 ///   its values are negated.
@@ -26,7 +183,7 @@ use crate::records::Record;
 /// otherwise.
 ///
 /// # Errors
-/// [`Error::UffRecord`] naming the load case when no time history is a force or displacement,
+/// [`Error::UffRecord`] naming the load case when no time history is a force or response,
 /// when a channel's abscissa is uneven or its values complex, or when channels' increments
 /// differ; and [`Record::new`]'s errors (unequal force and displacement counts, lengths, too
 /// few samples, non-finite values).
@@ -52,6 +209,23 @@ use crate::records::Record;
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn records(functions: &[Function], label: &str) -> Result<Vec<Record>> {
+    records_with(functions, label, &UffLayout::default())
+}
+
+/// [`records`] with the channels chosen by `layout` ([`UffLayout`]; its default is the rule of
+/// [`records`]).
+///
+/// # Errors
+/// As [`records`]; [`Error::UffRecord`] naming the file, the load case and the channel when a
+/// named channel matches no time history of a load case, or more than one; when a named
+/// response has a data type other than 8, 11 or 12 and `layout.kinds` is empty; when the
+/// numbers of forces and responses named differ; [`Error::LengthMismatch`] for a count of
+/// kinds other than 0, 1 or the degrees of freedom.
+pub fn records_with(
+    functions: &[Function],
+    label: &str,
+    layout: &UffLayout,
+) -> Result<Vec<Record>> {
     let mut cases: Vec<i64> = Vec::new();
     for f in functions {
         if f.function_type == FunctionType::TimeResponse && !cases.contains(&f.load_case) {
@@ -74,7 +248,7 @@ pub fn records(functions: &[Function], label: &str) -> Result<Vec<Record>> {
             } else {
                 format!("{label}#{lc}")
             };
-            record_of_case(functions, lc, label, &name)
+            record_of_case(functions, lc, label, &name, layout)
         })
         .collect()
 }
@@ -99,39 +273,103 @@ pub fn records(functions: &[Function], label: &str) -> Result<Vec<Record>> {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn record(functions: &[Function], load_case: i64, label: &str) -> Result<Record> {
-    record_of_case(functions, load_case, label, label)
+    record_of_case(functions, load_case, label, label, &UffLayout::default())
 }
 
-fn record_of_case(functions: &[Function], lc: i64, path: &str, name: &str) -> Result<Record> {
+fn record_of_case(
+    functions: &[Function],
+    lc: i64,
+    path: &str,
+    name: &str,
+    layout: &UffLayout,
+) -> Result<Record> {
     let fail = |message: String| Error::UffRecord {
         path: path.to_owned(),
         load_case: lc,
         message,
     };
-    let mut forces: Vec<(i64, i64, &Function)> = Vec::new();
-    let mut displacements: Vec<(i64, i64, &Function)> = Vec::new();
+    let histories = || {
+        functions
+            .iter()
+            .filter(|f| f.function_type == FunctionType::TimeResponse && f.load_case == lc)
+    };
+    let mut forces: Vec<&Function> = Vec::new();
+    let mut displacements: Vec<&Function> = Vec::new();
     let mut others = 0;
-    for f in functions
-        .iter()
-        .filter(|f| f.function_type == FunctionType::TimeResponse && f.load_case == lc)
-    {
+    let mut keyed: [Vec<(i64, i64, &Function)>; 2] = [Vec::new(), Vec::new()];
+    for f in histories() {
         let key = (f.response.direction.saturating_abs(), f.response.node, f);
         match f.numerator.data_type {
-            DataType::ExcitationForce => forces.push(key),
-            DataType::Displacement => displacements.push(key),
+            DataType::ExcitationForce => keyed[0].push(key),
+            t if response_kind(t).is_some() => keyed[1].push(key),
             _ => others += 1,
         }
     }
+    for list in &mut keyed {
+        list.sort_by_key(|&(d, n, _)| (d, n));
+    }
+    let [by_type_forces, by_type_responses] = keyed;
+    let named = |channels: &[UffChannel], what: &str| -> Result<Vec<&Function>> {
+        channels
+            .iter()
+            .map(|c| {
+                let mut found = histories().filter(|f| c.matches(f));
+                match (found.next(), found.next()) {
+                    (Some(f), None) => Ok(f),
+                    (None, _) => Err(fail(format!(
+                        "no time history is the {what} channel `{c}` (time histories: {})",
+                        inventory(histories())
+                    ))),
+                    (Some(_), Some(_)) => Err(fail(format!(
+                        "more than one time history is the {what} channel `{c}`"
+                    ))),
+                }
+            })
+            .collect()
+    };
+    if layout.forces.is_empty() {
+        forces.extend(by_type_forces.iter().map(|&(_, _, f)| f));
+    } else {
+        forces = named(&layout.forces, "force")?;
+    }
+    if layout.responses.is_empty() {
+        displacements.extend(by_type_responses.iter().map(|&(_, _, f)| f));
+    } else {
+        displacements = named(&layout.responses, "response")?;
+    }
     if forces.is_empty() || displacements.is_empty() {
         return Err(fail(format!(
-            "{} force (data type 13) and {} displacement (data type 8) time histories, \
+            "{} force (data type 13) and {} response (data types 8, 11, 12) time histories, \
              {others} of other quantities: a record needs both",
             forces.len(),
             displacements.len()
         )));
     }
-    forces.sort_by_key(|&(d, n, _)| (d, n));
-    displacements.sort_by_key(|&(d, n, _)| (d, n));
+    if forces.len() != displacements.len() {
+        return Err(fail(format!(
+            "{} force and {} response channels: one of each per degree of freedom",
+            forces.len(),
+            displacements.len()
+        )));
+    }
+    let kinds = if layout.kinds.is_empty() {
+        displacements
+            .iter()
+            .map(|f| {
+                response_kind(f.numerator.data_type).ok_or_else(|| {
+                    fail(format!(
+                        "the response at node {} direction {} has data type {}, not \
+                         displacement (8), velocity (11) or acceleration (12): say which it is",
+                        f.response.node,
+                        f.response.direction,
+                        f.numerator.data_type.code()
+                    ))
+                })
+            })
+            .collect::<Result<Vec<_>>>()?
+    } else {
+        Response::per_channel(&layout.kinds, displacements.len())?
+    };
     let mut dx_common: Option<f64> = None;
     let mut channel = |f: &Function| -> Result<Vec<f64>> {
         let Abscissa::Even { dx, .. } = f.abscissa else {
@@ -164,12 +402,26 @@ fn record_of_case(functions: &[Function], lc: i64, path: &str, name: &str) -> Re
     };
     let force_channels = forces
         .iter()
-        .map(|&(_, _, f)| channel(f))
+        .map(|&f| channel(f))
         .collect::<Result<Vec<_>>>()?;
     let displacement_channels = displacements
         .iter()
-        .map(|&(_, _, f)| channel(f))
+        .map(|&f| channel(f))
         .collect::<Result<Vec<_>>>()?;
     let dx = dx_common.unwrap_or(f64::NAN);
-    Record::new(name, 1.0 / dx, force_channels, displacement_channels)
+    Record::new(name, 1.0 / dx, force_channels, displacement_channels)?.with_responses(kinds)
+}
+
+/// The time histories of a load case as `NODE±DIR` (`id`), for a message.
+fn inventory<'a>(histories: impl Iterator<Item = &'a Function>) -> String {
+    let names: Vec<String> = histories
+        .map(|f| {
+            let dof = UffChannel::Dof {
+                node: f.response.node,
+                direction: f.response.direction,
+            };
+            format!("{dof} `{}`", crate::error::excerpt(f.id[0].trim()))
+        })
+        .collect();
+    names.join(", ")
 }

@@ -11,15 +11,16 @@ use bearing_ident::gate::FitGate;
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::spectra::ForceGate;
+use bearing_ident::uff::{UffChannel, UffLayout};
 use bearing_ident::{
     Assignment, Baseline, Error, Estimator, Identification, Identifier, Method, NonConvergence,
-    Record, Screening, Segmentation, Uncertainty,
+    Record, Response, Screening, Segmentation, Uncertainty,
 };
 use clap::ValueEnum;
 
 use crate::failure::{Failure, invalid};
 use crate::output::{emit, write_report};
-use crate::parse::{library, parse_band, parse_window};
+use crate::parse::{library, parse_band, parse_window, response_columns};
 use crate::report;
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -152,12 +153,25 @@ pub struct IdentifyArgs {
     /// an eighth of the record).
     #[arg(long)]
     nperseg: Option<usize>,
-    /// Force columns, one per degree of freedom.
-    #[arg(long, default_value = "fx,fy", value_delimiter = ',')]
+    /// Force channels, one per degree of freedom. CSV: column names (default `fx,fy`).
+    /// Universal Files: `NODE+DIR`/`NODE-DIR` (DIR: X, Y, Z, RX, RY, RZ or 1–6; matches the
+    /// response node and signed direction exactly) or `id:TEXT` (the first ID line, trimmed,
+    /// equal to TEXT); default: every time history of data type 13.
+    #[arg(long, value_delimiter = ',')]
     force: Vec<String>,
-    /// Displacement columns, one per degree of freedom.
-    #[arg(long, default_value = "x,y", value_delimiter = ',')]
+    /// Response channels (displacement, or what `--response` says), one per degree of
+    /// freedom. CSV: column names (default `x,y`; `vx,vy` for velocity and `ax,ay` for
+    /// acceleration, as `simulate --response` writes). Universal Files: as `--force`; default:
+    /// every time history of data type 8, 11 or 12.
+    #[arg(long, visible_alias = "resp", value_delimiter = ',')]
     disp: Vec<String>,
+    /// What the response channels measure: `displacement`, `velocity` or `acceleration`, one
+    /// for all or one per degree of freedom (comma list, for mixed rigs). Default:
+    /// displacement for CSV; for Universal Files the data type (8, 11, 12) of each channel,
+    /// which this overrides. Velocity and acceleration are turned into displacement at the
+    /// band lines (X = V/(iω) = A/(−ω²); with `--window exp:…`, iω + a).
+    #[arg(long, value_delimiter = ',')]
+    response: Vec<bearing_ident::Response>,
     /// Time column (s).
     #[arg(long, default_value = "t")]
     time: String,
@@ -177,25 +191,79 @@ pub struct IdentifyArgs {
     #[command(flatten)]
     export: crate::export::ExportArgs,
     /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
-    /// case of their dataset 58 time histories: force channels of data type 13, displacement
-    /// channels of data type 8, each sorted by direction, then node; `--force`, `--disp`,
-    /// `--time` do not apply to them).
+    /// case of their dataset 58 time histories: force channels of data type 13, responses of
+    /// data types 8, 11, 12 (displacement, velocity, acceleration), each sorted by direction,
+    /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
 
-fn layout(args: &IdentifyArgs) -> Result<CsvLayout, Failure> {
-    if args.force.len() != args.disp.len() {
+/// How the record files are read: CSV columns, Universal File channels, response kinds.
+struct Layout {
+    csv: CsvLayout,
+    uff: UffLayout,
+    /// `--response`: empty for none given.
+    responses: Vec<Response>,
+}
+
+fn layout(args: &IdentifyArgs) -> Result<Layout, Failure> {
+    let defaults = CsvLayout::default();
+    let pick = |given: &[String], default: Vec<String>| {
+        if given.is_empty() {
+            default
+        } else {
+            given.to_vec()
+        }
+    };
+    let csv = CsvLayout {
+        time: args.time.clone(),
+        forces: pick(&args.force, defaults.forces),
+        displacements: pick(
+            &args.disp,
+            response_columns(&defaults.displacements, &args.response),
+        ),
+    };
+    if csv.forces.len() != csv.displacements.len() {
         return Err(invalid(format!(
             "--force names {} columns and --disp {}: one of each per degree of freedom",
-            args.force.len(),
-            args.disp.len()
+            csv.forces.len(),
+            csv.displacements.len()
         )));
     }
-    Ok(CsvLayout {
-        time: args.time.clone(),
-        forces: args.force.clone(),
-        displacements: args.disp.clone(),
+    let uff = if args.files.iter().any(|f| is_uff(f)) {
+        let channels = |given: &[String], option: &str| {
+            given
+                .iter()
+                .map(|c| {
+                    c.parse::<UffChannel>()
+                        .map_err(|e| invalid(format!("--{option}: {e}")))
+                })
+                .collect::<Result<Vec<_>, Failure>>()
+        };
+        UffLayout {
+            forces: channels(&args.force, "force")?,
+            responses: channels(&args.disp, "disp")?,
+            kinds: args.response.clone(),
+        }
+    } else {
+        UffLayout::default()
+    };
+    if !args.response.is_empty()
+        && args.response.len() != 1
+        && args.response.len() != csv.displacements.len()
+        && !args.files.iter().all(|f| is_uff(f))
+    {
+        return Err(invalid(format!(
+            "--response names {} kinds for {} response columns: give one for all or one per \
+             degree of freedom",
+            args.response.len(),
+            csv.displacements.len()
+        )));
+    }
+    Ok(Layout {
+        csv,
+        uff,
+        responses: args.response.clone(),
     })
 }
 
@@ -453,7 +521,11 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         compute_ms,
         read_ms: reading.as_secs_f64() * 1e3,
         show_timings: args.timings,
-        axes: args.disp.clone(),
+        axes: if args.disp.is_empty() {
+            CsvLayout::default().displacements
+        } else {
+            args.disp.clone()
+        },
         bearing,
         per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
     };
@@ -480,20 +552,30 @@ fn is_uff(path: &std::path::Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
 }
 
-/// The records of a file: one from a CSV file; one per load case of the time histories of a
-/// Universal File (forces of data type 13 and displacements of data type 8, by
-/// [`uff::records`](bearing_ident::uff::records)'s rule).
-fn read_records(path: &std::path::Path, layout: &CsvLayout) -> bearing_ident::Result<Vec<Record>> {
+/// The records of a file: one from a CSV file (its responses of the `--response` kinds); one
+/// per load case of the time histories of a Universal File (by
+/// [`uff::records_with`](bearing_ident::uff::records_with)'s rule and the channels named).
+fn read_records(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Vec<Record>> {
     if is_uff(path) {
         let functions = bearing_ident::uff::read(path)?;
-        bearing_ident::uff::records(&functions, &path.display().to_string())
+        bearing_ident::uff::records_with(&functions, &path.display().to_string(), &layout.uff)
     } else {
-        io::read_record(path, layout).map(|r| vec![r])
+        read_csv(path, layout).map(|r| vec![r])
     }
 }
 
+/// One CSV record with the `--response` kinds.
+fn read_csv(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Record> {
+    let record = io::read_record(path, &layout.csv)?;
+    if layout.responses.is_empty() {
+        return Ok(record);
+    }
+    let kinds = Response::per_channel(&layout.responses, record.dofs())?;
+    record.with_responses(kinds)
+}
+
 /// The first record of a file ([`read_records`]).
-fn read_record(path: &std::path::Path, layout: &CsvLayout) -> bearing_ident::Result<Record> {
+fn read_record(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Record> {
     if is_uff(path) {
         read_records(path, layout)?
             .into_iter()
@@ -504,7 +586,7 @@ fn read_record(path: &std::path::Path, layout: &CsvLayout) -> bearing_ident::Res
                 message: "no record".into(),
             })
     } else {
-        io::read_record(path, layout)
+        read_csv(path, layout)
     }
 }
 

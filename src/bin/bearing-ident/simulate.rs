@@ -16,7 +16,7 @@ use rand::SeedableRng;
 use rand::rngs::StdRng;
 
 use crate::failure::{Failure, invalid, print_out};
-use crate::parse::parse_matrix;
+use crate::parse::{parse_matrix, response_columns};
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
 pub enum KindArg {
@@ -88,6 +88,11 @@ pub struct SimulateArgs {
     /// Sweep duration (s), before the free decay.
     #[arg(long, default_value_t = 1.0)]
     sweep_time: f64,
+    /// What the response columns record: `displacement` (columns `x,y`), `velocity`
+    /// (`vx,vy`, m/s) or `acceleration` (`ax,ay`, m/s²); one for all or one per degree of
+    /// freedom (comma list). Read them back with `identify --response` the same.
+    #[arg(long, value_delimiter = ',')]
+    response: Vec<bearing_ident::Response>,
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
@@ -217,7 +222,8 @@ fn driven_records(
                 None => {
                     sims.push((
                         total,
-                        Simulator::new(system, rate, total, AntiAlias::default())?,
+                        Simulator::new(system, rate, total, AntiAlias::default())?
+                            .responding(&args.response)?,
                     ));
                     sims.len() - 1
                 }
@@ -311,14 +317,15 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         ..base
     };
     let records = match args.kind {
-        KindArg::Impact => test.run(&system)?,
+        KindArg::Impact => test.run_responding(&system, &args.response)?,
         KindArg::Multisine | KindArg::SteppedSine | KindArg::Sweep => {
             driven_records(args, &system, decay_s)?
         }
         KindArg::Random => {
             let samples = test.samples()?;
             check_size(args.records as f64, samples)?;
-            let mut sim = Simulator::new(&system, args.rate, samples, AntiAlias::default())?;
+            let mut sim = Simulator::new(&system, args.rate, samples, AntiAlias::default())?
+                .responding(&args.response)?;
             // The noise stream must not be the forcing stream (seeded by `seed + r`).
             let mut rng = StdRng::seed_from_u64(args.seed ^ NOISE_STREAM);
             (0..args.records)
@@ -337,7 +344,8 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         kind: "io_error",
         message: format!("{}: {e}", args.out.display()),
     })?;
-    let layout = CsvLayout::for_dofs(system.dofs());
+    let mut layout = CsvLayout::for_dofs(system.dofs());
+    layout.displacements = response_columns(&layout.displacements, &args.response);
     for r in &records {
         io::write_record(args.out.join(format!("{}.csv", r.label())), r, &layout)?;
     }
