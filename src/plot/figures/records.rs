@@ -15,7 +15,8 @@ use crate::records::Record;
 use crate::spectra::Segmentation;
 use crate::{Channel, Error};
 
-/// Time records: force (left) and displacement (right) per record, one row per record.
+/// Time records: force (left) and response (right: displacement, velocity or acceleration,
+/// as the record says) per record, one row per record.
 ///
 /// Channels are coloured by degree of freedom (series `RECORD force x`, …,
 /// `RECORD displacement x`, …). On the force plot the impact is marked at the peak of the
@@ -99,7 +100,19 @@ pub fn records(
             let force_end = force_span(record, gate, issues).min(t_end);
             let (left, right) = row.split_horizontally(panel_w);
             let buckets = (panel_w as usize).max(100);
-            for (area, kind, unit) in [(&left, "force", "N"), (&right, "displacement", "m")] {
+            // The response panel is named after what its channels measure; a record mixing
+            // kinds (e.g. velocity and acceleration) draws them in SI units, unscaled.
+            let first = record.response(0);
+            let uniform = record.responses().iter().all(|&r| r == first);
+            let (response, response_unit) = if uniform {
+                (first.name(), first.unit())
+            } else {
+                ("response", "SI")
+            };
+            for (area, kind, name, unit) in [
+                (&left, "force", "force", "N"),
+                (&right, "displacement", response, response_unit),
+            ] {
                 let channel = |c: usize| match kind {
                     "force" => record.force(c),
                     _ => record.displacement(c),
@@ -110,15 +123,19 @@ pub fn records(
                 let max = (0..n)
                     .flat_map(|c| channel(c).iter().map(|v| v.abs()))
                     .fold(0.0, f64::max);
-                let (scale, unit) = si_unit(max, unit);
+                let (scale, unit) = if uniform || kind == "force" {
+                    si_unit(max, unit)
+                } else {
+                    (1.0, unit.to_owned())
+                };
                 let y = span(
                     (0..n).flat_map(|c| channel(c).iter().map(|v| v / scale)),
                     0.08,
                 );
                 let title = if shown < record.len() {
-                    format!("{label}: {kind}, first {} s", tick(&x.end))
+                    format!("{label}: {name}, first {} s", tick(&x.end))
                 } else {
-                    format!("{label}: {kind}")
+                    format!("{label}: {name}")
                 };
                 let area = titled(area, &title)?;
                 let mut chart = linear_chart(
@@ -126,7 +143,7 @@ pub fn records(
                     x.clone(),
                     y.clone(),
                     Some("time (s)"),
-                    &format!("{kind} ({unit})"),
+                    &format!("{name} ({unit})"),
                 )?;
                 if kind == "force" {
                     if let Some(g) = gate {
