@@ -41,6 +41,12 @@ use crate::{Channel, Error};
 /// // Per record: two force channels, two displacement channels, the impact.
 /// assert_eq!(svg.matches("class=\"series\"").count(), 2 * 5);
 /// assert!(svg.contains("displacement (µm)"));
+/// // Velocity records: the response panel says so, in its unit.
+/// use bearing_ident::Response;
+/// let test = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() };
+/// let records = test.run_responding(&seed_rig(), &[Response::Velocity; 2])?;
+/// let svg = plot::records(&records, None, None, &FigureOptions::default())?;
+/// assert!(svg.contains("velocity (mm/s)") && !svg.contains("displacement ("));
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn records(
