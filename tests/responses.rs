@@ -17,7 +17,7 @@ mod common;
 
 use std::f64::consts::PI;
 
-use bearing_ident::simulate::{AntiAlias, Impact, ImpactTest, Simulator, seed_rig};
+use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, seed_rig};
 use bearing_ident::{
     Coefficients, Error, Estimator, Identifier, Method, Record, Response, Segmentation, Window,
 };
@@ -262,29 +262,14 @@ fn exponential_window_converts_with_its_decay() {
         faer::mat![[146.3e3, 22.3e3], [11.5e3, 169.1e3]],
     )
     .unwrap();
-    let duration = 0.6;
+    let duration = common::TRUNCATED_S;
     let samples = (6700.0 * duration) as usize;
     let records = |kind| {
         let mut sim = Simulator::new(&truth, 6700.0, samples, AntiAlias::default())
             .unwrap()
             .responding(&[kind])
             .unwrap();
-        let mut out = Vec::new();
-        for dof in 0..2 {
-            for hit in 0..2 {
-                let mut direction = vec![0.0; 2];
-                direction[dof] = 1.0;
-                direction[1 - dof] = if hit == 0 { 0.05 } else { -0.05 };
-                let impact = Impact {
-                    direction,
-                    peak_n: 500.0,
-                    duration_s: 0.002,
-                    start_s: 0.02,
-                };
-                out.push(sim.record(format!("light-{dof}-{hit}"), &[impact]).unwrap());
-            }
-        }
-        out
+        common::truncated_hits(&mut sim)
     };
     let window = Window::exponential_to(1e-4, duration);
     println!("truncated impacts, exponential window:");

@@ -25,28 +25,13 @@ fn light() -> Coefficients {
 
 /// Record length (s): the response is still at about a third of its initial amplitude when
 /// the record ends.
-const DURATION: f64 = 0.6;
+const DURATION: f64 = common::TRUNCATED_S;
 
 /// Two hits per direction, 6700 samples/s for [`DURATION`].
 fn truncated_records(sys: &Coefficients) -> Vec<Record> {
     let samples = (6700.0 * DURATION) as usize;
     let mut sim = Simulator::new(sys, 6700.0, samples, AntiAlias::default()).unwrap();
-    let mut out = Vec::new();
-    for dof in 0..2 {
-        for hit in 0..2 {
-            let mut direction = vec![0.0; 2];
-            direction[dof] = 1.0;
-            direction[1 - dof] = if hit == 0 { 0.05 } else { -0.05 };
-            let impact = Impact {
-                direction,
-                peak_n: 500.0,
-                duration_s: 0.002,
-                start_s: 0.02,
-            };
-            out.push(sim.record(format!("light-{dof}-{hit}"), &[impact]).unwrap());
-        }
-    }
-    out
+    common::truncated_hits(&mut sim)
 }
 
 fn relative(got: f64, want: f64) -> f64 {

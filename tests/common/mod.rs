@@ -213,3 +213,28 @@ pub mod strategies {
         }
     }
 }
+
+/// Length of [`truncated_hits`]' records (s): short enough that the lightly damped rig has
+/// not decayed, so an exponential window is needed.
+pub const TRUNCATED_S: f64 = 0.6;
+
+/// Two light hits per direction (the other direction at ±5 %), 500 N, 2 ms, from `sim` —
+/// planned at 6700 samples/s for [`TRUNCATED_S`].
+pub fn truncated_hits(sim: &mut bearing_ident::simulate::Simulator) -> Vec<bearing_ident::Record> {
+    let mut out = Vec::new();
+    for dof in 0..2 {
+        for hit in 0..2 {
+            let mut direction = vec![0.0; 2];
+            direction[dof] = 1.0;
+            direction[1 - dof] = if hit == 0 { 0.05 } else { -0.05 };
+            let impact = bearing_ident::simulate::Impact {
+                direction,
+                peak_n: 500.0,
+                duration_s: 0.002,
+                start_s: 0.02,
+            };
+            out.push(sim.record(format!("light-{dof}-{hit}"), &[impact]).unwrap());
+        }
+    }
+    out
+}
