@@ -9,7 +9,7 @@
 
 mod common;
 
-use bearing_ident::simulate::{AntiAlias, Impact, Simulator};
+use bearing_ident::simulate::{AntiAlias, Simulator};
 use bearing_ident::{Coefficients, Identifier, Record, Window};
 use faer::mat;
 
