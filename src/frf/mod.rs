@@ -36,6 +36,7 @@ mod h1;
 mod h2;
 mod hv;
 mod paired;
+mod replicates;
 mod statistics;
 mod variance;
 
@@ -49,6 +50,7 @@ pub use builder::FrfBuilder;
 pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub use paired::paired_sets;
+pub(crate) use replicates::Replicates;
 pub(crate) use paired::{PairedKernel, Share};
 pub(crate) use statistics::PeriodStatistics;
 

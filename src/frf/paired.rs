@@ -125,7 +125,7 @@ pub(crate) struct SetImpedances {
 }
 
 /// Records (push order) per direction.
-fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
+pub(super) fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
     let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (r, &e) in excitation.iter().enumerate() {
         by_direction[e].push(r);
@@ -135,7 +135,7 @@ fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
 
 impl FrfBuilder {
     /// Band-line spectra `(forces, displacements)` of record `r` at line `l`.
-    fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
+    pub(super) fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
         match &self.gathered[r].contribution {
             Contribution::Spectra {
                 forces,

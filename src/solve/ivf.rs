@@ -246,7 +246,12 @@ impl IvfSolver {
     ///
     /// # Errors
     /// [`Error::CoefficientShape`] never; kept for the uniform [`Fit`] constructor.
-    pub fn solve(mut self) -> Result<Fit> {
+    pub fn solve(self) -> Result<Fit> {
+        self.run(true)
+    }
+
+    /// [`IvfSolver::solve`], with the sandwich covariance only when `with_covariance`.
+    pub(super) fn run(mut self, with_covariance: bool) -> Result<Fit> {
         let mut best = (f64::INFINITY, 0, self.theta.clone());
         let mut rises = 0;
         let mut convergence = None;
@@ -291,14 +296,17 @@ impl IvfSolver {
         }
         // Instruments at the returned iterate, for the sandwich covariance.
         let sys = &self.sys;
-        let std = sys
-            .fill_instruments(
-                self.theta.as_ref(),
-                self.w_s.as_mut(),
-                &mut self.g,
-                &mut self.inverter,
-            )
-            .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
+        let std = with_covariance
+            .then(|| {
+                sys.fill_instruments(
+                    self.theta.as_ref(),
+                    self.w_s.as_mut(),
+                    &mut self.g,
+                    &mut self.inverter,
+                )
+                .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
+                .flatten()
+            })
             .flatten();
         finish(Method::Ivf, self.theta, sys, convergence, self.history, std)
     }
