@@ -50,8 +50,8 @@ pub use builder::FrfBuilder;
 pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub use paired::paired_sets;
-pub(crate) use replicates::Replicates;
 pub(crate) use paired::{PairedKernel, Share};
+pub(crate) use replicates::Replicates;
 pub(crate) use statistics::PeriodStatistics;
 
 use crate::error::{Error, Result};

@@ -77,10 +77,12 @@ impl FrfBuilder {
                     match kernel.set_impedance(columns) {
                         Some(h) => per_set.extend_from_slice(h),
                         // The full finish keeps a line only where every set is regular.
-                        None => return Err(Error::NonFiniteResult {
-                            stage: crate::error::Quantity::Impedance,
-                            freq_hz: freq,
-                        }),
+                        None => {
+                            return Err(Error::NonFiniteResult {
+                                stage: crate::error::Quantity::Impedance,
+                                freq_hz: freq,
+                            });
+                        }
                     }
                 }
             }
@@ -152,14 +154,15 @@ impl Replicates<'_> {
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let partials = || {
-            b.gathered.iter().zip(weights).filter_map(|(g, &w)| {
-                match &g.contribution {
+            b.gathered
+                .iter()
+                .zip(weights)
+                .filter_map(|(g, &w)| match &g.contribution {
                     Contribution::Cross { sff, sxf, sxx, .. } if w != 0.0 && !sff.is_empty() => {
                         Some((sff, sxf, sxx, w))
                     }
                     _ => None,
-                }
-            })
+                })
         };
         let segments = b.segmentation.starts(plan.len).count() as f64;
         let averages: f64 = partials().map(|(.., w)| w * segments).sum();
@@ -168,9 +171,7 @@ impl Replicates<'_> {
         // complex sum is the sum of the real parts, bit for bit).
         let power = |l: usize| {
             (0..n)
-                .map(|i| {
-                    partials().fold(zero, |t, (sff, .., w)| t + sff[l * nn + i * (n + 1)] * w)
-                })
+                .map(|i| partials().fold(zero, |t, (sff, .., w)| t + sff[l * nn + i * (n + 1)] * w))
                 .map(|z| z.re)
                 .sum::<f64>()
         };
@@ -182,8 +183,12 @@ impl Replicates<'_> {
         };
         let estimator = line_estimator(b.estimator);
         let mut work = LineWork::new(n);
-        let (mut sf, mut sx, mut ss, mut inv) =
-            (vec![zero; nn], vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        let (mut sf, mut sx, mut ss, mut inv) = (
+            vec![zero; nn],
+            vec![zero; nn],
+            vec![zero; nn],
+            vec![zero; nn],
+        );
         for &(l, freq, cond) in &self.lines {
             for t in [&mut sf, &mut sx, &mut ss] {
                 t.fill(zero);
@@ -254,7 +259,14 @@ mod tests {
             let full = full.retain_lines(|k| k % 3 != 1);
             let shared = builder.replicates_on(&assignment, &full).unwrap();
             let count = shared.count();
-            assert_eq!(count, if estimator == Estimator::PairedSets { 4 } else { 8 });
+            assert_eq!(
+                count,
+                if estimator == Estimator::PairedSets {
+                    4
+                } else {
+                    8
+                }
+            );
             let mut all_weights: Vec<Vec<f64>> = (0..count)
                 .map(|r| (0..count).map(|s| f64::from(u8::from(s != r))).collect())
                 .collect();
@@ -264,7 +276,9 @@ mod tests {
                 let reference = builder.finish_weighted(&assignment, weights).unwrap();
                 let reference = reference.retain_lines(|k| {
                     let f = reference.freqs_hz()[k];
-                    full.freqs_hz().binary_search_by(|u| u.total_cmp(&f)).is_ok()
+                    full.freqs_hz()
+                        .binary_search_by(|u| u.total_cmp(&f))
+                        .is_ok()
                 });
                 assert_eq!(ours.freqs_hz(), reference.freqs_hz(), "{estimator:?}");
                 assert_eq!(ours.freqs_hz(), full.freqs_hz());

@@ -449,7 +449,11 @@ mod tests {
             let m = Mat::from_fn(n, n, |i, j| if i == j { 2.0 + i as f64 } else { 0.1 });
             let c = Mat::from_fn(n, n, |i, j| 30.0 + 5.0 * i as f64 - 2.0 * j as f64);
             let k = Mat::from_fn(n, n, |i, j| {
-                if i == j { 4e5 * (1.0 + i as f64) } else { 1e4 * (i as f64 - j as f64) }
+                if i == j {
+                    4e5 * (1.0 + i as f64)
+                } else {
+                    1e4 * (i as f64 - j as f64)
+                }
             });
             let truth = Coefficients::new(m, c, k).unwrap();
             let freqs: Vec<f64> = (0..lines).map(|l| 20.0 + 7.0 * l as f64).collect();
@@ -458,11 +462,13 @@ mod tests {
                 .map(|&f| {
                     let g = truth.flexibility_at(f).unwrap();
                     // Measurement error, so that the model and measured G differ.
-                    Mat::from_fn(n, n, |i, j| g[(i, j)] * (1.0 + 0.01 * ((i + 2 * j) % 3) as f64))
+                    Mat::from_fn(n, n, |i, j| {
+                        g[(i, j)] * (1.0 + 0.01 * ((i + 2 * j) % 3) as f64)
+                    })
                 })
                 .collect();
-            let sys = Stacked::new(&Frf::from_flexibility(freqs, &g).unwrap(), Method::Ivf)
-                .unwrap();
+            let sys =
+                Stacked::new(&Frf::from_flexibility(freqs, &g).unwrap(), Method::Ivf).unwrap();
             let model = Coefficients::new(
                 truth.mass() * 1.01,
                 truth.damping() * 0.97,
