@@ -216,8 +216,7 @@ impl Coefficients {
         let mass: Vec<c64> = (0..n * n)
             .map(|k| c64::new(self.mass[(k % n, k / n)], 0.0))
             .collect();
-        let mut scratch = vec![c64::new(0.0, 0.0); n * n];
-        let cond = linalg::condition_number_with(&mass, n, &mut scratch, &mut vec![0.0; n]);
+        let cond = linalg::Conditioner::new(n).condition_number(&mass);
         if cond.is_nan() || cond > 1e14 {
             return Err(Error::Singular {
                 what: "mass matrix",

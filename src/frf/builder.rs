@@ -163,7 +163,9 @@ impl FrfBuilder {
     /// [`FrfBuilder::finish`] with replicate `r` (paired set `r`, or record `r` of a
     /// cross-spectral estimator, which needs [`FrfBuilder::keeping_partials`]) counted
     /// `weights[r]` times: 0 leaves it out (jackknife), bootstrap counts resample. No error
-    /// bars are computed for weighted finishes.
+    /// bars are computed for weighted finishes. The reference the shared replicates
+    /// ([`FrfBuilder::replicates_on`]) are tested against.
+    #[cfg(test)]
     pub(crate) fn finish_weighted(&self, assignment: &Assignment, weights: &[f64]) -> Result<Frf> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
         if self.estimator == Estimator::PairedSets {

@@ -140,7 +140,7 @@ impl FrfBuilder {
         let with_variance = weights.is_none() && averages > n as f64;
         let estimator = line_estimator(self.estimator);
         let mut work = LineWork::new(n);
-        let (mut inv, mut sigma) = (vec![zero; nn], vec![0.0; n]);
+        let (mut inv, mut conditioner) = (vec![zero; nn], linalg::Conditioner::new(n));
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
         let (mut auto, mut variance) = (vec![0.0; n], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
@@ -151,7 +151,7 @@ impl FrfBuilder {
             }
             let range = l * nn..(l + 1) * nn;
             let (sf, sx, ss) = (&sff[range.clone()], &sxf[range.clone()], &sxx[range]);
-            let cond = linalg::condition_number_with(sf, n, &mut work.scratch, &mut sigma);
+            let cond = conditioner.condition_number(sf);
             inv.copy_from_slice(sf);
             let ok = work.inverter.invert(&mut inv) && {
                 let sums = LineSums {

@@ -37,6 +37,7 @@ mod h1;
 mod h2;
 mod hv;
 mod paired;
+mod replicates;
 mod statistics;
 mod variance;
 
@@ -51,6 +52,7 @@ pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub use paired::paired_sets;
 pub(crate) use paired::{PairedKernel, Share};
+pub(crate) use replicates::Replicates;
 pub(crate) use statistics::PeriodStatistics;
 
 use crate::error::{Error, Result};
@@ -192,7 +194,7 @@ impl Frf {
         let mut g = vec![c64::new(0.0, 0.0); n * n];
         let mut inverter = linalg::Inverter::new(n);
         let mut h = vec![c64::new(0.0, 0.0); n * n];
-        let (mut scratch, mut sigma) = (vec![c64::new(0.0, 0.0); n * n], vec![0.0; n]);
+        let mut conditioner = linalg::Conditioner::new(n);
         for (&f, m) in freqs_hz.iter().zip(flexibility) {
             if m.nrows() != n || m.ncols() != n || n == 0 {
                 return Err(Error::InvalidParameter {
@@ -219,7 +221,7 @@ impl Frf {
                     freq_hz: f,
                 });
             }
-            let cond = linalg::condition_number_with(&g, n, &mut scratch, &mut sigma);
+            let cond = conditioner.condition_number(&g);
             h.copy_from_slice(&g);
             if inverter.invert(&mut h) {
                 out.push_line(f, &h, &g, cond);

@@ -33,8 +33,7 @@ pub(crate) struct PairedKernel {
     x: Vec<c64>,
     f: Vec<c64>,
     hs: Vec<c64>,
-    scratch: Vec<c64>,
-    sigma: Vec<f64>,
+    conditioner: linalg::Conditioner,
     inverter: linalg::Inverter,
 }
 
@@ -46,8 +45,7 @@ impl PairedKernel {
             x: vec![zero; nn],
             f: vec![zero; nn],
             hs: vec![zero; nn],
-            scratch: vec![zero; nn],
-            sigma: vec![0.0; n],
+            conditioner: linalg::Conditioner::new(n),
             inverter: linalg::Inverter::new(n),
         }
     }
@@ -98,12 +96,7 @@ impl PairedKernel {
         let mut worst = 0.0_f64;
         for (columns, share) in sets {
             self.load(columns);
-            worst = worst.max(linalg::condition_number_with(
-                &self.x,
-                self.n,
-                &mut self.scratch,
-                &mut self.sigma,
-            ));
+            worst = worst.max(self.conditioner.condition_number(&self.x));
             let hs = self.impedance()?;
             match share {
                 Share::Times(w) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b * w),
@@ -125,7 +118,7 @@ pub(crate) struct SetImpedances {
 }
 
 /// Records (push order) per direction.
-fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
+pub(super) fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
     let mut by_direction: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (r, &e) in excitation.iter().enumerate() {
         by_direction[e].push(r);
@@ -135,7 +128,7 @@ fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
 
 impl FrfBuilder {
     /// Band-line spectra `(forces, displacements)` of record `r` at line `l`.
-    fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
+    pub(super) fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
         match &self.gathered[r].contribution {
             Contribution::Spectra {
                 forces,

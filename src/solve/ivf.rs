@@ -3,10 +3,9 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
 use faer::linalg::lu::partial_pivoting::solve::{solve_in_place, solve_in_place_scratch};
-use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par, c64};
+use faer::{Mat, MatRef, Par, c64};
 
-use super::system::Stacked;
+use super::system::{InstrumentWork, Stacked};
 use super::{Convergence, Fit, Method, block_change, finish, ls};
 #[cfg(doc)]
 use crate::error::Error;
@@ -116,6 +115,7 @@ pub struct IvfSolver {
     residual: Mat<f64>,
     g: Vec<c64>,
     inverter: Inverter,
+    work: InstrumentWork,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     stack: MemBuffer,
@@ -160,6 +160,7 @@ impl IvfSolver {
             residual: Mat::zeros(m, n),
             g: vec![c64::new(0.0, 0.0); n * n],
             inverter: Inverter::new(n),
+            work: InstrumentWork::new(n),
             perm: vec![0; p],
             perm_inv: vec![0; p],
             stack,
@@ -177,28 +178,20 @@ impl IvfSolver {
         &self.history
     }
 
-    /// One iteration, `Θ ← (W_sᵀ A_s)⁻¹ W_sᵀ Ī` with instruments from the current model;
+    /// One iteration, `Θ ← (W_sᵀ A_s)⁻¹ W_sᵀ Ī` with instruments from the current model,
+    /// `W_sᵀ A_s` and `W_sᵀ Ī` formed line by line without `W` (`Stacked::instrument_normal`);
     /// no heap allocation. `None` (and no change) if the model impedance is singular at a
     /// line or the new iterate is not finite.
     pub fn iterate(&mut self) -> Option<Iteration> {
         let sys = &self.sys;
-        if !sys.fill_instruments(
+        if !sys.instrument_normal(
             self.theta.as_ref(),
-            self.w_s.as_mut(),
-            &mut self.g,
-            &mut self.inverter,
+            self.normal.as_mut(),
+            self.rhs.as_mut(),
+            &mut self.work,
         ) {
             return None;
         }
-        matmul(
-            self.normal.as_mut(),
-            Accum::Replace,
-            self.w_s.transpose(),
-            sys.a.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        sys.instrument_rhs(self.w_s.as_ref(), self.rhs.as_mut());
         let stack = MemStack::new(&mut self.stack);
         let (_, perm) = lu_in_place(
             self.normal.as_mut(),
@@ -246,7 +239,12 @@ impl IvfSolver {
     ///
     /// # Errors
     /// [`Error::CoefficientShape`] never; kept for the uniform [`Fit`] constructor.
-    pub fn solve(mut self) -> Result<Fit> {
+    pub fn solve(self) -> Result<Fit> {
+        self.run(true)
+    }
+
+    /// [`IvfSolver::solve`], with the sandwich covariance only when `with_covariance`.
+    pub(super) fn run(mut self, with_covariance: bool) -> Result<Fit> {
         let mut best = (f64::INFINITY, 0, self.theta.clone());
         let mut rises = 0;
         let mut convergence = None;
@@ -291,14 +289,17 @@ impl IvfSolver {
         }
         // Instruments at the returned iterate, for the sandwich covariance.
         let sys = &self.sys;
-        let std = sys
-            .fill_instruments(
-                self.theta.as_ref(),
-                self.w_s.as_mut(),
-                &mut self.g,
-                &mut self.inverter,
-            )
-            .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
+        let std = with_covariance
+            .then(|| {
+                sys.fill_instruments(
+                    self.theta.as_ref(),
+                    self.w_s.as_mut(),
+                    &mut self.g,
+                    &mut self.inverter,
+                )
+                .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
+                .flatten()
+            })
             .flatten();
         finish(Method::Ivf, self.theta, sys, convergence, self.history, std)
     }

@@ -26,6 +26,19 @@ pub(super) fn solve(frf: &Frf, method: Method) -> Result<(faer::Mat<f64>, Stacke
     Ok((theta, sys))
 }
 
+/// Least squares without its covariance ([`super::fit_point`]).
+pub(super) fn fit_point(frf: &Frf) -> Result<Fit> {
+    let (theta, sys) = solve(frf, Method::LeastSquares)?;
+    finish(
+        Method::LeastSquares,
+        theta,
+        &sys,
+        Convergence::NotIterative,
+        Vec::new(),
+        None,
+    )
+}
+
 pub(super) fn fit(frf: &Frf) -> Result<Fit> {
     let (theta, sys) = solve(frf, Method::LeastSquares)?;
     let std = sys.sandwich_covariance(theta.as_ref(), sys.a.as_ref());

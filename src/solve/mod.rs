@@ -347,6 +347,20 @@ pub fn fit(frf: &Frf, method: Method, options: &IvfOptions) -> Result<Fit> {
     }
 }
 
+/// [`fit`] without the first-order covariance (no [`Fit::std_dev`], no
+/// [`Fit::covariance`]): the refits of the jackknife and the bootstrap need only the
+/// coefficients, and the sandwich costs about as much as three IVF iterations.
+///
+/// # Errors
+/// As [`fit`].
+pub(crate) fn fit_point(frf: &Frf, method: Method, options: &IvfOptions) -> Result<Fit> {
+    match method {
+        Method::LeastSquares => ls::fit_point(frf),
+        Method::Ivf => IvfSolver::new(frf, *options)?.run(false),
+        _ => fit(frf, method, options),
+    }
+}
+
 /// Lines a band must hold to fit `n` degrees of freedom: `⌈3n/2⌉ + 3`, a few more than the
 /// `3n` unknowns per column need (`2N` equations per column).
 pub fn required_lines(n: usize) -> usize {

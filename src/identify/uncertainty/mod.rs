@@ -12,7 +12,7 @@ use std::str::FromStr;
 use faer::Mat;
 
 use crate::error::{Error, Result, Warning};
-use crate::frf::{Frf, FrfBuilder};
+use crate::frf::{Frf, FrfBuilder, Replicates};
 use crate::gate;
 use crate::model::Coefficients;
 use crate::solve::{self, Fit, Method};
@@ -136,10 +136,15 @@ impl Settings {
         builder: Option<&FrfBuilder>,
         warnings: &mut Vec<Warning>,
     ) -> Result<ErrorBars> {
-        let replicates = match builder {
-            Some(b) if self.uncertainty.resamples() => b.replicates(&self.assignment)?,
-            _ => 0,
+        // Shared by every refit: per-set impedances (or per-record cross-spectra) on the
+        // lines of `frf`, with their condition numbers; only the fit is repeated.
+        let shared = match builder {
+            Some(b) if self.uncertainty.resamples() && self.method != Method::Ml => {
+                Some(b.replicates_on(&self.assignment, frf)?)
+            }
+            _ => None,
         };
+        let replicates = shared.as_ref().map_or(0, Replicates::count);
         let uncertainty = match self.uncertainty {
             Uncertainty::Auto if self.method == Method::Ml => Uncertainty::Sandwich,
             Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
@@ -150,9 +155,9 @@ impl Settings {
             }
             chosen => chosen,
         };
-        let (std_dev, interval_factor) = match (uncertainty, builder) {
-            (Uncertainty::Jackknife, Some(b)) => {
-                let (std, distinct) = self.jackknife(b, frf, replicates)?;
+        let (std_dev, interval_factor) = match (uncertainty, &shared) {
+            (Uncertainty::Jackknife, Some(shared)) => {
+                let (std, distinct) = self.jackknife(shared)?;
                 if distinct < replicates {
                     warnings.push(Warning::DependentReplicates {
                         replicates,
@@ -168,9 +173,9 @@ impl Settings {
                     replicates: draws,
                     seed,
                 },
-                Some(b),
+                Some(shared),
             ) => {
-                let std = self.bootstrap(b, frf, replicates, draws, seed)?;
+                let std = self.bootstrap(shared, draws, seed)?;
                 warnings.extend(gate::zero_spread(&std, fit.coefficients()));
                 (Some(std), t975(replicates - 1))
             }
@@ -186,15 +191,11 @@ impl Settings {
     }
 
     /// The corrected, stacked coefficients refitted with the replicates weighted by
-    /// `weights`, on the same lines as `frf` (the full data's, after any coherence selection).
-    fn refit(&self, builder: &FrfBuilder, frf: &Frf, weights: &[f64]) -> Result<Mat<f64>> {
-        let used = frf.freqs_hz();
-        let all = builder.finish_weighted(&self.assignment, weights)?;
-        let same_lines = all.retain_lines(|k| {
-            let f = all.freqs_hz()[k];
-            used.binary_search_by(|u| u.total_cmp(&f)).is_ok()
-        });
-        let fit = self.corrected(solve::fit(&same_lines, self.method, &self.ivf)?)?;
+    /// `weights`, on the lines of the full data's `Frf` (after any coherence selection); no
+    /// covariance is computed for a refit.
+    fn refit(&self, shared: &Replicates<'_>, weights: &[f64]) -> Result<Mat<f64>> {
+        let frf = shared.frf(weights);
+        let fit = self.corrected(solve::fit_point(&frf, self.method, &self.ivf)?)?;
         Ok(fit.coefficients().stacked())
     }
 }
