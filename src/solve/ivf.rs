@@ -111,8 +111,6 @@ pub struct IvfSolver {
     w_s: Mat<f64>,
     normal: Mat<f64>,
     rhs: Mat<f64>,
-    theta_s: Mat<f64>,
-    residual: Mat<f64>,
     g: Vec<c64>,
     inverter: Inverter,
     work: InstrumentWork,
@@ -156,8 +154,6 @@ impl IvfSolver {
             w_s: Mat::zeros(m, p),
             normal: Mat::zeros(p, p),
             rhs: Mat::zeros(p, n),
-            theta_s: Mat::zeros(p, n),
-            residual: Mat::zeros(m, n),
             g: vec![c64::new(0.0, 0.0); n * n],
             inverter: Inverter::new(n),
             work: InstrumentWork::new(n),
@@ -222,11 +218,7 @@ impl IvfSolver {
             mass_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 0, n),
             damping_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 1, n),
             stiffness_change: stacked_change(self.next.as_ref(), self.theta.as_ref(), 2, n),
-            residual_norm: sys.residual_norm_into(
-                self.next.as_ref(),
-                self.theta_s.as_mut(),
-                self.residual.as_mut(),
-            ),
+            residual_norm: sys.residual_norm_into(self.next.as_ref(), &mut self.work),
         };
         std::mem::swap(&mut self.theta, &mut self.next);
         self.history.push(step);
