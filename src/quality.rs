@@ -376,13 +376,20 @@ pub(crate) fn check_scanned(
         });
     }
     let n = record.dofs();
-    for c in 0..n {
+    for (c, scan) in scans[..n].iter().enumerate() {
         let x = record.force(c);
-        clipping(Channel::Force(c), x, &scans[c], fs, checks, &mut issues);
+        clipping(Channel::Force(c), x, scan, fs, checks, &mut issues);
     }
     for c in 0..n {
         let x = record.displacement(c);
-        clipping(Channel::Displacement(c), x, &scans[n + c], fs, checks, &mut issues);
+        clipping(
+            Channel::Displacement(c),
+            x,
+            &scans[n + c],
+            fs,
+            checks,
+            &mut issues,
+        );
     }
     issues
 }
@@ -414,7 +421,12 @@ impl Scan {
     pub(crate) fn new(x: &[f64]) -> Self {
         let (mut lo, mut hi, mut sum, mut step) =
             (f64::INFINITY, f64::NEG_INFINITY, 0.0, f64::INFINITY);
-        let mut digest = [0x243f_6a88_85a3_08d3_u64, 0x1319_8a2e_0370_7344, 0xa409_3822_299f_31d0, 0x082e_fa98_ec4e_6c89];
+        let mut digest = [
+            0x243f_6a88_85a3_08d3_u64,
+            0x1319_8a2e_0370_7344,
+            0xa409_3822_299f_31d0,
+            0x082e_fa98_ec4e_6c89,
+        ];
         let mut prev = x.first().copied().unwrap_or_default();
         for (m, &v) in x.iter().enumerate() {
             lo = lo.min(v);

@@ -178,7 +178,9 @@ fn what_std_rejects_is_an_error_on_its_line() {
 
 #[test]
 fn quotes_crlf_and_blank_lines_read_as_the_csv_crate_does() {
-    let body: String = (0..20).map(|m| format!("{m},{}.5,-{m}e-3\n", m * 3)).collect();
+    let body: String = (0..20)
+        .map(|m| format!("{m},{}.5,-{m}e-3\n", m * 3))
+        .collect();
     let header = "t,fx,x\n";
     let cases = [
         format!("{header}{body}"),
@@ -192,7 +194,12 @@ fn quotes_crlf_and_blank_lines_read_as_the_csv_crate_does() {
         format!("{header}{body}").replacen("\n7,", "\n\n7,", 1) + "20,1\n",
         format!("{header}{body}").replacen("\n7,", "\n 7 ,", 1),
         format!("\u{feff}{header}{body}"),
-        format!("x,t,y,fx,z\n{}", (0..20).map(|m| format!("a,{m},b,{m},c\n")).collect::<String>()),
+        format!(
+            "x,t,y,fx,z\n{}",
+            (0..20)
+                .map(|m| format!("a,{m},b,{m},c\n"))
+                .collect::<String>()
+        ),
     ];
     for text in cases {
         same(text.as_bytes(), &layout1());
@@ -213,13 +220,13 @@ proptest! {
             .iter()
             .map(|&b| f64::from_bits(b))
             .filter(|v| v.is_finite())
-            .chain([0.0, 1.0])
+            .chain((0..8).map(f64::from))
             .collect();
         values_round_trip(&values, format);
     }
 
-    /// Lines built of good, spaced, quoted, bad and missing fields, with LF or CRLF and blank
-    /// lines: the same record or the same error and line as the csv crate.
+    /// Lines built of good, spaced, quoted, bad and missing fields, with blank lines: the same
+    /// record or the same error and line as the csv crate.
     #[test]
     fn messy_files_read_as_the_csv_crate_does(
         rows in proptest::collection::vec(
@@ -234,7 +241,7 @@ proptest! {
                 text += fields[c];
             }
             text += match end {
-                0 => "\r\n",
+                0 => " \n",
                 1 => "\n\n",
                 _ => "\n",
             };
@@ -243,18 +250,39 @@ proptest! {
     }
 }
 
+/// A CRLF file's errors name the line they are on. (The csv crate names the line before it:
+/// it counts the `\n` of a `\r\n` only when the next record starts; the reader before the fast
+/// path did too, so this is one difference, and only in messages.)
+#[test]
+fn crlf_lines_are_counted_as_lines() {
+    let text = "t,fx,x\r\n0,0,0\r\n1,x,0\r\n2,0,0\r\n";
+    let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+    assert!(matches!(e, Error::Csv { line: 3, .. }), "{e:?}");
+    assert_eq!(reference(text.as_bytes(), &layout1()), Err(("csv", 2)));
+}
+
 /// One reader, many inputs: each record is read as a fresh reader reads it.
 #[test]
 fn a_reader_reused_reads_each_input_afresh() {
     let mut reader = CsvReader::new(layout1());
-    let a: String = "t,fx,x\n".to_owned() + &(0..100).map(|m| format!("{m},{m},1\n")).collect::<String>();
-    let b: String = "x,fx,t\n".to_owned() + &(0..9).map(|m| format!("2,{m},{m}\n")).collect::<String>();
+    let a: String =
+        "t,fx,x\n".to_owned() + &(0..100).map(|m| format!("{m},{m},1\n")).collect::<String>();
+    let b: String =
+        "x,fx,t\n".to_owned() + &(0..9).map(|m| format!("2,{m},{m}\n")).collect::<String>();
     for text in [&a, &b, &a, &b] {
         let reused = reader.read_from(text.as_bytes(), "f.csv").expect("reads");
         let fresh = read_record_from(text.as_bytes(), "f.csv", &layout1()).expect("reads");
         assert_eq!(reused, fresh);
     }
-    let e = reader.read_from("t,fx,x\n0,1\n".as_bytes(), "g.csv").unwrap_err();
+    let e = reader
+        .read_from("t,fx,x\n0,1\n".as_bytes(), "g.csv")
+        .unwrap_err();
     assert!(matches!(e, Error::Csv { line: 2, .. }), "{e:?}");
-    assert_eq!(reader.read_from(a.as_bytes(), "f.csv").expect("reads").len(), 100);
+    assert_eq!(
+        reader
+            .read_from(a.as_bytes(), "f.csv")
+            .expect("reads")
+            .len(),
+        100
+    );
 }

@@ -171,7 +171,11 @@ struct Start<'a> {
 
 /// The header and the rows of the input: the fast path while lines are plain, the csv crate
 /// from the first that is not.
-fn read_rows<'a, R: Read>(start: Start<'a>, text: &mut Text<'_>, reader: &mut R) -> Result<Rows<'a>> {
+fn read_rows<'a, R: Read>(
+    start: Start<'a>,
+    text: &mut Text<'_>,
+    reader: &mut R,
+) -> Result<Rows<'a>> {
     let Some(header_end) = text.line(reader, 1)? else {
         return whole(start, text.rest(reader));
     };
@@ -397,7 +401,9 @@ impl<'a> Rows<'a> {
         }
         let fields: Vec<&[u8]> = line.split(|&b| b == b',').map(<[u8]>::trim_ascii).collect();
         self.ragged(fields.len(), number)?;
-        self.row(number, offset, |i| fields.get(i).copied().unwrap_or_default())
+        self.row(number, offset, |i| {
+            fields.get(i).copied().unwrap_or_default()
+        })
     }
 
     /// [`Error::Csv`] for a line of `len` fields that the header does not have.
@@ -494,12 +500,7 @@ impl<'a> Rows<'a> {
 
     /// The rest of the input through the csv crate: `reader` starts at line `lines + 1`,
     /// `offset` bytes into the input.
-    fn slow(
-        mut self,
-        reader: impl Read,
-        lines: u64,
-        offset: u64,
-    ) -> Result<Rows<'a>> {
+    fn slow(mut self, reader: impl Read, lines: u64, offset: u64) -> Result<Rows<'a>> {
         let mut rdr = csv_reader(reader, lines, self.limits, false);
         let mut row = csv::ByteRecord::new();
         let label = self.label;
