@@ -317,7 +317,7 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 ///
 /// Cost: one copy of the dominant force for the two medians (linear-time selection; skipped
 /// when `min_crest_factor` is infinite), two passes over it and two passes over every channel
-/// (one [`Scan`], one for the runs); nothing else is allocated per sample.
+/// (one shared with the screening, one for the runs); nothing else is allocated per sample.
 ///
 /// The thresholds are not validated here: call [`ImpactChecks::validate`] once for a batch
 /// (invalid thresholds give meaningless issues, never a panic).
