@@ -3,14 +3,17 @@
 //!
 //! The text is read in blocks into a buffer the reader owns (kept across files) and cut into
 //! lines at `\n`. A *plain* line — not empty, no `"`, no `\r` but one just before the `\n` —
-//! splits at every `,` exactly as the csv crate would split it, so its fields are trimmed of
-//! ASCII whitespace and parsed straight from the bytes by `fast_float2` (correctly rounded,
-//! the same `f64` as `str::parse`; no UTF-8 check: a non-ASCII byte is not part of a number).
-//! A plain line the fast parse does not take whole (a field that is not a finite plain number,
-//! a ragged line, the value limit reached) is judged again field by field with
-//! `str::parse` in the order and with the errors of the csv path. The first line that is not
-//! plain (a quoted field, a lone `\r`, an empty line), or a header that is not, hands the rest
-//! of the input to the csv crate, lines counted on from where it starts.
+//! goes through the fast path ([`plain`]); the first line that is not plain (a quoted field, a
+//! lone `\r`, an empty line), or a header that is not, hands the rest of the input to the csv
+//! crate ([`fallback`]), lines counted on from where it starts.
+//!
+//! Here: the reader and its buffer ([`Text`]), the header and the loop over lines
+//! ([`read_rows`]), and the rows read so far ([`Rows`]): the checks and bookkeeping of every
+//! row, the field-by-field parse through `str::parse` that both paths share for anything
+//! unusual, and the record they finish into.
+
+mod fallback;
+mod plain;
 
 use std::io::Read;
 
@@ -18,6 +21,8 @@ use crate::error::{CsvLimitKind, Error, Result};
 use crate::records::Record;
 
 use super::{CsvLayout, MAX_COLUMNS, MAX_LINE_BYTES, MAX_VALUES, uniform_rate};
+use fallback::whole;
+use plain::{plain, strip_cr};
 
 /// The reader's limits; tests use small ones.
 #[derive(Debug, Clone, Copy)]
@@ -293,17 +298,6 @@ impl Text<'_> {
     }
 }
 
-/// `line` without a final `\r`.
-fn strip_cr(line: &[u8]) -> &[u8] {
-    line.strip_suffix(b"\r").unwrap_or(line)
-}
-
-/// Whether the csv crate splits `line` (a line without its terminator) at every comma into
-/// one record: not empty, no quote, no carriage return.
-fn plain(line: &[u8]) -> bool {
-    !line.is_empty() && memchr::memchr2(b'"', b'\r', line).is_none()
-}
-
 /// The rows read so far and what is needed to read more.
 struct Rows<'a> {
     layout: &'a CsvLayout,
@@ -384,25 +378,6 @@ impl<'a> Rows<'a> {
             lines: None,
             first_line: 0,
             columns_start: None,
-        })
-    }
-
-    /// Reads a plain line (`\r` stripped): the fast parse, or the field-by-field one when it
-    /// does not take the line whole.
-    fn plain_row(&mut self, line: &[u8], number: u64, offset: u64) -> Result<()> {
-        let r = self.columns[0].len();
-        let within = (r as u64 + 1).saturating_mul(self.index.len() as u64) <= self.limits.values;
-        if within && !self.slot.is_empty() && fast_fields(line, &self.slot, &mut self.scratch) {
-            self.begin_row(number, offset)?;
-            for (c, &v) in self.columns.iter_mut().zip(&self.scratch) {
-                c.push(v);
-            }
-            return Ok(());
-        }
-        let fields: Vec<&[u8]> = line.split(|&b| b == b',').map(<[u8]>::trim_ascii).collect();
-        self.ragged(fields.len(), number)?;
-        self.row(number, offset, |i| {
-            fields.get(i).copied().unwrap_or_default()
         })
     }
 
@@ -498,25 +473,6 @@ impl<'a> Rows<'a> {
         Ok(())
     }
 
-    /// The rest of the input through the csv crate: `reader` starts at line `lines + 1`,
-    /// `offset` bytes into the input.
-    fn slow(mut self, reader: impl Read, lines: u64, offset: u64) -> Result<Rows<'a>> {
-        let mut rdr = csv_reader(reader, lines, self.limits, false);
-        let mut row = csv::ByteRecord::new();
-        let label = self.label;
-        let limits = self.limits;
-        while rdr
-            .read_byte_record(&mut row)
-            .map_err(|e| csv_error(e, label, lines, limits))?
-        {
-            let line = lines + row.position().map_or(0, csv::Position::line);
-            let at = offset + row.position().map_or(0, csv::Position::byte);
-            self.ragged(row.len(), line)?;
-            self.row(line, at, |i| row.get(i).unwrap_or_default())?;
-        }
-        Ok(self)
-    }
-
     /// The record read: the sampling rate from the time column, the channels moved out; and
     /// the time column's buffer, for the next input.
     fn finish(self) -> (Result<Record>, Vec<f64>) {
@@ -530,166 +486,5 @@ impl<'a> Rows<'a> {
             Record::new(self.label, sample_rate, forces, columns.collect())
         });
         (record, time)
-    }
-}
-
-/// The whole input through the csv crate, header and all (a header that is not plain).
-fn whole(start: Start<'_>, input: impl Read) -> Result<Rows<'_>> {
-    let (label, limits) = (start.label, start.limits);
-    let mut rdr = csv_reader(input, 0, limits, true);
-    let header = rdr
-        .byte_headers()
-        .map_err(|e| csv_error(e, label, 0, limits))?
-        .clone();
-    let mut rows = Rows::new(start, &header)?;
-    let mut row = csv::ByteRecord::new();
-    while rdr
-        .read_byte_record(&mut row)
-        .map_err(|e| csv_error(e, label, 0, limits))?
-    {
-        let line = row.position().map_or(0, csv::Position::line);
-        let at = row.position().map_or(0, csv::Position::byte);
-        rows.row(line, at, |i| row.get(i).unwrap_or_default())?;
-    }
-    Ok(rows)
-}
-
-/// A csv reader of `input` (which starts at line `lines + 1`), its lines limited; with the
-/// header (and the csv crate's check of every row's length against it) or without.
-fn csv_reader<R: Read>(
-    input: R,
-    lines: u64,
-    limits: Limits,
-    header: bool,
-) -> csv::Reader<LineLimit<R>> {
-    let limited = LineLimit {
-        inner: input,
-        limit: limits.line_bytes,
-        run: 0,
-        line: lines + 1,
-    };
-    csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .has_headers(header)
-        .flexible(!header)
-        .from_reader(limited)
-}
-
-/// The error of the csv crate as ours, its line counted from `lines`.
-fn csv_error(e: csv::Error, label: &str, lines: u64, limits: Limits) -> Error {
-    let line = lines + e.position().map_or(0, csv::Position::line);
-    let message = match e.kind() {
-        csv::ErrorKind::UnequalLengths {
-            expected_len, len, ..
-        } => format!("{len} fields, the header has {expected_len}"),
-        _ => e.to_string(),
-    };
-    match e.kind() {
-        csv::ErrorKind::Io(io) => match io.get_ref().and_then(|i| i.downcast_ref()) {
-            Some(LineTooLong { line }) => Error::CsvLimit {
-                path: label.to_owned(),
-                line: *line,
-                what: CsvLimitKind::LineBytes,
-                limit: limits.line_bytes,
-            },
-            None => Error::Io {
-                path: label.to_owned(),
-                message,
-            },
-        },
-        _ => Error::Csv {
-            path: label.to_owned(),
-            line,
-            message,
-        },
-    }
-}
-
-/// Parses a plain line into `out` (layout order; `slot` gives each file column's place): true
-/// if every field read is a finite number that `fast_float2` takes whole (trimmed of ASCII
-/// whitespace) and the line has exactly `slot.len()` fields.
-fn fast_fields(line: &[u8], slot: &[usize], out: &mut [f64]) -> bool {
-    let n = line.len();
-    let last = slot.len() - 1;
-    let mut pos = 0;
-    for (k, &s) in slot.iter().enumerate() {
-        if s == UNREAD {
-            match memchr::memchr(b',', &line[pos..]) {
-                Some(p) if k < last => pos += p + 1,
-                None if k == last => pos = n,
-                _ => return false,
-            }
-            continue;
-        }
-        while pos < n && line[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        let Ok((v, used)) = fast_float2::parse_partial::<f64, _>(&line[pos..]) else {
-            return false;
-        };
-        if !v.is_finite() || used == 0 {
-            return false;
-        }
-        pos += used;
-        while pos < n && line[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        if k == last {
-            if pos != n {
-                return false;
-            }
-        } else {
-            if pos == n || line[pos] != b',' {
-                return false;
-            }
-            pos += 1;
-        }
-        out[s] = v;
-    }
-    true
-}
-
-/// The payload of the I/O error [`LineLimit`] raises.
-#[derive(Debug)]
-struct LineTooLong {
-    line: u64,
-}
-
-impl std::fmt::Display for LineTooLong {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "line {} is too long", self.line)
-    }
-}
-
-impl std::error::Error for LineTooLong {}
-
-/// A reader that fails once a line (bytes since the last `\n`) passes `limit` bytes.
-struct LineLimit<R> {
-    inner: R,
-    limit: u64,
-    /// Bytes since the last newline.
-    run: u64,
-    /// One-based number of the current line.
-    line: u64,
-}
-
-impl<R: Read> Read for LineLimit<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        let too_long = |line| Err(std::io::Error::other(LineTooLong { line }));
-        let mut rest = &buf[..n];
-        while let Some(p) = memchr::memchr(b'\n', rest) {
-            if self.run + p as u64 > self.limit {
-                return too_long(self.line);
-            }
-            self.run = 0;
-            self.line += 1;
-            rest = &rest[p + 1..];
-        }
-        self.run += rest.len() as u64;
-        if self.run > self.limit {
-            return too_long(self.line);
-        }
-        Ok(n)
     }
 }
