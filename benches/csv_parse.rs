@@ -5,7 +5,9 @@
 //! seen against the rest. MB/s (10⁶ bytes of text per second) and the ratio are printed after
 //! the group.
 //!
-//! `cargo bench --bench csv_parse` (or `-- --quick`).
+//! `cargo bench --bench csv_parse` (or `-- --quick`). With `CSV_PARSE_FILE=path` (a file of
+//! the default two-degree-of-freedom layout, e.g. from `bearing-ident simulate --kind random
+//! --duration 600`) only that file is read, a few times, and its MB/s per core printed.
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -101,7 +103,29 @@ fn median(runs: usize, mut f: impl FnMut()) -> Duration {
     times[runs / 2]
 }
 
+/// Reads the file `path` (layout `t,fx,fy,x,y`) `runs` times and prints the median MB/s per
+/// core (CPU time) and wall.
+fn one_file(path: &str, runs: usize) {
+    let bytes = std::fs::metadata(path).expect("metadata").len();
+    let mut reader = CsvReader::new(CsvLayout::default());
+    let mut read = || {
+        black_box(reader.read(path).expect("reads"));
+    };
+    let wall = median(runs, &mut read);
+    let mb_s = |d: Duration| bytes as f64 / 1e6 / d.as_secs_f64();
+    let cpu = median_cpu(runs, &mut read).map_or(f64::NAN, mb_s);
+    eprintln!(
+        "csv_parse {path}: {:.1} MB, {cpu:.0} MB/s per core (CPU time), {:.0} MB/s wall",
+        bytes as f64 / 1e6,
+        mb_s(wall)
+    );
+}
+
 fn csv_parse(c: &mut Criterion) {
+    if let Ok(path) = std::env::var("CSV_PARSE_FILE") {
+        one_file(&path, 5);
+        return;
+    }
     let dir = tempfile::tempdir().expect("temp dir");
     let files = write_files(dir.path());
     let bytes: u64 = files

@@ -201,7 +201,13 @@ fn read_rows<'a, R: Read>(
     let mut rows = Rows::new(start, &header)?;
     text.start = (header_end + 1).min(text.end);
     let mut line = 2;
-    while let Some(end) = text.line(reader, line)? {
+    loop {
+        let (used, lines) = rows.plain_lines(&text.buf[text.start..text.end], line);
+        text.start += used;
+        line += lines;
+        let Some(end) = text.line(reader, line)? else {
+            break;
+        };
         let offset = text.base + text.start as u64;
         let l = strip_cr(&text.buf[text.start..end]);
         if !plain(l) {
