@@ -10,8 +10,11 @@
 //! …
 //! ```
 //!
-//! Reading streams the file row by row (the csv crate, one reused row buffer): only the parsed
-//! channels are held, never the text. Every problem names the file, the line and the column.
+//! Reading streams the file block by block through a buffer the reader keeps ([`CsvReader`],
+//! reused across files): only the parsed channels are held, never the whole text. Plain numeric
+//! lines are split and parsed straight from the bytes (a correctly rounded parser, the same
+//! `f64` as `str::parse`); quoted fields and other unusual lines go through the csv crate.
+//! Every problem names the file, the line and the column.
 //!
 //! # Limits
 //! Memory of reading stays proportional to the values actually read: the input's length is a
@@ -21,7 +24,13 @@
 //! with [`Error::CsvLimit`] naming the file and line. Messages quote at most
 //! [`QUOTE_CHARS`](crate::error::QUOTE_CHARS) characters of the input.
 
+mod reader;
+
+#[cfg(test)]
 use crate::error::CsvLimitKind;
+pub use reader::CsvReader;
+#[cfg(test)]
+use reader::{Limits, MIN_CAPACITY, next_capacity};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -91,19 +100,7 @@ impl CsvLayout {
 /// line whose time is off the grid); [`Error::CsvLimit`] past a [limit](self#limits); and the
 /// [`Record::new`] errors (too few rows, mismatched channel counts in the layout).
 pub fn read_record(path: impl AsRef<Path>, layout: &CsvLayout) -> Result<Record> {
-    let path = path.as_ref();
-    let label = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| Error::Io {
-        path: label.clone(),
-        message: e.to_string(),
-    })?;
-    let bytes = file.metadata().map_or(0, |m| m.len());
-    read_csv(
-        std::io::BufReader::with_capacity(1 << 16, file),
-        &label,
-        layout,
-        bytes,
-    )
+    CsvReader::new(layout.clone()).read(path)
 }
 
 /// Reads one record from any reader; `label` names it in errors.
@@ -126,7 +123,7 @@ pub fn read_record_from(
     label: &str,
     layout: &CsvLayout,
 ) -> Result<Record> {
-    read_csv(reader, label, layout, 0)
+    CsvReader::new(layout.clone()).read_from(reader, label)
 }
 
 /// Longest line the reader accepts, in bytes (1 MiB). A longer line, or an input with no
@@ -141,100 +138,8 @@ pub const MAX_COLUMNS: usize = 4096;
 /// valid rows stops with [`Error::CsvLimit`] there.
 pub const MAX_VALUES: u64 = 1 << 28;
 
-/// The reader's limits; tests use small ones.
-#[derive(Debug, Clone, Copy)]
-struct Limits {
-    line_bytes: u64,
-    columns: usize,
-    values: u64,
-}
-
-const LIMITS: Limits = Limits {
-    line_bytes: MAX_LINE_BYTES,
-    columns: MAX_COLUMNS,
-    values: MAX_VALUES,
-};
-
-/// Rows read before the input's length is used as a hint of the row count (a power of two
-/// times [`MIN_CAPACITY`], so the buffers are full there).
-const SIZING_ROWS: usize = 64;
-
-/// Smallest capacity of a channel buffer.
-const MIN_CAPACITY: usize = 64;
-
-/// Next capacity of the channel buffers, full at `cap`: at most twice `cap`, so memory stays
-/// proportional to the samples actually read, whatever the hint says. `hint` (0 if unknown) is
-/// the row count the input's length suggests; the capacities are then `hint / 2ᵏ`, so a file as
-/// long as it says lands exactly on the hint, without a last oversized doubling.
-fn next_capacity(cap: usize, hint: usize) -> usize {
-    if hint > cap {
-        let mut c = hint;
-        while c / 2 > cap && c / 2 >= MIN_CAPACITY {
-            c /= 2;
-        }
-        c
-    } else {
-        cap.saturating_mul(2).max(MIN_CAPACITY)
-    }
-}
-
-/// The payload of the I/O error [`LineLimit`] raises.
-#[derive(Debug)]
-struct LineTooLong {
-    line: u64,
-}
-
-impl std::fmt::Display for LineTooLong {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "line {} is too long", self.line)
-    }
-}
-
-impl std::error::Error for LineTooLong {}
-
-/// A reader that fails once a line (bytes since the last `\n`) passes `limit` bytes.
-struct LineLimit<R> {
-    inner: R,
-    limit: u64,
-    /// Bytes since the last newline.
-    run: u64,
-    /// One-based number of the current line.
-    line: u64,
-}
-
-impl<R: std::io::Read> std::io::Read for LineLimit<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        let too_long = |line| Err(std::io::Error::other(LineTooLong { line }));
-        let mut rest = &buf[..n];
-        while let Some(p) = rest.iter().position(|&b| b == b'\n') {
-            if self.run + p as u64 > self.limit {
-                return too_long(self.line);
-            }
-            self.run = 0;
-            self.line += 1;
-            rest = &rest[p + 1..];
-        }
-        self.run += rest.len() as u64;
-        if self.run > self.limit {
-            return too_long(self.line);
-        }
-        Ok(n)
-    }
-}
-
-/// The reader behind [`read_record`] and [`read_record_from`]; `bytes` is the input's length
-/// when known (0 otherwise), a hint of the row count only (a sparse or lying length never
-/// sizes an allocation).
-fn read_csv(
-    reader: impl std::io::Read,
-    label: &str,
-    layout: &CsvLayout,
-    bytes: u64,
-) -> Result<Record> {
-    read_csv_limited(reader, label, layout, bytes, LIMITS)
-}
-
+/// One input read with `limits` (tests use small ones).
+#[cfg(test)]
 fn read_csv_limited(
     reader: impl std::io::Read,
     label: &str,
@@ -242,152 +147,7 @@ fn read_csv_limited(
     bytes: u64,
     limits: Limits,
 ) -> Result<Record> {
-    let csv_error = |e: csv::Error| {
-        let line = e.position().map_or(0, csv::Position::line);
-        let message = match e.kind() {
-            csv::ErrorKind::UnequalLengths {
-                expected_len, len, ..
-            } => format!("{len} fields, the header has {expected_len}"),
-            _ => e.to_string(),
-        };
-        match e.kind() {
-            csv::ErrorKind::Io(io) => match io.get_ref().and_then(|i| i.downcast_ref()) {
-                Some(LineTooLong { line }) => Error::CsvLimit {
-                    path: label.to_owned(),
-                    line: *line,
-                    what: CsvLimitKind::LineBytes,
-                    limit: limits.line_bytes,
-                },
-                None => Error::Io {
-                    path: label.to_owned(),
-                    message,
-                },
-            },
-            _ => Error::Csv {
-                path: label.to_owned(),
-                line,
-                message,
-            },
-        }
-    };
-    let limited = LineLimit {
-        inner: reader,
-        limit: limits.line_bytes,
-        run: 0,
-        line: 1,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(limited);
-    let header = rdr.byte_headers().map_err(csv_error)?.clone();
-    if header.len() > limits.columns {
-        return Err(Error::CsvLimit {
-            path: label.to_owned(),
-            line: 1,
-            what: CsvLimitKind::Columns,
-            limit: limits.columns as u64,
-        });
-    }
-    let index: Vec<usize> = layout
-        .columns()
-        .map(|c| {
-            header
-                .iter()
-                .position(|h| h == c.as_bytes())
-                .ok_or_else(|| {
-                    let names: Vec<String> =
-                        header.iter().map(crate::error::excerpt_bytes).collect();
-                    Error::MissingColumn {
-                        path: label.to_owned(),
-                        column: crate::error::excerpt(c),
-                        header: crate::error::excerpt(&names.join(",")),
-                    }
-                })
-        })
-        .collect::<Result<_>>()?;
-    drop(header);
-
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); index.len()];
-    // Line of every row, kept only once the rows stop being consecutive lines.
-    let mut lines: Option<Vec<u64>> = None;
-    let mut first_line = 0;
-    let mut columns_start: Option<u64> = None;
-    let mut row = csv::ByteRecord::new();
-    while rdr.read_byte_record(&mut row).map_err(csv_error)? {
-        let line = row.position().map_or(0, csv::Position::line);
-        let r = columns[0].len();
-        if (r as u64 + 1).saturating_mul(index.len() as u64) > limits.values {
-            return Err(Error::CsvLimit {
-                path: label.to_owned(),
-                line,
-                what: CsvLimitKind::Values,
-                limit: limits.values,
-            });
-        }
-        if r == columns[0].capacity() {
-            // Rows the input's length suggests, from the bytes per row so far (estimated again
-            // at every growth, so it sharpens as rows arrive). A hint only: capacities never
-            // more than double, whatever it says.
-            let hint = if bytes > 0 && r >= SIZING_ROWS {
-                let offset = row.position().map_or(0, csv::Position::byte);
-                let first = columns_start.unwrap_or(0);
-                let per_row = (offset.saturating_sub(first) as f64 / r as f64).max(1.0);
-                let rows = bytes.saturating_sub(first) as f64 / per_row * 1.02 + 16.0;
-                rows.min((limits.values / index.len() as u64) as f64) as usize
-            } else {
-                0
-            };
-            let cap = next_capacity(r, hint);
-            for c in &mut columns {
-                c.reserve_exact(cap - c.len());
-            }
-        }
-        if r == 0 {
-            columns_start = row.position().map(csv::Position::byte);
-            first_line = line;
-        }
-        match &mut lines {
-            Some(l) => l.push(line),
-            None if line != first_line + r as u64 => {
-                let mut l: Vec<u64> = (0..r as u64).map(|i| first_line + i).collect();
-                l.push(line);
-                lines = Some(l);
-            }
-            None => {}
-        }
-        for ((col, &i), name) in columns.iter_mut().zip(&index).zip(layout.columns()) {
-            let field = row.get(i).unwrap_or_default();
-            let value = std::str::from_utf8(field)
-                .ok()
-                .and_then(|s| s.parse::<f64>().ok())
-                .ok_or_else(|| Error::Csv {
-                    path: label.to_owned(),
-                    line,
-                    message: format!(
-                        "column `{}`: `{}` is not a number",
-                        crate::error::excerpt(name),
-                        crate::error::excerpt_bytes(field)
-                    ),
-                })?;
-            if !value.is_finite() {
-                return Err(Error::CsvNonFinite {
-                    path: label.to_owned(),
-                    line,
-                    column: crate::error::excerpt(name),
-                });
-            }
-            col.push(value);
-        }
-    }
-    let line_of = |r: usize| lines.as_ref().map_or(first_line + r as u64, |l| l[r]);
-
-    let mut columns = columns.into_iter();
-    let time = columns.next().unwrap_or_default();
-    let sample_rate = uniform_rate(&time, label, &line_of)?;
-    drop(time);
-    let forces: Vec<Vec<f64>> = columns.by_ref().take(layout.forces.len()).collect();
-    let displacements: Vec<Vec<f64>> = columns.collect();
-    Record::new(label, sample_rate, forces, displacements)
+    CsvReader::new(layout.clone()).read_limited(reader, label, bytes, limits)
 }
 
 /// The sampling rate of a uniform time column: `(N − 1)/(t_last − t_0)`, every sample within

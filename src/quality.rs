@@ -315,8 +315,9 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// past the level, its flanks within one step, is therefore not reported: it distorts by at
 /// most one step).
 ///
-/// Cost: one copy of the dominant force for the two medians (linear-time selection), two
-/// passes over it and two passes over every channel; nothing else is allocated per sample.
+/// Cost: one copy of the dominant force for the two medians (linear-time selection; skipped
+/// when `min_crest_factor` is infinite), two passes over it and two passes over every channel
+/// (one shared with the screening, one for the runs); nothing else is allocated per sample.
 ///
 /// The thresholds are not validated here: call [`ImpactChecks::validate`] once for a batch
 /// (invalid thresholds give meaningless issues, never a panic).
@@ -346,10 +347,27 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn check_record(record: &Record, checks: &ImpactChecks) -> Vec<ImpactIssue> {
+    let n = record.dofs();
+    let scans: Vec<Scan> = (0..n)
+        .map(|c| Scan::new(record.force(c)))
+        .chain((0..n).map(|c| Scan::new(record.displacement(c))))
+        .collect();
+    check_scanned(record, checks, record.dominant_force(), &scans)
+}
+
+/// [`check_record`] from the record's dominant force and the [`Scan`]s of its channels (forces,
+/// then displacements, in DOF order), each done once by the caller and shared.
+pub(crate) fn check_scanned(
+    record: &Record,
+    checks: &ImpactChecks,
+    dominant: usize,
+    scans: &[Scan],
+) -> Vec<ImpactIssue> {
     let fs = record.sample_rate();
     let mut issues = Vec::new();
-    let channel = record.dominant_force();
-    if let Some((first, second, ratio)) = double_hit(record.force(channel), checks) {
+    let channel = dominant;
+    let range = scans[channel].hi - scans[channel].lo;
+    if let Some((first, second, ratio)) = double_hit(record.force(channel), checks, range) {
         issues.push(ImpactIssue::DoubleHit {
             channel,
             first_s: first as f64 / fs,
@@ -357,13 +375,17 @@ pub fn check_record(record: &Record, checks: &ImpactChecks) -> Vec<ImpactIssue> 
             ratio,
         });
     }
-    for c in 0..record.dofs() {
-        clipping(Channel::Force(c), record.force(c), fs, checks, &mut issues);
+    let n = record.dofs();
+    for (c, scan) in scans[..n].iter().enumerate() {
+        let x = record.force(c);
+        clipping(Channel::Force(c), x, scan, fs, checks, &mut issues);
     }
-    for c in 0..record.dofs() {
+    for c in 0..n {
+        let x = record.displacement(c);
         clipping(
             Channel::Displacement(c),
-            record.displacement(c),
+            x,
+            &scans[n + c],
             fs,
             checks,
             &mut issues,
@@ -371,6 +393,70 @@ pub fn check_record(record: &Record, checks: &ImpactChecks) -> Vec<ImpactIssue> 
     }
     issues
 }
+
+/// What one pass over a channel gives the record checks and the screening: its extremes and
+/// sum, the smallest non-zero change between consecutive samples, and a digest of its samples'
+/// bits. Each is computed exactly as the separate passes it replaces did (the same folds, in
+/// the same order), so results do not change.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Scan {
+    /// `min x` (folded with `f64::min` from +∞).
+    pub(crate) lo: f64,
+    /// `max x` (folded with `f64::max` from −∞).
+    pub(crate) hi: f64,
+    /// `Σ x`, left to right from 0.
+    pub(crate) sum: f64,
+    /// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none.
+    pub(crate) step: f64,
+    /// Four interleaved lanes of `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each
+    /// step a bijection of `h`, so records that differ in one sample always differ here.
+    pub(crate) digest: [u64; 4],
+}
+
+/// Odd multiplier of the digest (the 64-bit golden ratio).
+const DIGEST_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
+
+impl Scan {
+    /// One pass over `x`.
+    pub(crate) fn new(x: &[f64]) -> Self {
+        let (mut lo, mut hi, mut sum, mut step) =
+            (f64::INFINITY, f64::NEG_INFINITY, 0.0, f64::INFINITY);
+        let mut digest = [
+            0x243f_6a88_85a3_08d3_u64,
+            0x1319_8a2e_0370_7344,
+            0xa409_3822_299f_31d0,
+            0x082e_fa98_ec4e_6c89,
+        ];
+        let mut prev = x.first().copied().unwrap_or_default();
+        for (m, &v) in x.iter().enumerate() {
+            lo = lo.min(v);
+            hi = hi.max(v);
+            sum += v;
+            let d = (v - prev).abs();
+            if d > 0.0 {
+                step = step.min(d);
+            }
+            prev = v;
+            let h = &mut digest[m % 4];
+            *h = ((*h ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
+        }
+        Self {
+            lo,
+            hi,
+            sum,
+            step,
+            digest,
+        }
+    }
+}
+
+/// Below this range of the force (and above zero), `f − b` may square to zero: the
+/// double-hit check then runs even when no crest factor can pass, to keep its answer on
+/// such a force exactly as before. At or above it, some `|f − b| ≥ range/2` squares to a
+/// positive number (a finite range keeps the peak finite), the RMS is positive and an infinite
+/// crest-factor threshold rejects the record before anything else is computed; a zero range
+/// has no peak.
+const SQUARES_TO_ZERO: f64 = 1e-150;
 
 /// The (upper) median of `values`, reordering them; NaN for none. The one median of the
 /// record checks (here and in [`screening`](crate::screening)).
@@ -383,7 +469,14 @@ pub(crate) fn median(values: &mut [f64]) -> f64 {
 }
 
 /// `(main peak sample, extra peak sample, ratio)` of a double hit in `f`, if there is one.
-fn double_hit(f: &[f64], checks: &ImpactChecks) -> Option<(usize, usize, f64)> {
+fn double_hit(f: &[f64], checks: &ImpactChecks, range: f64) -> Option<(usize, usize, f64)> {
+    // No crest factor passes an infinite threshold: the answer is `None` (see
+    // [`SQUARES_TO_ZERO`]), found here without the medians.
+    let threshold_infinite = checks.min_crest_factor.is_infinite() && checks.min_crest_factor > 0.0;
+    let squares_positive = range.is_finite() && range >= SQUARES_TO_ZERO;
+    if threshold_infinite && (range <= 0.0 || squares_positive) {
+        return None;
+    }
     let n = f.len();
     let mut scratch = f.to_vec();
     let baseline = median(&mut scratch);
@@ -471,27 +564,19 @@ impl Run {
 fn clipping(
     channel: Channel,
     x: &[f64],
+    scan: &Scan,
     fs: f64,
     checks: &ImpactChecks,
     issues: &mut Vec<ImpactIssue>,
 ) {
-    let (mut lo, mut hi, mut sum) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
-    for &v in x {
-        lo = lo.min(v);
-        hi = hi.max(v);
-        sum += v;
-    }
+    let (lo, hi) = (scan.lo, scan.hi);
     let range = hi - lo;
     if range <= 0.0 {
         return;
     }
-    let mean = sum / x.len() as f64;
+    let mean = scan.sum / x.len() as f64;
     // The quantisation step: the smallest non-zero change between consecutive samples.
-    let step = x
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .filter(|&d| d > 0.0)
-        .fold(f64::INFINITY, f64::min);
+    let step = scan.step;
     let tol = CLIP_TOLERANCE * range;
     let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
     for (i, &v) in x.iter().enumerate() {

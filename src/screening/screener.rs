@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::error::{Channel, Warning};
-use crate::quality::{self, ImpactChecks};
+use crate::quality::{self, ImpactChecks, Scan};
 use crate::records::{Record, Response};
 
 use super::summary::{Summary, flat};
@@ -63,7 +63,13 @@ impl Screener {
         let label = record.label();
         let mut found = Vec::new();
         let n = record.dofs();
-        let forces_flat: Vec<Option<f64>> = (0..n).map(|c| flat(record.force(c))).collect();
+        // One pass over each channel serves the flat test, the record checks and the summary.
+        let scans: Vec<Scan> = (0..n)
+            .map(|c| Scan::new(record.force(c)))
+            .chain((0..n).map(|c| Scan::new(record.displacement(c))))
+            .collect();
+        let dominant = record.dominant_force();
+        let forces_flat: Vec<Option<f64>> = scans[..n].iter().map(flat).collect();
         if forces_flat.iter().all(Option::is_some) {
             for (c, v) in forces_flat.iter().enumerate() {
                 found.push(Warning::FlatChannel {
@@ -74,7 +80,7 @@ impl Screener {
             }
         }
         for c in 0..n {
-            if let Some(value) = flat(record.displacement(c)) {
+            if let Some(value) = flat(&scans[n + c]) {
                 found.push(Warning::FlatChannel {
                     record: label.to_owned(),
                     channel: Channel::Displacement(c),
@@ -92,9 +98,9 @@ impl Screener {
             clip_run: self.checks.clip_run,
             ..impact
         };
-        let issues = quality::check_record(record, &impact);
+        let issues = quality::check_scanned(record, &impact, dominant, &scans);
         found.extend(quality::warnings(record, &issues));
-        let mut summary = Summary::new(record);
+        let mut summary = Summary::scanned(record, dominant, &scans);
         summary.flat = found
             .iter()
             .filter_map(|w| match w {

@@ -4,6 +4,7 @@
 use std::hash::{DefaultHasher, Hash, Hasher};
 
 use crate::error::Channel;
+use crate::quality::Scan;
 use crate::records::{Record, Response};
 
 use super::{DOMINANCE, FLAT_TOLERANCE};
@@ -37,21 +38,32 @@ impl Summary {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn new(record: &Record) -> Self {
+        let n = record.dofs();
+        let scans: Vec<Scan> = (0..n)
+            .map(|c| Scan::new(record.force(c)))
+            .chain((0..n).map(|c| Scan::new(record.displacement(c))))
+            .collect();
+        Self::scanned(record, record.dominant_force(), &scans)
+    }
+
+    /// The summary from the record's dominant force and the [`Scan`]s of its channels (forces,
+    /// then displacements), done once and shared with the record checks: one more pass per
+    /// channel, for its RMS.
+    pub(super) fn scanned(record: &Record, dominant: usize, scans: &[Scan]) -> Self {
+        let n = record.dofs();
         let mut hasher = DefaultHasher::new();
         record.len().hash(&mut hasher);
-        let n = record.dofs();
         for c in 0..n {
-            for ch in [record.force(c), record.displacement(c)] {
-                for v in ch {
-                    v.to_bits().hash(&mut hasher);
-                }
-            }
+            scans[c].digest.hash(&mut hasher);
+            scans[n + c].digest.hash(&mut hasher);
         }
         Self {
             label: record.label().to_owned(),
-            dominant: record.dominant_force(),
-            force_rms: (0..n).map(|c| rms(record.force(c))).collect(),
-            displacement_rms: (0..n).map(|c| rms(record.displacement(c))).collect(),
+            dominant,
+            force_rms: (0..n).map(|c| rms(record.force(c), &scans[c])).collect(),
+            displacement_rms: (0..n)
+                .map(|c| rms(record.displacement(c), &scans[n + c]))
+                .collect(),
             responses: record.responses().to_vec(),
             hash: hasher.finish(),
             flat: Vec::new(),
@@ -104,18 +116,16 @@ impl Summary {
     }
 }
 
-/// RMS of `x` about its mean.
-fn rms(x: &[f64]) -> f64 {
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
+/// RMS of `x` about its mean (`scan.sum / N`: the same sum, left to right, as
+/// `Iterator::sum`, whose start differs only for a channel of negative zeros, whose RMS is 0
+/// either way).
+fn rms(x: &[f64], scan: &Scan) -> f64 {
+    let mean = scan.sum / x.len() as f64;
     (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
 }
 
-/// The value of a flat channel, `None` if it varies.
-pub(super) fn flat(x: &[f64]) -> Option<f64> {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
+/// The value of a flat channel (from its [`Scan`]), `None` if it varies.
+pub(super) fn flat(scan: &Scan) -> Option<f64> {
+    let (lo, hi) = (scan.lo, scan.hi);
     (hi - lo <= FLAT_TOLERANCE * hi.abs().max(lo.abs())).then_some(0.5 * (lo + hi))
 }

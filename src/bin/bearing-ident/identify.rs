@@ -364,26 +364,37 @@ fn run(
         indicatif::ProgressDrawTarget::stderr(),
     );
     // A Universal File may hold several records (load cases): the first file's others follow
-    // the one read already.
-    let rest = files.iter().enumerate().flat_map(|(i, path)| {
-        if i == 0 && !is_uff(path) {
-            return Vec::new();
-        }
-        let t = Instant::now();
-        bar.set_message(path.display().to_string());
-        let records = match read_records(path, &layout) {
-            Ok(r) => r.into_iter().skip(usize::from(i == 0)).map(Ok).collect(),
-            Err(e) => vec![Err(e)],
-        };
-        bar.inc(1);
-        *reading += t.elapsed();
-        records
-    });
-    let records = std::iter::once(Ok(first)).chain(rest).inspect(|r| {
-        if let Ok(r) = r {
-            labels.push(r.label().to_owned());
-        }
-    });
+    // the one read already. The files are parsed ahead on worker threads, in order.
+    std::thread::scope(|scope| {
+        let mut ahead = ReadAhead::spawn(scope, files, &layout);
+        let rest = (0..files.len()).flat_map(|i| {
+            let t = Instant::now();
+            bar.set_message(files[i].display().to_string());
+            let records = match ahead.next(i) {
+                Ok(r) => r.into_iter().skip(usize::from(i == 0)).map(Ok).collect(),
+                Err(e) => vec![Err(e)],
+            };
+            bar.inc(1);
+            *reading += t.elapsed();
+            records
+        });
+        let records = std::iter::once(Ok(first)).chain(rest).inspect(|r| {
+            if let Ok(r) = r {
+                labels.push(r.label().to_owned());
+            }
+        });
+        identify_records(args, identifier, excitation, records)
+    })
+    .inspect(|_| bar.finish_and_clear())
+}
+
+/// Identifies `records` as they arrive, or all together for a stepped-sine test.
+fn identify_records(
+    args: &IdentifyArgs,
+    identifier: &Identifier,
+    excitation: Excitation,
+    records: impl Iterator<Item = bearing_ident::Result<Record>>,
+) -> Result<Identification, Failure> {
     let id = if excitation == Excitation::SteppedSine {
         let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
         let dofs = records[0].dofs();
@@ -395,8 +406,64 @@ fn run(
     } else {
         identifier.identify_stream(records)?
     };
-    bar.finish_and_clear();
     Ok(id)
+}
+
+/// Files parsed ahead of the identification on worker threads: worker `w` of `k` reads files
+/// `w, w + k, …` in turn, each with its own [`io::CsvReader`] (buffers kept across its files),
+/// and hands each file's records over a channel of one slot, so at most two files' records
+/// per worker wait; they are taken in file order ([`ReadAhead::next`]). A file already read
+/// (the first, unless a Universal File) is not read again. Dropping it stops the workers at
+/// their next file.
+struct ReadAhead {
+    slots: Vec<std::sync::mpsc::Receiver<bearing_ident::Result<Vec<Record>>>>,
+}
+
+/// Most worker threads parsing files.
+const READERS: usize = 4;
+
+impl ReadAhead {
+    fn spawn<'s>(
+        scope: &'s std::thread::Scope<'s, '_>,
+        files: &'s [PathBuf],
+        layout: &'s Layout,
+    ) -> Self {
+        let k = std::thread::available_parallelism()
+            .map_or(1, std::num::NonZero::get)
+            .clamp(1, READERS)
+            .min(files.len().max(1));
+        let slots = (0..k)
+            .map(|w| {
+                let (tx, rx) = std::sync::mpsc::sync_channel(1);
+                let mut reader = io::CsvReader::new(layout.csv.clone());
+                scope.spawn(move || {
+                    for (i, path) in files.iter().enumerate().skip(w).step_by(k) {
+                        let records = if i == 0 && !is_uff(path) {
+                            Ok(Vec::new())
+                        } else {
+                            read_records(path, layout, &mut reader)
+                        };
+                        if tx.send(records).is_err() {
+                            return;
+                        }
+                    }
+                });
+                rx
+            })
+            .collect();
+        Self { slots }
+    }
+
+    /// The records of file `i`; files must be asked for in order.
+    fn next(&mut self, i: usize) -> bearing_ident::Result<Vec<Record>> {
+        let k = self.slots.len();
+        self.slots[i % k].recv().unwrap_or_else(|_| {
+            Err(Error::Io {
+                path: String::new(),
+                message: "a reading thread stopped".into(),
+            })
+        })
+    }
 }
 
 /// The dry-structure baseline: identified from a directory of CSV records with the same
@@ -552,21 +619,29 @@ fn is_uff(path: &std::path::Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
 }
 
-/// The records of a file: one from a CSV file (its responses of the `--response` kinds); one
-/// per load case of the time histories of a Universal File (by
+/// The records of a file: one from a CSV file, read by `reader` (its responses of the
+/// `--response` kinds); one per load case of the time histories of a Universal File (by
 /// [`uff::records_with`](bearing_ident::uff::records_with)'s rule and the channels named).
-fn read_records(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Vec<Record>> {
+fn read_records(
+    path: &std::path::Path,
+    layout: &Layout,
+    reader: &mut io::CsvReader,
+) -> bearing_ident::Result<Vec<Record>> {
     if is_uff(path) {
-        let functions = bearing_ident::uff::read(path)?;
-        bearing_ident::uff::records_with(&functions, &path.display().to_string(), &layout.uff)
+        read_uff(path, layout)
     } else {
-        read_csv(path, layout).map(|r| vec![r])
+        with_kinds(reader.read(path)?, layout).map(|r| vec![r])
     }
 }
 
-/// One CSV record with the `--response` kinds.
-fn read_csv(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Record> {
-    let record = io::read_record(path, &layout.csv)?;
+/// The records of a Universal File, one per load case.
+fn read_uff(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Vec<Record>> {
+    let functions = bearing_ident::uff::read(path)?;
+    bearing_ident::uff::records_with(&functions, &path.display().to_string(), &layout.uff)
+}
+
+/// `record` with the `--response` kinds, if any were given.
+fn with_kinds(record: Record, layout: &Layout) -> bearing_ident::Result<Record> {
     if layout.responses.is_empty() {
         return Ok(record);
     }
@@ -577,7 +652,7 @@ fn read_csv(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Re
 /// The first record of a file ([`read_records`]).
 fn read_record(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Record> {
     if is_uff(path) {
-        read_records(path, layout)?
+        read_uff(path, layout)?
             .into_iter()
             .next()
             .ok_or_else(|| Error::UffRecord {
@@ -586,7 +661,7 @@ fn read_record(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result
                 message: "no record".into(),
             })
     } else {
-        read_csv(path, layout)
+        with_kinds(io::read_record(path, &layout.csv)?, layout)
     }
 }
 
