@@ -28,20 +28,21 @@ pub(super) fn solve(frf: &Frf, method: Method) -> Result<(faer::Mat<f64>, Stacke
 
 /// Least squares without its covariance ([`super::fit_point`]).
 pub(super) fn fit_point(frf: &Frf) -> Result<Fit> {
-    let (theta, sys) = solve(frf, Method::LeastSquares)?;
-    finish(
-        Method::LeastSquares,
-        theta,
-        &sys,
-        Convergence::NotIterative,
-        Vec::new(),
-        None,
-    )
+    fit_with(frf, false)
 }
 
 pub(super) fn fit(frf: &Frf) -> Result<Fit> {
+    fit_with(frf, true)
+}
+
+/// The least-squares fit, with its sandwich covariance if `covariance`.
+fn fit_with(frf: &Frf, covariance: bool) -> Result<Fit> {
     let (theta, sys) = solve(frf, Method::LeastSquares)?;
-    let std = sys.sandwich_covariance(theta.as_ref(), sys.a.as_ref());
+    let std = if covariance {
+        sys.sandwich_covariance(theta.as_ref(), sys.a.as_ref())
+    } else {
+        None
+    };
     finish(
         Method::LeastSquares,
         theta,
