@@ -9,9 +9,12 @@
 //! the default two-degree-of-freedom layout, e.g. from `bearing-ident simulate --kind random
 //! --duration 600`) only that file is read, a few times, and its MB/s per core printed.
 
+mod common;
+use common::median;
+
 use std::hint::black_box;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use bearing_ident::io::{CsvLayout, CsvReader, write_record};
 use bearing_ident::simulate::{AntiAlias, Simulator};
@@ -89,18 +92,6 @@ fn median_cpu(runs: usize, mut f: impl FnMut()) -> Option<Duration> {
     }
     times.sort();
     Some(times[runs / 2])
-}
-
-fn median(runs: usize, mut f: impl FnMut()) -> Duration {
-    let mut times: Vec<Duration> = (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed()
-        })
-        .collect();
-    times.sort();
-    times[runs / 2]
 }
 
 /// Reads the file `path` (layout `t,fx,fy,x,y`) `runs` times and prints the median MB/s per

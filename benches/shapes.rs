@@ -11,8 +11,11 @@
 //! - `random`: 2 random-excitation records × 40 000 samples on the seed's rig, H1 with Welch
 //!   segments of 4096 samples (Hann, 50 % overlap), 5–60 Hz.
 
+mod common;
+use common::median;
+
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use bearing_ident::excitation::welch_len;
 use bearing_ident::model::Coefficients;
@@ -75,19 +78,6 @@ fn fft_floor(est: &mut SpectralEstimator, records: &[Record], segmentation: Segm
         }
     }
     acc
-}
-
-/// Median wall time of `runs` calls of `f`.
-fn median(runs: usize, mut f: impl FnMut()) -> Duration {
-    let mut times: Vec<Duration> = (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed()
-        })
-        .collect();
-    times.sort();
-    times[runs / 2]
 }
 
 /// Prints the median identify time, the floor, their ratio, and the median of each stage.

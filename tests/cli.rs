@@ -127,6 +127,14 @@ fn round_trip_two_dof_noise_free_is_exact() {
     }
     assert_eq!(v["excitation"], "impact");
     assert_eq!(v["n_records"], 4);
+    // Parsed ahead on worker threads, the files are identified in the order given.
+    let listed: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert_eq!(listed, files);
     assert_eq!(v["n_freq"], 49);
     assert!((v["fs"].as_f64().unwrap() - 6700.0).abs() < 1e-6);
 }

@@ -58,6 +58,15 @@ fn functions(record: &Record, lc: i64) -> Vec<Function> {
     out
 }
 
+/// The time histories of `records`, record `i` as load case `i + 1`.
+fn load_cases(records: &[Record]) -> Vec<Function> {
+    records
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| functions(r, i as i64 + 1))
+        .collect()
+}
+
 fn binary(functions: &[Function]) -> Vec<u8> {
     let mut bytes = Vec::new();
     uff::write_binary(&mut bytes, functions, ByteOrder::Little).unwrap();
@@ -67,11 +76,7 @@ fn binary(functions: &[Function]) -> Vec<u8> {
 #[test]
 fn data_types_11_and_12_are_velocity_and_acceleration() {
     let records = mixed_records();
-    let all: Vec<Function> = records
-        .iter()
-        .enumerate()
-        .flat_map(|(i, r)| functions(r, i as i64 + 1))
-        .collect();
+    let all = load_cases(&records);
     let back = uff::records(
         &uff::parse(&binary(&all), "mixed.uff").unwrap(),
         "mixed.uff",
@@ -250,11 +255,7 @@ fn command_line_velocity_csv_and_uff_give_the_displacement_result() {
     // A Universal File of velocity (11) and acceleration (12) time histories, read by data
     // type, by named channels, and with a kind override.
     let records = mixed_records();
-    let all: Vec<Function> = records
-        .iter()
-        .enumerate()
-        .flat_map(|(i, r)| functions(r, i as i64 + 1))
-        .collect();
+    let all = load_cases(&records);
     let uff_path = path("mixed.uff");
     std::fs::write(&uff_path, binary(&all)).unwrap();
     let want = Identifier::new(8.0, 49.0).identify(&records).unwrap();

@@ -64,10 +64,7 @@ impl Screener {
         let mut found = Vec::new();
         let n = record.dofs();
         // One pass over each channel serves the flat test, the record checks and the summary.
-        let scans: Vec<Scan> = (0..n)
-            .map(|c| Scan::new(record.force(c)))
-            .chain((0..n).map(|c| Scan::new(record.displacement(c))))
-            .collect();
+        let scans = Scan::channels(record);
         let dominant = record.dominant_force();
         let forces_flat: Vec<Option<f64>> = scans[..n].iter().map(flat).collect();
         if forces_flat.iter().all(Option::is_some) {

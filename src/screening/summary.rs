@@ -38,11 +38,7 @@ impl Summary {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn new(record: &Record) -> Self {
-        let n = record.dofs();
-        let scans: Vec<Scan> = (0..n)
-            .map(|c| Scan::new(record.force(c)))
-            .chain((0..n).map(|c| Scan::new(record.displacement(c))))
-            .collect();
+        let scans = Scan::channels(record);
         Self::scanned(record, record.dominant_force(), &scans)
     }
 

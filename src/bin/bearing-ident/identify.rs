@@ -8,19 +8,20 @@ use std::time::Instant;
 
 use bearing_ident::excitation::{Excitation, crest_factor, deciding_crest_factor};
 use bearing_ident::gate::FitGate;
-use bearing_ident::io::{self, CsvLayout};
+use bearing_ident::io::CsvLayout;
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::uff::{UffChannel, UffLayout};
 use bearing_ident::{
     Assignment, Baseline, Error, Estimator, Identification, Identifier, Method, NonConvergence,
-    Record, Response, Screening, Segmentation, Uncertainty,
+    Record, Screening, Segmentation, Uncertainty,
 };
 use clap::ValueEnum;
 
 use crate::failure::{Failure, invalid};
 use crate::output::{emit, write_report};
 use crate::parse::{library, parse_band, parse_window, response_columns};
+use crate::read::{Layout, ReadAhead, is_uff, read_file, read_record};
 use crate::report;
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -198,14 +199,6 @@ pub struct IdentifyArgs {
     files: Vec<PathBuf>,
 }
 
-/// How the record files are read: CSV columns, Universal File channels, response kinds.
-struct Layout {
-    csv: CsvLayout,
-    uff: UffLayout,
-    /// `--response`: empty for none given.
-    responses: Vec<Response>,
-}
-
 fn layout(args: &IdentifyArgs) -> Result<Layout, Failure> {
     let defaults = CsvLayout::default();
     let pick = |given: &[String], default: Vec<String>| {
@@ -346,14 +339,14 @@ fn settings(
     Ok((identifier, segment_len))
 }
 
-/// Identifies the records of `files`, the first already read: streamed one at a time (memory
-/// holds one record plus band-line spectra, however many files), or all together for a
-/// stepped-sine test.
+/// Identifies the records of `files`, the first file's already read (`first`, all its
+/// records): streamed one at a time (memory holds one record plus band-line spectra, however
+/// many files), or all together for a stepped-sine test.
 fn run(
     args: &IdentifyArgs,
     identifier: &Identifier,
     excitation: Excitation,
-    first: Record,
+    first: Vec<Record>,
     files: &[PathBuf],
     reading: &mut std::time::Duration,
     labels: &mut Vec<String>,
@@ -363,22 +356,23 @@ fn run(
         Some(files.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    // A Universal File may hold several records (load cases): the first file's others follow
-    // the one read already. The files are parsed ahead on worker threads, in order.
+    // The first file is read already (a Universal File may hold several records, one per
+    // load case): the workers hand it over empty. The others are parsed ahead on worker
+    // threads, in order.
     std::thread::scope(|scope| {
         let mut ahead = ReadAhead::spawn(scope, files, &layout);
         let rest = (0..files.len()).flat_map(|i| {
             let t = Instant::now();
             bar.set_message(files[i].display().to_string());
             let records = match ahead.next(i) {
-                Ok(r) => r.into_iter().skip(usize::from(i == 0)).map(Ok).collect(),
+                Ok(r) => r.into_iter().map(Ok).collect(),
                 Err(e) => vec![Err(e)],
             };
             bar.inc(1);
             *reading += t.elapsed();
             records
         });
-        let records = std::iter::once(Ok(first)).chain(rest).inspect(|r| {
+        let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
             if let Ok(r) = r {
                 labels.push(r.label().to_owned());
             }
@@ -409,63 +403,6 @@ fn identify_records(
     Ok(id)
 }
 
-/// Files parsed ahead of the identification on worker threads: worker `w` of `k` reads files
-/// `w, w + k, …` in turn, each with its own [`io::CsvReader`] (buffers kept across its files),
-/// and hands each file's records over a channel of one slot, so at most two files' records
-/// per worker wait; they are taken in file order ([`ReadAhead::next`]). A file already read
-/// (the first, unless a Universal File) is not read again. Dropping it stops the workers at
-/// their next file.
-struct ReadAhead {
-    slots: Vec<std::sync::mpsc::Receiver<bearing_ident::Result<Vec<Record>>>>,
-}
-
-/// Most worker threads parsing files.
-const READERS: usize = 4;
-
-impl ReadAhead {
-    fn spawn<'s>(
-        scope: &'s std::thread::Scope<'s, '_>,
-        files: &'s [PathBuf],
-        layout: &'s Layout,
-    ) -> Self {
-        let k = std::thread::available_parallelism()
-            .map_or(1, std::num::NonZero::get)
-            .clamp(1, READERS)
-            .min(files.len().max(1));
-        let slots = (0..k)
-            .map(|w| {
-                let (tx, rx) = std::sync::mpsc::sync_channel(1);
-                let mut reader = io::CsvReader::new(layout.csv.clone());
-                scope.spawn(move || {
-                    for (i, path) in files.iter().enumerate().skip(w).step_by(k) {
-                        let records = if i == 0 && !is_uff(path) {
-                            Ok(Vec::new())
-                        } else {
-                            read_records(path, layout, &mut reader)
-                        };
-                        if tx.send(records).is_err() {
-                            return;
-                        }
-                    }
-                });
-                rx
-            })
-            .collect();
-        Self { slots }
-    }
-
-    /// The records of file `i`; files must be asked for in order.
-    fn next(&mut self, i: usize) -> bearing_ident::Result<Vec<Record>> {
-        let k = self.slots.len();
-        self.slots[i % k].recv().unwrap_or_else(|_| {
-            Err(Error::Io {
-                path: String::new(),
-                message: "a reading thread stopped".into(),
-            })
-        })
-    }
-}
-
 /// The dry-structure baseline: identified from a directory of CSV records with the same
 /// settings, or read back from an earlier `identify --json` result.
 fn baseline(
@@ -491,7 +428,7 @@ fn baseline(
                 path.display()
             )));
         }
-        let first = read_record(&files[0], &layout(args)?)?;
+        let first = read_file(&files[0], &layout(args)?)?;
         let mut reading = std::time::Duration::ZERO;
         let id = run(
             args,
@@ -540,23 +477,24 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
     crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
     let start = Instant::now();
-    let first = read_record(&args.files[0], &layout)?;
+    let first_file = read_file(&args.files[0], &layout)?;
+    let first = &first_file[0];
     let crest = if args.excitation == ExcitationArg::Auto {
         // A flat force (a hammer hit that did not register) says nothing of the excitation:
         // the library decides from the first record with a force, reading no further.
         let rest = args.files[1..]
             .iter()
             .map(|path| read_record(path, &layout).map(Cow::Owned));
-        deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(&first))).chain(rest))?
+        deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?
     } else {
-        crest_factor(&first)
+        crest_factor(first)
     };
     let mut reading = start.elapsed();
     let excitation = args
         .excitation
         .kind()
         .unwrap_or_else(|| Excitation::from_crest_factor(crest));
-    let (identifier, segment_len) = settings(args, excitation, &first)?;
+    let (identifier, segment_len) = settings(args, excitation, first)?;
     let sample_rate = first.sample_rate();
     // The labels of the records identified: the files, or a file's load cases for a UFF.
     let mut labels = Vec::new();
@@ -564,7 +502,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         args,
         &identifier,
         excitation,
-        first,
+        first_file,
         &args.files,
         &mut reading,
         &mut labels,
@@ -610,59 +548,6 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let bearing = context.bearing.as_ref().map(|(b, _, _)| b);
     crate::export::write(&args.export, &id, bearing, args.per_frequency)?;
     emit(&id, &context, None, args.json)
-}
-
-/// Whether `path` is a Universal File (`.uff`, `.unv`, any case) rather than a CSV record.
-fn is_uff(path: &std::path::Path) -> bool {
-    path.extension()
-        .and_then(|x| x.to_str())
-        .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
-}
-
-/// The records of a file: one from a CSV file, read by `reader` (its responses of the
-/// `--response` kinds); one per load case of the time histories of a Universal File (by
-/// [`uff::records_with`](bearing_ident::uff::records_with)'s rule and the channels named).
-fn read_records(
-    path: &std::path::Path,
-    layout: &Layout,
-    reader: &mut io::CsvReader,
-) -> bearing_ident::Result<Vec<Record>> {
-    if is_uff(path) {
-        read_uff(path, layout)
-    } else {
-        with_kinds(reader.read(path)?, layout).map(|r| vec![r])
-    }
-}
-
-/// The records of a Universal File, one per load case.
-fn read_uff(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Vec<Record>> {
-    let functions = bearing_ident::uff::read(path)?;
-    bearing_ident::uff::records_with(&functions, &path.display().to_string(), &layout.uff)
-}
-
-/// `record` with the `--response` kinds, if any were given.
-fn with_kinds(record: Record, layout: &Layout) -> bearing_ident::Result<Record> {
-    if layout.responses.is_empty() {
-        return Ok(record);
-    }
-    let kinds = Response::per_channel(&layout.responses, record.dofs())?;
-    record.with_responses(kinds)
-}
-
-/// The first record of a file ([`read_records`]).
-fn read_record(path: &std::path::Path, layout: &Layout) -> bearing_ident::Result<Record> {
-    if is_uff(path) {
-        read_uff(path, layout)?
-            .into_iter()
-            .next()
-            .ok_or_else(|| Error::UffRecord {
-                path: path.display().to_string(),
-                load_case: 0,
-                message: "no record".into(),
-            })
-    } else {
-        with_kinds(io::read_record(path, &layout.csv)?, layout)
-    }
 }
 
 /// Files read again for the record figure of `identify --plot`.

@@ -16,6 +16,7 @@ mod identify;
 mod inspect;
 mod output;
 mod parse;
+mod read;
 mod report;
 mod simulate;
 

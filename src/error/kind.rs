@@ -1,0 +1,75 @@
+//! [`Error::kind`]: the stable name of each kind of error, for scripts and logs.
+
+use super::Error;
+
+impl Error {
+    /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
+    /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
+    /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
+    /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
+    /// `baseline_mismatch`, `ml_needs_repeats`, `plot_error`, `dead_channel`, `too_large`,
+    /// `bad_baseline`, `malformed_uff`. The README's table lists every one (a unit test checks it).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Error;
+    /// assert_eq!(Error::RankDeficient { rank: 1, dofs: 2 }.kind(), "rank_deficient");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            #[cfg(feature = "csv")]
+            Error::Csv { .. } => "malformed_csv",
+            #[cfg(feature = "csv")]
+            Error::MissingColumn { .. } => "missing_column",
+            #[cfg(feature = "csv")]
+            Error::CsvNonFinite { .. } => "non_finite",
+            Error::NonFinite { .. }
+            | Error::SpectrumOverflow { .. }
+            | Error::NonFiniteResult { .. } => "non_finite",
+            Error::DeadChannel { .. } => "dead_channel",
+            #[cfg(feature = "csv")]
+            Error::NonUniformTime { .. } => "nonuniform_time",
+            Error::InvalidSampleRate { .. }
+            | Error::ChannelCount { .. }
+            | Error::ResponseCount { .. }
+            | Error::ChannelLength { .. }
+            | Error::NoRecords
+            | Error::DofMismatch { .. }
+            | Error::SampleRateMismatch { .. }
+            | Error::RecordLengthMismatch { .. }
+            | Error::InvalidAssignment { .. }
+            | Error::AssignmentLength { .. } => "inconsistent_records",
+            Error::InvalidBand { .. }
+            | Error::BandAboveNyquist { .. }
+            | Error::TooFewLines { .. }
+            | Error::ResponseAtZeroFrequency { .. } => "bad_band",
+            Error::RankDeficient { .. } | Error::IncompleteStep { .. } => "rank_deficient",
+            Error::NotConverged { .. } => "not_converged",
+            Error::Io { .. } => "io_error",
+            Error::RecordTooShort { .. } => "record_too_short",
+            Error::InvalidParameter { .. }
+            | Error::UnknownName { .. }
+            | Error::LengthMismatch { .. } => "invalid_argument",
+            Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
+                "singular"
+            }
+            #[cfg(feature = "csv")]
+            Error::CsvLimit { .. } => "too_large",
+            Error::TooLarge { .. } => "too_large",
+            Error::BaselineMismatch { .. } => "baseline_mismatch",
+            #[cfg(feature = "json")]
+            Error::BadBaseline { .. } => "bad_baseline",
+            Error::MlNeedsRepeats => "ml_needs_repeats",
+            #[cfg(feature = "plot")]
+            Error::Plot { .. } => "plot_error",
+            Error::CoefficientShape { .. }
+            | Error::NonFiniteCoefficient { .. }
+            | Error::DofCountMismatch { .. } => "bad_coefficients",
+            #[cfg(feature = "uff")]
+            Error::Uff { .. } => "malformed_uff",
+            #[cfg(feature = "uff")]
+            Error::UffRecord { .. } => "inconsistent_records",
+            Error::ExportDofs { .. } => "invalid_argument",
+        }
+    }
+}
