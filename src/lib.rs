@@ -117,6 +117,7 @@ pub mod io;
 pub mod json;
 mod linalg;
 pub mod model;
+pub mod nonlinear;
 pub mod per_frequency;
 #[cfg(feature = "plot")]
 pub mod plot;
