@@ -116,3 +116,14 @@ pub const PLOT_CHANGE_FLOOR: f64 = 1e-17;
 /// `10⁻⁶` that [`ImpactTest::run_clean`](crate::simulate::ImpactTest::run_clean) requires is
 /// met with margin. Record length `16.2 / min(−Re λ)` seconds after the excitation.
 pub const SIMULATED_DECAY_NEPERS: f64 = 16.2;
+
+/// Largest `ρ h` (fastest rate of the system times the step) of the nonlinear simulator's RK4
+/// steps: the classical Runge–Kutta method is stable on the negative real axis up to
+/// `ρh ≈ 2.785` and on the imaginary axis up to `2√2 ≈ 2.83`; `2` keeps a margin for the
+/// rates between (a lightly damped filter section's poles lie near 45°).
+pub const RK4_STABLE_STEP: f64 = 2.0;
+
+/// Largest change of velocity per RK4 substep inside the friction's smoothing band, in units of
+/// the smoothing scale `v_s`: `tanh` changes over `≈ v_s`, so a quarter of it per substep
+/// resolves the law (a free Coulomb decay then matches its closed form to `10⁻⁶`).
+pub const SMOOTHING_RESOLUTION: f64 = 0.25;

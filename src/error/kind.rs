@@ -70,6 +70,7 @@ impl Error {
             #[cfg(feature = "uff")]
             Error::UffRecord { .. } => "inconsistent_records",
             Error::ExportDofs { .. } => "invalid_argument",
+            Error::SimulationDiverged { .. } => "non_finite",
         }
     }
 }

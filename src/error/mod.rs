@@ -511,6 +511,22 @@ pub enum Error {
         /// Degrees of freedom the format takes.
         expected: usize,
     },
+    /// A nonlinear simulation stopped being finite: a term drove the state to infinity (a
+    /// softening cubic past its turning point, a negative friction or damping), or the RK4 step
+    /// is too long for a rate that grows with the amplitude (cubic stiffness, quadratic damping).
+    #[error(
+        "record `{record}`: the nonlinear simulation diverged before sample {sample} (RK4 step \
+         {step_s:.3e} s): check the signs and sizes of the nonlinear coefficients, or raise \
+         the oversampling"
+    )]
+    SimulationDiverged {
+        /// Label of the record.
+        record: String,
+        /// The first sample whose state is not finite.
+        sample: usize,
+        /// The RK4 step (s).
+        step_s: f64,
+    },
 }
 
 /// `line spacing … Hz`, or that it is unknown.

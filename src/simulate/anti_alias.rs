@@ -97,6 +97,27 @@ impl AntiAlias {
         }
     }
 
+    /// One channel's filter on its own, `ṡ = A s + b u`, read off the state matrix the
+    /// simulator builds ([`AntiAlias::fill_state_matrix`] for one degree of freedom): `A`
+    /// (`order × order`, row-major), `b`, and the index of the state that is the filter's
+    /// output. `None` for [`AntiAlias::None`]. Used by the nonlinear simulator, so that both
+    /// simulators filter with the very same analogue filter.
+    pub(super) fn channel_system(self, sample_rate: f64) -> Option<(Vec<f64>, Vec<f64>, usize)> {
+        let AntiAlias::Butterworth { order, .. } = self else {
+            return None;
+        };
+        let dim = 5 + 2 * order;
+        let mut a = Mat::<f64>::zeros(dim, dim);
+        self.fill_state_matrix(&mut a, 1, sample_rate);
+        // Channel 0 is the force channel of the one DOF: states 5 … 5 + order, input the held
+        // force (state 4).
+        let a_f = (0..order * order)
+            .map(|k| a[(5 + k / order, 5 + k % order)])
+            .collect();
+        let b = (0..order).map(|i| a[(5 + i, 4)]).collect();
+        Some((a_f, b, order - 2))
+    }
+
     /// Makes the input of channel `channel`'s filter (forces first, then responses) the
     /// weighted sum `Σ w · s[u]` of the structure's states `inputs = [(u, w)]` (indices below
     /// `5n`): a response channel then filters displacement, velocity or acceleration, and the

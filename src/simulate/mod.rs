@@ -21,6 +21,7 @@ mod anti_alias;
 mod expm;
 mod impact;
 mod noise;
+mod nonlinear;
 mod rig;
 mod simulator;
 mod waveforms;
@@ -30,9 +31,12 @@ use crate::error::{Error, Result};
 pub use anti_alias::AntiAlias;
 pub use impact::{Impact, ImpactTest};
 pub use noise::add_noise;
+pub use nonlinear::{
+    DEFAULT_OVERSAMPLING, DEFAULT_SMOOTHING, MAX_OVERSAMPLING, NonlinearSimulator, SMOOTHING_BAND,
+};
 pub use rig::{seed_rig, slowest_decay};
 pub use simulator::Simulator;
-pub use waveforms::{SWEEP_TAPER, multisine, sine, sweep};
+pub use waveforms::{SWEEP_TAPER, band_noise, multisine, sine, sweep};
 
 /// Most samples in one simulated record (or one drive signal): `2²⁴`, about 16.8 million
 /// (42 minutes at 6.7 kHz). Larger requests are [`Error::TooLarge`], never an allocation.

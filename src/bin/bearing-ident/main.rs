@@ -46,7 +46,8 @@ enum Command {
     Identify(IdentifyArgs),
     /// Simulate the seed's test rig and identify it, as the quickstart example does.
     Demo(DemoArgs),
-    /// Simulate impact records of a given system and write them as CSV files.
+    /// Simulate records of a given system (linear, or with nonlinear terms) and write them as
+    /// CSV files.
     Simulate(SimulateArgs),
     /// List the dataset 58 / 58b functions of Universal Files (`--json`: every value).
     Inspect(InspectArgs),
