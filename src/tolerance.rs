@@ -127,3 +127,59 @@ pub const RK4_STABLE_STEP: f64 = 2.0;
 /// the smoothing scale `v_s`: `tanh` changes over `≈ v_s`, so a quarter of it per substep
 /// resolves the law (a free Coulomb decay then matches its closed form to `10⁻⁶`).
 pub const SMOOTHING_RESOLUTION: f64 = 0.25;
+// ---------------------------------------------------------------------------------------------
+// Nonlinear elements: the reverse path (nonlinear).
+// ---------------------------------------------------------------------------------------------
+
+/// Half-width (lines) of the moving average that smooths a channel's power before the Wiener
+/// gain of the velocity ([`Differentiation::Wiener`](crate::nonlinear::Differentiation::Wiener)):
+/// 65 lines average $\lvert X_k\rvert^2$ to a relative scatter of $1/\sqrt{65} \approx 12\,\%$,
+/// so the gain $1 - N_0/\bar P$ is steady where the signal stands above the floor, while the
+/// averaging width stays a small fraction of any band of a long record.
+pub const WIENER_SMOOTHING_LINES: usize = 32;
+
+/// Over-subtraction $\beta$ of the Wiener gain $1 - \beta N_0/\bar P$: the smoothed power of
+/// lines of noise alone scatters about the floor $N_0$ by $1/\sqrt{65} \approx 12\,\%$ (see
+/// [`WIENER_SMOOTHING_LINES`]); $\beta = 1 + 4/\sqrt{65} \approx 1.5$ puts four of those
+/// scatters between them and a non-zero gain, so the noise is not let through at small gains
+/// all the way to Nyquist (where a derivative multiplies it by $\omega$), while a line
+/// 100 times above the floor keeps 98.5 % of its power.
+pub const WIENER_OVERSUBTRACTION: f64 = 1.5;
+
+/// Fewest lines above the band from which the Wiener gain's noise floor is read as their
+/// median (the records' measurement noise, which the band-limited response lies under); with
+/// fewer, the lowest decile of the whole spectrum is used. Four smoothing widths: the median
+/// then rests on about four independent averages.
+pub const WIENER_MIN_FLOOR_LINES: usize = 4 * (2 * WIENER_SMOOTHING_LINES + 1);
+
+/// Welch averages the reverse path needs per input (linear and nonlinear together): the
+/// input spectral matrix $S_{zz}$ of $q$ inputs is singular below $q$ averages, and the
+/// random error of the estimate grows as $1/(n_d - q)$; twice as many averages as inputs keeps
+/// that factor at most $1/q$ of the estimate's own variance.
+pub const REVERSE_PATH_AVERAGES_PER_INPUT: usize = 2;
+
+/// Most jackknife blocks of the reverse path: the Welch segments of all records, in order, are
+/// cut into this many contiguous blocks (fewer when there are fewer segments), each left out
+/// in turn. Eight replicates give the standard deviation to about ±25 % (χ² with 7 degrees of
+/// freedom), at eight refits' cost.
+pub const REVERSE_PATH_JACKKNIFE_BLOCKS: usize = 8;
+
+/// Model check of a nonlinear term: largest ratio of the band average of $\operatorname{Im}
+/// \hat A_j$ to that of $\operatorname{Re} \hat A_j$ for a term that fits. A right regressor
+/// has a real, constant $\hat A_j$; 10 % is far above the scatter of 2 %-noise records
+/// (below 1 % in the tests) and well below what a wrong regressor gives.
+pub const NONLINEAR_IMAGINARY_RATIO: f64 = 0.1;
+
+/// Model check of a nonlinear term: largest change of $\operatorname{Re}\hat A_j$ across the
+/// band, relative to its band average (weighted straight-line fit), for a term that fits.
+pub const NONLINEAR_SLOPE: f64 = 0.2;
+
+/// A model-check deviation (imaginary part, slope) counts only when it is this many of its own
+/// standard deviations (from the per-line variances) away from zero, so that a term whose
+/// coefficient is noise (a term the system does not have) is not called a misfit.
+pub const NONLINEAR_CHECK_SIGMAS: f64 = 3.0;
+
+/// A regressor is collinear with the other inputs when its multiple coherence on them (median
+/// over the band) exceeds this: its coefficient is then determined by less than 1 % of its
+/// own power, and scatter and bias grow by the factor $1/(1-\gamma^2) > 100$.
+pub const COLLINEAR_COHERENCE: f64 = 0.99;

@@ -25,7 +25,8 @@ impl Error {
             Error::CsvNonFinite { .. } => "non_finite",
             Error::NonFinite { .. }
             | Error::SpectrumOverflow { .. }
-            | Error::NonFiniteResult { .. } => "non_finite",
+            | Error::NonFiniteResult { .. }
+            | Error::NonFiniteRegressor { .. } => "non_finite",
             Error::DeadChannel { .. } => "dead_channel",
             #[cfg(feature = "csv")]
             Error::NonUniformTime { .. } => "nonuniform_time",
@@ -46,7 +47,7 @@ impl Error {
             Error::RankDeficient { .. } | Error::IncompleteStep { .. } => "rank_deficient",
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",
-            Error::RecordTooShort { .. } => "record_too_short",
+            Error::RecordTooShort { .. } | Error::TooFewAverages { .. } => "record_too_short",
             Error::InvalidParameter { .. }
             | Error::UnknownName { .. }
             | Error::LengthMismatch { .. } => "invalid_argument",

@@ -527,6 +527,33 @@ pub enum Error {
         /// The RK4 step (s).
         step_s: f64,
     },
+    /// A nonlinear regressor is not finite at a sample of a record (a cube beyond `f64`).
+    #[error(
+        "record `{record}`: the nonlinear term {term} is not finite at sample {sample} \
+         (rescale the channels, e.g. to N and m)"
+    )]
+    NonFiniteRegressor {
+        /// Label of the record.
+        record: String,
+        /// The term, as [`Term::label`](crate::nonlinear::Term::label) writes it.
+        term: String,
+        /// Zero-based sample index.
+        sample: usize,
+    },
+    /// The records give too few Welch averages for the inputs of the reverse path.
+    #[error(
+        "the records give {averages} Welch segments, but the reverse path with {inputs} inputs \
+         (displacements and nonlinear terms) needs at least {required}: give more or longer \
+         records, or shorter segments"
+    )]
+    TooFewAverages {
+        /// Welch segments over all records.
+        averages: usize,
+        /// Inputs: degrees of freedom plus nonlinear regressor channels.
+        inputs: usize,
+        /// Segments needed.
+        required: usize,
+    },
 }
 
 /// `line spacing … Hz`, or that it is unknown.

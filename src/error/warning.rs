@@ -231,6 +231,25 @@ pub enum Warning {
         lines: usize,
     },
     // ---- end of record screening ----
+    /// The model check of a nonlinear term failed: its $\hat A_j(\omega)$ is not real and
+    /// flat over the band, so the regressor does not describe the element (the coefficient
+    /// returned is still a number, but not the element's).
+    NonlinearMisfit {
+        /// The term ([`Term::label`](crate::nonlinear::Term::label)).
+        term: String,
+        /// Band average of `Im Â` over that of `Re Â`.
+        imaginary_ratio: f64,
+        /// Change of `Re Â` across the band relative to its average.
+        slope: f64,
+    },
+    /// A nonlinear regressor is nearly a linear combination of the other inputs over the band
+    /// (its multiple coherence on them is close to 1): its coefficient is poorly determined.
+    CollinearRegressors {
+        /// The term ([`Term::label`](crate::nonlinear::Term::label)).
+        term: String,
+        /// Median over the band of its multiple coherence on the other inputs.
+        coherence: f64,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -410,6 +429,22 @@ impl fmt::Display for Warning {
                 "paired set ({}): impedance far from the other sets' at {far_lines} of {lines} lines",
                 records.join(", ")
             ),
+            Warning::NonlinearMisfit {
+                term,
+                imaginary_ratio,
+                slope,
+            } => write!(
+                f,
+                "nonlinear term {term} does not fit: its coefficient spectrum has Im/Re = \
+                 {imaginary_ratio:.3} and changes by {:.1} % across the band (a right regressor \
+                 gives a real constant); its value is not the element's",
+                100.0 * slope
+            ),
+            Warning::CollinearRegressors { term, coherence } => write!(
+                f,
+                "nonlinear term {term} is nearly collinear with the other inputs (multiple \
+                 coherence {coherence:.4} on them): its coefficient is poorly determined"
+            ),
         }
     }
 }
@@ -450,6 +485,8 @@ impl Warning {
             Warning::LevelOutlier { .. } => "level_outlier",
             Warning::DuplicateRecord { .. } => "duplicate_record",
             Warning::OutlierSet { .. } => "outlier_set",
+            Warning::NonlinearMisfit { .. } => "nonlinear_misfit",
+            Warning::CollinearRegressors { .. } => "collinear_regressors",
         }
     }
 }

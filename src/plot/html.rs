@@ -178,7 +178,7 @@ fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -
 }
 
 /// Writes `contents` to `path`, mapping failures to [`Error::Io`].
-fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
+pub(super) fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
     std::fs::write(path, contents).map_err(|e| Error::Io {
         path: path.display().to_string(),
         message: e.to_string(),
@@ -187,7 +187,7 @@ fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
 }
 
 /// Escapes text for HTML.
-fn esc(s: &str) -> String {
+pub(super) fn esc(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -201,7 +201,7 @@ fn esc(s: &str) -> String {
     out
 }
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
+pub(super) const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
 color:#222}table{border-collapse:collapse;margin:.5em 0}td,th{padding:.2em .7em;\
 border-bottom:1px solid #ddd;text-align:right}th{background:#f3f3f3}td:first-child,\
 th:first-child{text-align:left}figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}\

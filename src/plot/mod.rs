@@ -14,6 +14,7 @@
 //! | [`per_frequency`] | `K_ij(ω)` and `C_ij(ω)` line by line ([`PerFrequency`](crate::per_frequency::PerFrequency)) with error bars, and the constant fit |
 //! | [`records`] | force (N) and displacement per record against time, the impact (peak of the dominant force) marked, double hits and clipping from [`check_record`](crate::quality::check_record) marked, the force gate shaded and an exponential window drawn |
 //! | [`convergence`] | the IVF history: the block-wise relative changes of `M`, `C`, `K` per iteration (log scale) |
+//! | [`nonlinear`] | the reverse path's coefficient spectra `Âⱼ(ω)`: real part with the fitted constant, imaginary part with zero, `±σ` |
 //!
 //! [`report`] writes all of them as `.svg` files into a directory together with an `index.html`
 //! that holds the coefficient table (with standard deviations and 95 % intervals), the
@@ -44,10 +45,14 @@
 
 mod figures;
 mod html;
+mod nonlinear_report;
 mod table;
 
-pub use figures::{coherence, convergence, flexibility, impedance, per_frequency, records};
+pub use figures::{
+    coherence, convergence, flexibility, impedance, nonlinear, per_frequency, records,
+};
 pub use html::{ReportOptions, report};
+pub use nonlinear_report::nonlinear_report;
 pub use table::{CoefficientRow, coefficient_rows};
 
 /// The figures of an identification, one per drawing function of this module.
@@ -72,10 +77,14 @@ pub enum Figure {
     Records,
     /// [`convergence`]: the IVF iterations.
     Convergence,
+    /// [`nonlinear`]: the coefficient spectra of the nonlinear terms of a
+    /// [`NonlinearIdentification`](crate::nonlinear::NonlinearIdentification) (not in
+    /// [`Figure::ALL`], which lists the figures of an [`Identification`](crate::Identification)).
+    Nonlinear,
 }
 
 impl Figure {
-    /// Every figure, in the order of the report.
+    /// Every figure of an [`Identification`](crate::Identification)'s report, in its order.
     pub const ALL: [Figure; 6] = [
         Figure::Flexibility,
         Figure::Impedance,
@@ -95,6 +104,7 @@ impl Figure {
             Figure::PerFrequency => "per_frequency",
             Figure::Records => "records",
             Figure::Convergence => "convergence",
+            Figure::Nonlinear => "nonlinear",
         }
     }
 }

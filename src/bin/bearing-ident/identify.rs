@@ -24,6 +24,8 @@ use crate::parse::{library, parse_band, parse_window, response_columns};
 use crate::read::{Layout, ReadAhead, is_uff, read_file, read_record};
 use crate::report;
 
+mod nonlinear;
+
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum MethodArg {
     Direct,
@@ -189,6 +191,14 @@ pub struct IdentifyArgs {
     /// draws a few of the first 32 files (read again for it).
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
+    /// Identify nonlinear terms with M, C, K by the reverse path (random or multisine
+    /// records): a comma list of `coulomb`, `coulomb-planar`, `cubic`, `quadratic-damping`.
+    #[arg(long, value_name = "TERMS")]
+    nonlinear: Option<String>,
+    /// With `--nonlinear`: velocities through an ideal low-pass at HZ instead of the default
+    /// Wiener gain from the displacement's noise floor.
+    #[arg(long, value_name = "HZ")]
+    vel_cutoff: Option<f64>,
     #[command(flatten)]
     export: crate::export::ExportArgs,
     /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
@@ -494,6 +504,10 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .excitation
         .kind()
         .unwrap_or_else(|| Excitation::from_crest_factor(crest));
+    if let Some(terms) = &args.nonlinear {
+        return nonlinear::run(args, terms, &layout, excitation, first_file);
+    }
+    nonlinear::linear_only(args)?;
     let (identifier, segment_len) = settings(args, excitation, first)?;
     let sample_rate = first.sample_rate();
     // The labels of the records identified: the files, or a file's load cases for a UFF.

@@ -43,12 +43,12 @@ struct Cli {
 enum Command {
     /// Identify M, C, K from CSV records (one file per record) or Universal Files
     /// (`.uff`/`.unv`: a record per load case of their time histories).
-    Identify(IdentifyArgs),
+    Identify(Box<IdentifyArgs>),
     /// Simulate the seed's test rig and identify it, as the quickstart example does.
     Demo(DemoArgs),
     /// Simulate records of a given system (linear, or with nonlinear terms) and write them as
     /// CSV files.
-    Simulate(SimulateArgs),
+    Simulate(Box<SimulateArgs>),
     /// List the dataset 58 / 58b functions of Universal Files (`--json`: every value).
     Inspect(InspectArgs),
 }
