@@ -165,14 +165,25 @@ pub const REVERSE_PATH_AVERAGES_PER_INPUT: usize = 2;
 pub const REVERSE_PATH_JACKKNIFE_BLOCKS: usize = 8;
 
 /// Model check of a nonlinear term: largest ratio of the band average of $\operatorname{Im}
-/// \hat A_j$ to that of $\operatorname{Re} \hat A_j$ for a term that fits. A right regressor
-/// has a real, constant $\hat A_j$; 10 % is far above the scatter of 2 %-noise records
-/// (below 1 % in the tests) and well below what a wrong regressor gives.
-pub const NONLINEAR_IMAGINARY_RATIO: f64 = 0.1;
+/// \hat A_j$ to that of $\operatorname{Re} \hat A_j$ for a term that fits.
+///
+/// A right regressor has a real, constant $\hat A_j$ in theory; in records it does not quite.
+/// Per-axis dry friction under random forces sticks part of the time (3 % of the samples on
+/// the seed rig with 20 N against 50 N RMS), where $\operatorname{sign}\dot x$ is not the
+/// friction force, and the anti-alias filter and the velocity's gain smooth the kinks of
+/// $\dot x$ at its reversals, which moves the zero crossings: the right `coulomb` term then
+/// shows ratios of 0.06 (noise-free), 0.10–0.14 (2 % noise) and 0.17 (a velocity cut off just
+/// above the band), with its coefficient still within 2.5 %. Wrong regressors give 7–530
+/// (`cubic` on friction, `coulomb` on cubic stiffness, `quadratic-damping` on cubic
+/// stiffness, `cubic` on quadratic damping; `tests/nonlinear_end_to_end.rs`). 0.25 leaves the
+/// right term a margin of 1.5 and the wrong ones a factor 30.
+pub const NONLINEAR_IMAGINARY_RATIO: f64 = 0.25;
 
 /// Model check of a nonlinear term: largest change of $\operatorname{Re}\hat A_j$ across the
-/// band, relative to its band average (weighted straight-line fit), for a term that fits.
-pub const NONLINEAR_SLOPE: f64 = 0.2;
+/// band, relative to its band average (weighted straight-line fit), for a term that fits. The
+/// right `coulomb` term shows up to 0.22 in magnitude for the reasons given at
+/// [`NONLINEAR_IMAGINARY_RATIO`]; the imaginary ratio is the sharper test of the two.
+pub const NONLINEAR_SLOPE: f64 = 0.3;
 
 /// A model-check deviation (imaginary part, slope) counts only when it is this many of its own
 /// standard deviations (from the per-line variances) away from zero, so that a term whose

@@ -242,6 +242,19 @@ pub enum Warning {
         /// Change of `Re Â` across the band relative to its average.
         slope: f64,
     },
+    /// A dissipative nonlinear term (friction, quadratic damping) came out negative by more than
+    /// [`NONLINEAR_CHECK_SIGMAS`](crate::tolerance::NONLINEAR_CHECK_SIGMAS) of its standard
+    /// deviations: the element would feed energy into the motion. The regressor is not the
+    /// element's — typically friction fitted where the element has quadratic damping or the
+    /// reverse, the two being alike enough for the linear damping to absorb the difference.
+    NegativeDissipation {
+        /// The term ([`Term::label`](crate::nonlinear::Term::label)).
+        term: String,
+        /// Its identified coefficient.
+        value: f64,
+        /// Its standard deviation (`None` when none could be estimated).
+        std: Option<f64>,
+    },
     /// A nonlinear regressor is nearly a linear combination of the other inputs over the band
     /// (its multiple coherence on them is close to 1): its coefficient is poorly determined.
     CollinearRegressors {
@@ -440,6 +453,13 @@ impl fmt::Display for Warning {
                  gives a real constant); its value is not the element's",
                 100.0 * slope
             ),
+            Warning::NegativeDissipation { term, value, std } => write!(
+                f,
+                "nonlinear term {term} is dissipative but came out negative ({value:.4e}{}): \
+                 the element would feed energy into the motion, so the regressor is not the \
+                 element's",
+                std.map_or(String::new(), |s| format!(" ± {s:.2e}"))
+            ),
             Warning::CollinearRegressors { term, coherence } => write!(
                 f,
                 "nonlinear term {term} is nearly collinear with the other inputs (multiple \
@@ -486,6 +506,7 @@ impl Warning {
             Warning::DuplicateRecord { .. } => "duplicate_record",
             Warning::OutlierSet { .. } => "outlier_set",
             Warning::NonlinearMisfit { .. } => "nonlinear_misfit",
+            Warning::NegativeDissipation { .. } => "negative_dissipation",
             Warning::CollinearRegressors { .. } => "collinear_regressors",
         }
     }

@@ -69,6 +69,20 @@ impl Regressor {
         !matches!(self, Regressor::Cubic)
     }
 
+    /// Whether the term dissipates energy for a positive coefficient (friction and quadratic
+    /// damping: the force shape has the sign of the velocity, so $a_j\,y_j\,\dot x \ge 0$).
+    /// A clearly negative coefficient of such a term would feed energy into the system: the
+    /// regressor is not the element's ([`Warning::NegativeDissipation`](crate::Warning::NegativeDissipation)).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::nonlinear::Regressor;
+    /// assert!(Regressor::Coulomb.dissipative() && !Regressor::Cubic.dissipative());
+    /// ```
+    pub fn dissipative(self) -> bool {
+        self.needs_velocity()
+    }
+
     /// The terms of this kind for a system of `dofs` degrees of freedom: one per DOF, or one
     /// planar term.
     ///

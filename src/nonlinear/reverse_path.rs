@@ -13,7 +13,7 @@ use crate::model::Coefficients;
 use crate::records::{Record, common_shape};
 use crate::solve::{Convergence, IvfOptions, Method};
 use crate::spectra::Segmentation;
-use crate::tolerance::REVERSE_PATH_AVERAGES_PER_INPUT;
+use crate::tolerance::{NONLINEAR_CHECK_SIGMAS, REVERSE_PATH_AVERAGES_PER_INPUT};
 
 use super::check::TermCheck;
 use super::gather::{Gathered, gather, input_channels, segment_count};
@@ -217,6 +217,16 @@ impl ReversePath {
                 warnings.push(Warning::CollinearRegressors {
                     term: term.label(),
                     coherence: check.input_coherence,
+                });
+            }
+        }
+        for ((term, &value), std) in terms.iter().zip(&values).zip(&term_std) {
+            let clear = std.map_or(true, |s| value < -NONLINEAR_CHECK_SIGMAS * s);
+            if term.regressor.dissipative() && value < 0.0 && clear {
+                warnings.push(Warning::NegativeDissipation {
+                    term: term.label(),
+                    value,
+                    std: *std,
                 });
             }
         }
