@@ -221,7 +221,7 @@ impl ReversePath {
             }
         }
         for ((term, &value), std) in terms.iter().zip(&values).zip(&term_std) {
-            let clear = std.map_or(true, |s| value < -NONLINEAR_CHECK_SIGMAS * s);
+            let clear = std.is_none_or(|s| value < -NONLINEAR_CHECK_SIGMAS * s);
             if term.regressor.dissipative() && value < 0.0 && clear {
                 warnings.push(Warning::NegativeDissipation {
                     term: term.label(),
