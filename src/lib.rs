@@ -51,12 +51,17 @@
 //! 8. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' crest
 //!    factor, and the estimator, segmentation and window each kind calls for.
 //!
+//! Beside the linear pipeline, [`nonlinear`] identifies M, C, K together with dry friction,
+//! cubic stiffness or quadratic damping by the reverse path (the nonlinear forces as extra
+//! inputs, each with its coefficient spectrum and a model check), from the same records and
+//! stages.
+//!
 //! [`screening`] screens records of every excitation for dead and flat channels, identical
 //! records, clipping, level outliers and paired sets far from the others (with [`quality`]'s
 //! double-hit and clipping checks), before and after they reach the spectra. Two homes serve
 //! every stage: [`error`] (the one [`Error`], the [`Warning`]s, the quoting rule) and
 //! [`tolerance`] (every numerical tolerance with its reason). [`simulate`] produces exact time
-//! records of a known system, for learning and testing. `ARCHITECTURE.md` in the repository
+//! records of a known system, linear or nonlinear, for learning and testing. `ARCHITECTURE.md` in the repository
 //! maps every concept to its file and gives the recipes for adding an estimator, a window, a
 //! solver or a file reader.
 //!
