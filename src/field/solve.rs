@@ -298,9 +298,11 @@ pub(super) fn pinned_critical_speeds(rotor: &RotorModel, layout: &Layout) -> Vec
     let Ok(lambdas) = a.eigenvalues() else {
         return Vec::new();
     };
+    // Rigid-body modes left free (axial, torsion) give λ = 0 up to rounding of the largest.
+    let zero = 1e-12 * lambdas.iter().map(|l| l.norm()).fold(0.0, f64::max);
     let mut speeds: Vec<f64> = lambdas
         .into_iter()
-        .filter(|l| l.re > 0.0 && l.im.abs() <= 1e-6 * l.norm())
+        .filter(|l| l.re > zero && l.im.abs() <= 1e-6 * l.norm())
         .map(|l| l.re.sqrt())
         .collect();
     speeds.sort_by(f64::total_cmp);
