@@ -151,15 +151,19 @@ fn repeats_give_error_bars_without_stated_noise() {
     );
 }
 
-/// Release only: coverage of the first-order 95 % intervals over 400 draws at 1 % noise.
+/// Release only: coverage of the first-order 95 % intervals over 400 draws: 1 % response noise
+/// with probes at the bearings; 0.1 % with probes one node inboard, where the recovery of the
+/// bearing force through the stiff shaft end (about 100 × the bearing's stiffness) amplifies
+/// noise some 60-fold, so that 1 % noise leaves the first-order regime (relative errors of
+/// tens of percent).
 #[test]
 #[ignore = "release only: 400 Monte-Carlo draws"]
 fn error_bars_cover_at_their_nominal_rate() {
     let rotor = rotor();
-    for probe_nodes in [[0, 7], [1, 6]] {
+    for (probe_nodes, noise) in [([0, 7], 0.01), ([1, 6], 0.001)] {
         let (mut inside, mut total) = (0usize, 0usize);
         for seed in 0..400 {
-            let tests = runs(probe_nodes, 0.01, 1000 + seed)
+            let tests = runs(probe_nodes, noise, 1000 + seed)
                 .simulate(&rotor, bearings)
                 .unwrap();
             let id = field::identify(&rotor, &tests).unwrap();
@@ -183,7 +187,7 @@ fn error_bars_cover_at_their_nominal_rate() {
             }
         }
         let coverage = inside as f64 / total as f64;
-        eprintln!("probes at nodes {probe_nodes:?}: coverage {coverage:.4} of {total}");
+        eprintln!("probes at nodes {probe_nodes:?}, noise {noise}: coverage {coverage:.4} of {total}");
         assert!((0.93..=0.97).contains(&coverage), "{coverage}");
     }
 }
