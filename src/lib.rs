@@ -113,6 +113,7 @@ pub mod error;
 pub mod excitation;
 #[cfg(any(feature = "uff", feature = "ross"))]
 pub mod export;
+pub mod field;
 pub mod frf;
 pub mod gate;
 pub mod identify;

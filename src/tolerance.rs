@@ -194,3 +194,32 @@ pub const NONLINEAR_CHECK_SIGMAS: f64 = 3.0;
 /// over the band) exceeds this: its coefficient is then determined by less than 1 % of its
 /// own power, and scatter and bias grow by the factor $1/(1-\gamma^2) > 100$.
 pub const COLLINEAR_COHERENCE: f64 = 0.99;
+
+// ---------------------------------------------------------------------------------------------
+// Field identification from imbalance responses (field).
+// ---------------------------------------------------------------------------------------------
+
+/// A bearing's pair of responses `[q¹ q²]` is singular above this condition number
+/// ([`field`](crate::field)): its `K`, `C` are not given at that speed. Rounding of the
+/// recovered responses (about 1e-15 relative) times 1e10 leaves at most five correct digits;
+/// dependent tests (masses in one plane, circular orbits) give 1e14 and more noise-free.
+pub const FIELD_SINGULAR_PAIR: f64 = 1e10;
+
+/// A bearing's pair of responses is ill-conditioned (a warning) above this condition number:
+/// relative response noise is amplified up to this factor in `K`, `C`. Well-placed tests on
+/// anisotropic supports give 1–30.
+pub const FIELD_ILL_CONDITIONED_PAIR: f64 = 100.0;
+
+/// A speed within this fraction of a critical speed of the rotor pinned at the probes is
+/// near it (a warning): the recovery of the unmeasured degrees of freedom divides by the
+/// pinned rotor's dynamic stiffness, which vanishes there.
+pub const FIELD_NEAR_CRITICAL: f64 = 0.05;
+
+/// Largest accepted ratio of the extreme diagonal entries of `R` in the column-scaled QR of the
+/// field least-squares system: above it the probes do not determine the unknowns at that speed.
+pub const FIELD_LS_RANK: f64 = 1e12;
+
+/// Two imbalance force vectors are proportional when `|⟨f¹, f²⟩| / (‖f¹‖ ‖f²‖)` exceeds
+/// `1 − FIELD_DEPENDENT_TESTS` (rounding of the forces is ~1e-16; any real second plane or angle
+/// is far below).
+pub const FIELD_DEPENDENT_TESTS: f64 = 1e-9;

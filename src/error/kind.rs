@@ -8,7 +8,8 @@ impl Error {
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
     /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
     /// `baseline_mismatch`, `ml_needs_repeats`, `plot_error`, `dead_channel`, `too_large`,
-    /// `bad_baseline`, `malformed_uff`. The README's table lists every one (a unit test checks it).
+    /// `bad_baseline`, `malformed_uff`, and for field identification `invalid_input`,
+    /// `missing_response`, `underdetermined`. The README's table lists every one (a unit test checks it).
     ///
     /// # Examples
     /// ```
@@ -72,6 +73,11 @@ impl Error {
             Error::UffRecord { .. } => "inconsistent_records",
             Error::ExportDofs { .. } => "invalid_argument",
             Error::SimulationDiverged { .. } => "non_finite",
+            Error::FieldInput { .. } => "invalid_input",
+            Error::FieldNonFinite { .. } => "non_finite",
+            Error::MissingResponse { .. } => "missing_response",
+            Error::Underdetermined { .. } => "underdetermined",
+            Error::FieldRankDeficient { .. } => "rank_deficient",
         }
     }
 }

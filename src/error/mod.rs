@@ -554,6 +554,63 @@ pub enum Error {
         /// Segments needed.
         required: usize,
     },
+    /// Field identification ([`field`](crate::field)): a rotor model or test set that is not
+    /// well formed (shapes, names, nodes, speeds, masses); the message names the key or record.
+    #[error("{message}")]
+    FieldInput {
+        /// What is wrong, naming the key or record (input quoted by at most 80 characters).
+        message: String,
+    },
+    /// Field identification: a NaN or infinite value in a rotor model or a test set.
+    #[error("{what} is not finite")]
+    FieldNonFinite {
+        /// The matrix entry or response holding the value.
+        what: String,
+    },
+    /// Field identification: a measured degree of freedom lacks its response at a speed and
+    /// run (every speed and run needs the same probes).
+    #[error(
+        "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: \
+         every speed and test needs every probe"
+    )]
+    MissingResponse {
+        /// The speed (rad/s).
+        speed_rad_s: f64,
+        /// The run: `baseline`, `1` or `2`.
+        test: &'static str,
+        /// The probe's node.
+        node: usize,
+        /// The probe's direction, `x` or `y`.
+        dir: &'static str,
+    },
+    /// Field identification: the probes cannot determine the bearing forces — fewer measured
+    /// degrees of freedom than bearing degrees of freedom, or a least-squares system singular
+    /// at every speed.
+    #[error(
+        "{measured} measured degrees of freedom for {bearing_dofs} bearing degrees of freedom: \
+         {reason}"
+    )]
+    Underdetermined {
+        /// Measured degrees of freedom (probes).
+        measured: usize,
+        /// Bearing degrees of freedom (x and y per bearing).
+        bearing_dofs: usize,
+        /// Why the system is underdetermined.
+        reason: &'static str,
+    },
+    /// Field identification: at every speed the responses of the two tests at a bearing are
+    /// dependent (masses in one plane, or isotropic supports and circular orbits).
+    #[error(
+        "bearing `{bearing}`: the two tests' responses are dependent at every speed (largest \
+         condition number {worst:.3e}): add the masses in different planes or at different \
+         angles; isotropic supports give circular orbits, which imbalance tests cannot separate"
+    )]
+    FieldRankDeficient {
+        /// Tag of the bearing.
+        bearing: String,
+        /// Smallest condition number of its response pair over the speeds.
+        worst: f64,
+    },
 }
 
 /// `line spacing … Hz`, or that it is unknown.

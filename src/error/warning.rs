@@ -263,6 +263,44 @@ pub enum Warning {
         /// Median over the band of its multiple coherence on the other inputs.
         coherence: f64,
     },
+    /// Field identification: the added imbalance forces of the two tests are proportional
+    /// (masses in one plane, whatever their angles): their responses are a rank-1 pair.
+    DependentTests {
+        /// `|⟨f¹, f²⟩| / (‖f¹‖ ‖f²‖)`, 1 for proportional forces.
+        correlation: f64,
+    },
+    /// Field identification: at these speeds a bearing's pair of responses `[q¹ q²]` is
+    /// singular (condition number above the limit); its `K`, `C` are not given there.
+    SingularPair {
+        /// Tag of the bearing.
+        bearing: String,
+        /// The speeds (rad/s).
+        speeds_rad_s: Vec<f64>,
+        /// The limit on the condition number.
+        limit: f64,
+    },
+    /// Field identification: at these speeds a bearing's pair of responses is ill-conditioned
+    /// (nearly circular orbits, or nearly dependent tests): noise is amplified by up to the
+    /// condition number.
+    IllConditionedPair {
+        /// Tag of the bearing.
+        bearing: String,
+        /// The speeds (rad/s).
+        speeds_rad_s: Vec<f64>,
+        /// The largest condition number among them.
+        worst: f64,
+        /// The warning threshold.
+        threshold: f64,
+    },
+    /// Field identification: a speed sits near a synchronous natural frequency of the rotor
+    /// pinned at the probes, where the recovery of the unmeasured degrees of freedom amplifies
+    /// noise.
+    NearPinnedCritical {
+        /// The test speed (rad/s).
+        speed_rad_s: f64,
+        /// The pinned rotor's critical speed (rad/s).
+        critical_rad_s: f64,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -465,6 +503,44 @@ impl fmt::Display for Warning {
                 "nonlinear term {term} is nearly collinear with the other inputs (multiple \
                  coherence {coherence:.4} on them): its coefficient is poorly determined"
             ),
+            // ---- Field identification ----
+            Warning::DependentTests { correlation } => write!(
+                f,
+                "the two tests' added imbalance forces are proportional (correlation \
+                 {correlation:.6}): masses in one plane give a rank-1 pair of responses \
+                 whatever their angles"
+            ),
+            Warning::SingularPair {
+                bearing,
+                speeds_rad_s,
+                limit,
+            } => write!(
+                f,
+                "bearing `{bearing}`: responses of the two tests dependent (condition number \
+                 above {limit:.0e}) at {} speed(s) from {:.4} rad/s; K and C not given there",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
+            Warning::IllConditionedPair {
+                bearing,
+                speeds_rad_s,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "bearing `{bearing}`: responses of the two tests nearly dependent (condition \
+                 number above {threshold:.0e}, worst {worst:.3e}) at {} speed(s): nearly \
+                 circular orbits or nearly dependent tests amplify noise",
+                speeds_rad_s.len()
+            ),
+            Warning::NearPinnedCritical {
+                speed_rad_s,
+                critical_rad_s,
+            } => write!(
+                f,
+                "speed {speed_rad_s:.4} rad/s is near {critical_rad_s:.4} rad/s, a critical \
+                 speed of the rotor pinned at the probes: noise is amplified there"
+            ),
         }
     }
 }
@@ -508,6 +584,10 @@ impl Warning {
             Warning::NonlinearMisfit { .. } => "nonlinear_misfit",
             Warning::NegativeDissipation { .. } => "negative_dissipation",
             Warning::CollinearRegressors { .. } => "collinear_regressors",
+            Warning::DependentTests { .. } => "dependent_tests",
+            Warning::SingularPair { .. } => "singular_pair",
+            Warning::IllConditionedPair { .. } => "ill_conditioned_pair",
+            Warning::NearPinnedCritical { .. } => "near_pinned_critical",
         }
     }
 }

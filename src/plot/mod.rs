@@ -15,6 +15,7 @@
 //! | [`records`] | force (N) and displacement per record against time, the impact (peak of the dominant force) marked, double hits and clipping from [`check_record`](crate::quality::check_record) marked, the force gate shaded and an exponential window drawn |
 //! | [`convergence`] | the IVF history: the block-wise relative changes of `M`, `C`, `K` per iteration (log scale) |
 //! | [`nonlinear`] | the reverse path's coefficient spectra `Âⱼ(ω)`: real part with the fitted constant, imaginary part with zero, `±σ` |
+//! | [`field`] | field identification: per bearing `K(Ω)`, `C(Ω)` with `±σ` and the condition number of the response pair against speed ([`field_report`] writes it with a table) |
 //!
 //! [`report`] writes all of them as `.svg` files into a directory together with an `index.html`
 //! that holds the coefficient table (with standard deviations and 95 % intervals), the
@@ -43,13 +44,15 @@
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
 
+mod field_report;
 mod figures;
 mod html;
 mod nonlinear_report;
 mod table;
 
+pub use field_report::field_report;
 pub use figures::{
-    coherence, convergence, flexibility, impedance, nonlinear, per_frequency, records,
+    coherence, convergence, field, flexibility, impedance, nonlinear, per_frequency, records,
 };
 pub use html::{ReportOptions, report};
 pub use nonlinear_report::nonlinear_report;
@@ -81,6 +84,9 @@ pub enum Figure {
     /// [`NonlinearIdentification`](crate::nonlinear::NonlinearIdentification) (not in
     /// [`Figure::ALL`], which lists the figures of an [`Identification`](crate::Identification)).
     Nonlinear,
+    /// [`field`]: `K(Ω)`, `C(Ω)` and condition numbers per bearing of a
+    /// [`FieldIdentification`](crate::field::FieldIdentification) (not in [`Figure::ALL`]).
+    Field,
 }
 
 impl Figure {
@@ -105,6 +111,7 @@ impl Figure {
             Figure::Records => "records",
             Figure::Convergence => "convergence",
             Figure::Nonlinear => "nonlinear",
+            Figure::Field => "field",
         }
     }
 }

@@ -5,13 +5,14 @@
 //! A reader of stdout that goes away early (`… | head -1`) ends the tool quietly with status 0.
 //!
 //! This file parses the command line and dispatches; each subcommand lives in its own file
-//! (`identify.rs`, `demo.rs`, `simulate.rs`, `inspect.rs`), with the string parsers in `parse.rs`, the
+//! (`identify.rs`, `demo.rs`, `simulate.rs`, `inspect.rs`, `field.rs`), with the string parsers in `parse.rs`, the
 //! failure type and stdout in `failure.rs`, and the table, JSON and figures in `output.rs`
 //! and `report.rs`.
 
 mod demo;
 mod export;
 mod failure;
+mod field;
 mod identify;
 mod inspect;
 mod output;
@@ -27,6 +28,7 @@ use clap::{Parser, Subcommand};
 
 use crate::demo::{DemoArgs, demo};
 use crate::failure::print_out;
+use crate::field::{FieldArgs, field};
 use crate::identify::{IdentifyArgs, identify};
 use crate::inspect::{InspectArgs, inspect};
 use crate::simulate::{SimulateArgs, simulate};
@@ -51,6 +53,9 @@ enum Command {
     Simulate(Box<SimulateArgs>),
     /// List the dataset 58 / 58b functions of Universal Files (`--json`: every value).
     Inspect(InspectArgs),
+    /// Identify the bearings' K(Ω), C(Ω) of a running machine from imbalance responses and a
+    /// model of its free rotor (`--rotor ROTOR.json --tests TESTS.json`).
+    Field(Box<FieldArgs>),
 }
 
 fn main() -> ExitCode {
@@ -65,12 +70,14 @@ fn main() -> ExitCode {
         Command::Demo(a) => a.json,
         Command::Simulate(a) => a.json,
         Command::Inspect(a) => a.json,
+        Command::Field(a) => a.json,
     };
     let outcome = match cli.command {
         Command::Identify(args) => identify(&args),
         Command::Demo(args) => demo(&args),
         Command::Simulate(args) => simulate(&args),
         Command::Inspect(args) => inspect(&args),
+        Command::Field(args) => field(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

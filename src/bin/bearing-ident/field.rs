@@ -1,0 +1,205 @@
+//! `bearing-ident field`: the bearings' `K(Ω)`, `C(Ω)` of a running machine from imbalance
+//! responses and a rotor model (library: `bearing_ident::field`), as a table, as JSON, and as
+//! an HTML report with the figure.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use bearing_ident::Error;
+use bearing_ident::field::{self, FieldIdentification, FieldTests, RotorModel};
+use bearing_ident::plot::significant as sig;
+use serde_json::{Value, json};
+
+use crate::failure::{Failure, print_out};
+
+#[derive(Debug, clap::Args)]
+pub struct FieldArgs {
+    /// The free rotor's model: `{"dof_per_node", "dof_names", "M", "K", "G", "C" (optional),
+    /// "bearings": [{"tag", "node"}]}` (see the README's ROSS snippet).
+    #[arg(long, value_name = "ROTOR.json")]
+    rotor: PathBuf,
+    /// The imbalance tests: `{"imbalances": {"1": […], "2": […]}, "responses": […]}`.
+    #[arg(long, value_name = "TESTS.json")]
+    tests: PathBuf,
+    /// Print one JSON object on stdout (`speeds_rad_s`, `bearings` with `K`, `C`, their `_std`
+    /// and `condition_number` per speed, `measured`, `model_residual`, `warnings`, …).
+    #[arg(long)]
+    pub json: bool,
+    /// Also write `field.svg` (K(Ω), C(Ω) per bearing with condition numbers) and an
+    /// `index.html` report into DIR.
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
+}
+
+fn read(path: &PathBuf) -> Result<String, Failure> {
+    std::fs::read_to_string(path).map_err(|e| {
+        Failure::from(Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })
+    })
+}
+
+/// Reads the rotor and the tests, identifies, prints.
+pub fn field(args: &FieldArgs) -> Result<(), Failure> {
+    let start = Instant::now();
+    let in_file = |path: &PathBuf, e: Error| -> Failure {
+        let mut f = Failure::from(e);
+        f.message = format!("{}: {}", path.display(), f.message);
+        f
+    };
+    let rotor = RotorModel::from_json(&read(&args.rotor)?).map_err(|e| in_file(&args.rotor, e))?;
+    let tests = FieldTests::from_json(&read(&args.tests)?).map_err(|e| in_file(&args.tests, e))?;
+    let id = field::identify(&rotor, &tests)?;
+    let compute_ms = start.elapsed().as_secs_f64() * 1e3;
+    if let Some(dir) = &args.plot {
+        let options = bearing_ident::plot::ReportOptions {
+            title: "Field identification of bearing coefficients".to_owned(),
+            context: vec![format!(
+                "Rotor model {} ({} degrees of freedom), tests {}.",
+                args.rotor.display(),
+                rotor.dofs(),
+                args.tests.display()
+            )],
+            text: Some(table(&id)),
+            ..Default::default()
+        };
+        let written = bearing_ident::plot::field_report(&id, dir, &options)?;
+        eprintln!(
+            "bearing-ident: wrote {} figure(s) and {}",
+            written.len().saturating_sub(1),
+            dir.join("index.html").display()
+        );
+    }
+    if args.json {
+        print_out(format_args!("{}\n", to_json(&id, compute_ms)))
+    } else {
+        print_out(format_args!("{}", table(&id)))
+    }
+}
+
+/// A 2×2 matrix as rows, or null.
+fn matrix(m: Option<[[f64; 2]; 2]>) -> Value {
+    m.map_or(Value::Null, |m| json!(m))
+}
+
+/// A finite number, or null (JSON has no ∞).
+fn finite(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+/// The JSON of issue 16's contract, plus error bars, the constant fit and the pinned critical
+/// speeds.
+fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
+    let fits = field::fit_constant(id);
+    let bearings: Vec<Value> = id
+        .bearings()
+        .iter()
+        .zip(&fits)
+        .map(|(b, fit)| {
+            let per = |f: &dyn Fn(&field::SpeedCoefficients) -> Option<[[f64; 2]; 2]>| {
+                b.coefficients
+                    .iter()
+                    .map(|c| matrix(c.as_ref().and_then(f)))
+                    .collect::<Vec<Value>>()
+            };
+            json!({
+                "tag": b.tag,
+                "node": b.node,
+                "K": per(&|c| Some(c.stiffness)),
+                "C": per(&|c| Some(c.damping)),
+                "K_std": per(&|c| c.stiffness_std),
+                "C_std": per(&|c| c.damping_std),
+                "condition_number": b.condition_number.iter().map(|&c| finite(c)).collect::<Vec<_>>(),
+                "fit": fit.map(|f| json!({
+                    "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds
+                })),
+            })
+        })
+        .collect();
+    let measured: Vec<Value> = id
+        .probes()
+        .iter()
+        .map(|p| json!({"node": p.node, "dir": p.dir.name()}))
+        .collect();
+    json!({
+        "speeds_rad_s": id.speeds_rad_s(),
+        "bearings": bearings,
+        "measured": measured,
+        "model_residual": id.model_residual().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
+        "pinned_critical_speeds_rad_s": id.pinned_critical_speeds(),
+        "compute_ms": compute_ms,
+        "warnings": id.warnings().iter().map(ToString::to_string).collect::<Vec<_>>(),
+        "warning_kinds": id.warnings().iter().map(|w| w.kind()).collect::<Vec<_>>(),
+    })
+}
+
+/// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known) and
+/// the condition number; the model residual; the warnings.
+pub fn table(id: &FieldIdentification) -> String {
+    let mut out = String::new();
+    let probes: Vec<String> = id
+        .probes()
+        .iter()
+        .map(|p| format!("{}{}", p.node, p.dir.name()))
+        .collect();
+    let _ = writeln!(
+        out,
+        "Field identification: {} speeds, probes {}",
+        id.speeds_rad_s().len(),
+        probes.join(" ")
+    );
+    let names = ["xx", "xy", "yx", "yy"];
+    for b in id.bearings() {
+        let _ = writeln!(out, "\nbearing {} (node {})", b.tag, b.node);
+        let _ = write!(out, "{:>10} {:>9}", "Ω rad/s", "cond");
+        for n in names {
+            let _ = write!(out, " {:>20}", format!("K{n} N/m"));
+        }
+        for n in names {
+            let _ = write!(out, " {:>20}", format!("C{n} N·s/m"));
+        }
+        out.push('\n');
+        for (s, &w) in id.speeds_rad_s().iter().enumerate() {
+            let _ = write!(
+                out,
+                "{:>10} {:>9}",
+                sig(w, 6),
+                sig(b.condition_number[s], 3)
+            );
+            match &b.coefficients[s] {
+                None => {
+                    let _ = write!(out, "  singular pair: K, C not given");
+                }
+                Some(c) => {
+                    let cell = |v: f64, sd: Option<f64>| match sd {
+                        Some(sd) => format!("{}±{}", sig(v, 5), sig(sd, 2)),
+                        None => sig(v, 6),
+                    };
+                    for k in 0..4 {
+                        let (i, j) = (k / 2, k % 2);
+                        let sd = c.stiffness_std.map(|m| m[i][j]);
+                        let _ = write!(out, " {:>20}", cell(c.stiffness[i][j], sd));
+                    }
+                    for k in 0..4 {
+                        let (i, j) = (k / 2, k % 2);
+                        let sd = c.damping_std.map(|m| m[i][j]);
+                        let _ = write!(out, " {:>20}", cell(c.damping[i][j], sd));
+                    }
+                }
+            }
+            out.push('\n');
+        }
+    }
+    let residual: Vec<String> = id
+        .model_residual()
+        .iter()
+        .map(|r| r.map_or("—".to_owned(), |r| sig(r, 2)))
+        .collect();
+    let _ = writeln!(out, "\nmodel residual per speed: {}", residual.join(" "));
+    for w in id.warnings() {
+        let _ = writeln!(out, "warning: {w}");
+    }
+    out
+}
