@@ -127,7 +127,7 @@ impl Window {
     }
 
     /// The window's weight at sample `m` of `len`, samples `dt` apart.
-    fn weight(self, m: usize, len: usize, dt: f64) -> f64 {
+    pub(crate) fn weight(self, m: usize, len: usize, dt: f64) -> f64 {
         match self {
             Window::Rectangular => 1.0,
             Window::Hann => {

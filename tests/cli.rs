@@ -628,7 +628,8 @@ fn baseline_per_frequency_gate_and_bootstrap_from_the_command_line() {
 
 /// `--method ml` on periodic records: the JSON carries the likelihood report, the error bars
 /// are the inverse Fisher information, and every diagonal coefficient lies within 6 of them of
-/// the truth (measured: within 2.24 σ). Without periods it is refused.
+/// the truth (measured: within 2.24 σ). Cut into Welch segments, the residual noise model is
+/// used; with fewer than 3 periods it is refused.
 #[test]
 fn maximum_likelihood_from_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -675,10 +676,30 @@ fn maximum_likelihood_from_the_command_line() {
     }
     println!("worst |error| / σ: {worst:.2}");
     assert!(worst < 6.0, "{worst}");
+    assert_eq!(v["ml"]["noise_model"], "periodic_repeats");
+    // Cut into Welch segments instead, the residual noise model takes over.
+    let welch = identify_json(
+        &["--band", "8,49", "--excitation", "random", "--method", "ml"],
+        &files,
+    );
+    assert_eq!(welch["ml"]["noise_model"], "welch_residuals");
+    assert!(welch["ml"]["fell_back"].is_null());
+    // Periodic with fewer than 3 periods per record: refused.
     let refs: Vec<&str> = files.iter().map(String::as_str).collect();
     expect_failure(
         &[
-            &["identify", "--json", "--band", "8,49", "--method", "ml"],
+            &[
+                "identify",
+                "--json",
+                "--band",
+                "8,49",
+                "--excitation",
+                "periodic",
+                "--period",
+                "3",
+                "--method",
+                "ml",
+            ],
             &refs[..],
         ]
         .concat(),

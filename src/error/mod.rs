@@ -275,10 +275,10 @@ pub enum Error {
         /// What is wrong, naming the key; at most about 80 characters of the input are quoted.
         message: String,
     },
-    /// Maximum likelihood needs the noise covariances of the spectra, which only repeated
-    /// periods give here.
+    /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
+    /// has none, and periodic records need at least 3 periods.
     #[error(
-        "method ml needs the noise covariances that repeated periods give: periodic records with `Segmentation::Periods`, at least 3 periods per record"
+        "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
     )]
     MlNeedsRepeats,
     /// A numeric parameter is outside its valid range.

@@ -412,24 +412,27 @@ impl Settings {
         }
     }
 
-    /// The maximum-likelihood fit ([`Method::Ml`]): an IVF start refined on the replicates'
-    /// statistics; when the refinement falls back, the IVF start with
-    /// [`Warning::MlFellBack`].
+    /// The maximum-likelihood fit ([`Method::Ml`]): an IVF start refined with noise
+    /// covariances from the periods' scatter (periodic records) or from the residuals of the
+    /// records or Welch segments about the start ([`solve::ml::noise`]); when the refinement
+    /// falls back, the IVF start with [`Warning::MlFellBack`].
     ///
     /// # Errors
-    /// [`Error::MlNeedsRepeats`] without records (a ready-made FRF), and the errors of the
-    /// IVF start and of the refinement.
+    /// [`Error::MlNeedsRepeats`] without records (a ready-made FRF) or with fewer than 3
+    /// periods, and the errors of the IVF start and of the refinement.
     fn fit_ml(
         &self,
         frf: &Frf,
         builder: Option<&FrfBuilder>,
         warnings: &mut Vec<Warning>,
     ) -> Result<(Fit, Option<MlReport>)> {
-        let statistics = builder
-            .ok_or(Error::MlNeedsRepeats)?
-            .period_statistics(frf)?;
-        let data = solve::ml::MlData::from_statistics(statistics)?;
+        let builder = builder.ok_or(Error::MlNeedsRepeats)?;
         let start = solve::fit(frf, Method::Ivf, &self.ivf)?;
+        let data = if builder.is_periodic() {
+            solve::ml::MlData::from_statistics(builder.period_statistics(frf)?)?
+        } else {
+            solve::ml::noise::residual_data(&builder.record_moments(frf)?, start.coefficients())?
+        };
         let refined = solve::ml::fit(&data, start.coefficients(), &self.ml)?;
         let fit = match (&refined.report.fell_back, refined.covariance) {
             (None, Some(cov)) => {

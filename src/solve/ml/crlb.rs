@@ -56,7 +56,7 @@ pub fn crlb(system: &Coefficients, data: &MlData) -> Result<Coefficients> {
     let eval = evaluate(data, &to_params(system), Some(&x0)).ok_or(Error::Singular {
         what: "noise covariance Σ (noise-free data?)",
     })?;
-    let cov = column_covariances(&eval.fisher, n).ok_or(Error::Singular {
+    let cov = column_covariances(&eval.fisher, n, data.inflation).ok_or(Error::Singular {
         what: "Fisher information",
     })?;
     std_from(&cov)

@@ -38,8 +38,10 @@ use crate::model::Coefficients;
 use crate::records::finite_positive;
 
 mod crlb;
+pub mod noise;
 
 pub use crlb::crlb;
+pub use noise::NoiseModel;
 
 /// Mean spectra and their noise covariances per line: what the maximum-likelihood fit and the
 /// Cramér–Rao bound need. Build with [`MlData::new`] (your own), [`MlData::planned`] (for test
@@ -57,6 +59,13 @@ pub struct MlData {
     cx: Vec<c64>,
     cf: Vec<c64>,
     cxf: Vec<c64>,
+    /// Spectra behind each line's columns (the columns themselves, unless they stand for a
+    /// sum of second moments: [`noise`]).
+    observations: usize,
+    /// Factor on `F⁻¹` for observations that are not independent (overlapping Welch
+    /// segments); 1 otherwise.
+    inflation: f64,
+    noise_model: NoiseModel,
 }
 
 impl MlData {
@@ -105,6 +114,9 @@ impl MlData {
             cx: Vec::with_capacity(lines * n * n),
             cf: Vec::with_capacity(lines * n * n),
             cxf: Vec::with_capacity(lines * n * n),
+            observations: columns,
+            inflation: 1.0,
+            noise_model: NoiseModel::Given,
         };
         for k in 0..lines {
             let w = data.freqs_hz[k];
@@ -198,10 +210,22 @@ impl MlData {
     }
 
     /// The cost expected at the minimum if the model and the noise covariances are right:
-    /// one per complex residual less half a parameter each, `L·J·n − 3n²/2`.
+    /// one per complex residual less half a parameter each, `L·J·n − 3n²/2` (`J` the spectra
+    /// per line, [`MlData::observations`]).
     pub fn expected_cost(&self) -> f64 {
         let n = self.n as f64;
-        (self.freqs_hz.len() * self.columns * self.n) as f64 - 1.5 * n * n
+        (self.freqs_hz.len() * self.observations * self.n) as f64 - 1.5 * n * n
+    }
+
+    /// Spectra (records, periods' means, Welch segments) behind each line: the columns, or
+    /// the count whose second moments the columns carry ([`noise`]).
+    pub fn observations(&self) -> usize {
+        self.observations
+    }
+
+    /// Where the noise covariances came from.
+    pub fn noise_model(&self) -> NoiseModel {
+        self.noise_model
     }
 }
 
@@ -261,6 +285,8 @@ pub struct MlReport {
     pub cost_ratio: f64,
     /// Why the IVF start was kept, if it was (the result then is IVF's).
     pub fell_back: Option<String>,
+    /// Where the noise covariances came from (the JSON's `ml.noise_model`).
+    pub noise_model: NoiseModel,
 }
 
 /// Per-parameter factors `c` of `∂H/∂θ = c E_ab`: `−ω²` (M), `iω` (C), `1` (K).
@@ -398,9 +424,9 @@ fn evaluate(data: &MlData, theta: &[f64], x_override: Option<&[c64]>) -> Option<
     })
 }
 
-/// `F⁻¹` as per-column covariances of the stacked `Θ = [M; C; K]` (`3n × 3n` each), as
-/// [`super::Fit::covariance`] holds them; `None` if `F` is singular.
-fn column_covariances(fisher: &Mat<f64>, n: usize) -> Option<Vec<Mat<f64>>> {
+/// `inflation · F⁻¹` as per-column covariances of the stacked `Θ = [M; C; K]` (`3n × 3n`
+/// each), as [`super::Fit::covariance`] holds them; `None` if `F` is singular.
+fn column_covariances(fisher: &Mat<f64>, n: usize, inflation: f64) -> Option<Vec<Mat<f64>>> {
     let p = fisher.nrows();
     let inv = fisher.partial_piv_lu().solve(Mat::<f64>::identity(p, p));
     if !(0..p).all(|i| inv[(i, i)].is_finite() && inv[(i, i)] >= 0.0) {
@@ -411,7 +437,11 @@ fn column_covariances(fisher: &Mat<f64>, n: usize) -> Option<Vec<Mat<f64>>> {
     let param = |r: usize, b: usize| (r / n) * nn + (r % n) * n + b;
     Some(
         (0..n)
-            .map(|b| Mat::from_fn(3 * n, 3 * n, |r, s| inv[(param(r, b), param(s, b))]))
+            .map(|b| {
+                Mat::from_fn(3 * n, 3 * n, |r, s| {
+                    inflation * inv[(param(r, b), param(s, b))]
+                })
+            })
             .collect(),
     )
 }
@@ -431,7 +461,9 @@ impl MlData {
             cf,
             cxf,
         } = statistics;
-        Self::new(freqs_hz, &x, &f, &cx, &cf, &cxf)
+        let mut data = Self::new(freqs_hz, &x, &f, &cx, &cf, &cxf)?;
+        data.noise_model = NoiseModel::PeriodicRepeats;
+        Ok(data)
     }
 }
 
@@ -493,6 +525,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
             cost: start_cost,
             cost_ratio: start_cost / data.expected_cost(),
             fell_back: Some(reason.to_owned()),
+            noise_model: data.noise_model,
         },
     };
     let mut theta = to_params(start);
@@ -538,7 +571,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         }
     }
     let coefficients = from_params(&theta, n)?;
-    let covariance = column_covariances(&current.fisher, n);
+    let covariance = column_covariances(&current.fisher, n, data.inflation);
     if covariance.is_none() {
         return Ok(fall_back(
             "the Fisher information is singular at the result",
@@ -556,6 +589,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
             cost: current.cost,
             cost_ratio: current.cost / data.expected_cost(),
             fell_back: None,
+            noise_model: data.noise_model,
         },
     })
 }
