@@ -187,7 +187,9 @@ fn error_bars_cover_at_their_nominal_rate() {
             }
         }
         let coverage = inside as f64 / total as f64;
-        eprintln!("probes at nodes {probe_nodes:?}, noise {noise}: coverage {coverage:.4} of {total}");
+        eprintln!(
+            "probes at nodes {probe_nodes:?}, noise {noise}: coverage {coverage:.4} of {total}"
+        );
         assert!((0.93..=0.97).contains(&coverage), "{coverage}");
     }
 }

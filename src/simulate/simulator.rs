@@ -298,31 +298,7 @@ impl Simulator {
     /// ```
     pub fn held_record(&mut self, label: impl Into<String>, forces: &[Vec<f64>]) -> Result<Record> {
         let label = label.into();
-        if forces.len() != self.n {
-            return Err(Error::InvalidParameter {
-                name: "held force channels",
-                value: forces.len() as f64,
-                expected: "one channel per degree of freedom",
-            });
-        }
-        for (c, channel) in forces.iter().enumerate() {
-            if channel.len() != self.samples {
-                return Err(Error::InvalidParameter {
-                    name: "held force length",
-                    value: channel.len() as f64,
-                    expected: "exactly the simulator's number of samples",
-                });
-            }
-            if let Some((sample, &value)) = channel.iter().enumerate().find(|(_, v)| !v.is_finite())
-            {
-                return Err(Error::NonFinite {
-                    record: label,
-                    channel: Channel::Force(c),
-                    sample,
-                    value,
-                });
-            }
-        }
+        check_held_forces(&label, forces, self.n, self.samples)?;
         self.run(label, &[], forces)
     }
 
@@ -463,6 +439,41 @@ fn propagate(phi: &Mat<f64>, state: &mut Vec<f64>, next: &mut Vec<f64>) {
         *out = s;
     }
     std::mem::swap(state, next);
+}
+
+/// The held forces of a simulation: one channel per degree of freedom, each `samples` long, all
+/// finite (shared by the linear and the nonlinear simulators).
+pub(super) fn check_held_forces(
+    label: &str,
+    forces: &[Vec<f64>],
+    n: usize,
+    samples: usize,
+) -> Result<()> {
+    if forces.len() != n {
+        return Err(Error::InvalidParameter {
+            name: "held force channels",
+            value: forces.len() as f64,
+            expected: "one channel per degree of freedom",
+        });
+    }
+    for (c, channel) in forces.iter().enumerate() {
+        if channel.len() != samples {
+            return Err(Error::InvalidParameter {
+                name: "held force length",
+                value: channel.len() as f64,
+                expected: "exactly the simulator's number of samples",
+            });
+        }
+        if let Some((sample, &value)) = channel.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                record: label.to_string(),
+                channel: Channel::Force(c),
+                sample,
+                value,
+            });
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -140,16 +140,21 @@ fn coefficient_lines(
     }
 }
 
+/// The axes' names when there is one per degree of freedom, else `1`, `2`, ….
+pub fn axis_labels(axes: &[String], n: usize) -> Vec<String> {
+    if axes.len() == n {
+        axes.to_vec()
+    } else {
+        (1..=n).map(|i| i.to_string()).collect()
+    }
+}
+
 /// An aligned, human-readable report.
 pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> String {
     let mut out = String::new();
     let co = id.coefficients();
     let n = co.dofs();
-    let axes: Vec<String> = if c.axes.len() == n {
-        c.axes.clone()
-    } else {
-        (1..=n).map(|i| i.to_string()).collect()
-    };
+    let axes = axis_labels(&c.axes, n);
     let freqs = id.freqs_hz();
     let _ = writeln!(
         out,

@@ -6,7 +6,7 @@ use faer::Mat;
 
 use super::expm::expm;
 use super::{AntiAlias, MAX_DOFS, MAX_SAMPLES, MAX_TOTAL_SAMPLES, at_most};
-use crate::error::{Channel, Error, Result};
+use crate::error::{Error, Result};
 use crate::model::Coefficients;
 use crate::nonlinear::{Regressor, Term};
 use crate::records::{Record, Response, require_finite_positive};
@@ -351,31 +351,7 @@ impl NonlinearSimulator {
     /// ```
     pub fn held_record(&mut self, label: impl Into<String>, forces: &[Vec<f64>]) -> Result<Record> {
         let label = label.into();
-        if forces.len() != self.n {
-            return Err(Error::InvalidParameter {
-                name: "held force channels",
-                value: forces.len() as f64,
-                expected: "one channel per degree of freedom",
-            });
-        }
-        for (c, channel) in forces.iter().enumerate() {
-            if channel.len() != self.samples {
-                return Err(Error::InvalidParameter {
-                    name: "held force length",
-                    value: channel.len() as f64,
-                    expected: "exactly the simulator's number of samples",
-                });
-            }
-            if let Some((sample, &value)) = channel.iter().enumerate().find(|(_, v)| !v.is_finite())
-            {
-                return Err(Error::NonFinite {
-                    record: label,
-                    channel: Channel::Force(c),
-                    sample,
-                    value,
-                });
-            }
-        }
+        super::simulator::check_held_forces(&label, forces, self.n, self.samples)?;
         let zeros = vec![0.0; self.n];
         self.run(label, Some(forces), &zeros, &zeros)
     }

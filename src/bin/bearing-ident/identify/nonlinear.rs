@@ -236,11 +236,7 @@ fn table(id: &NonlinearIdentification, run: &Run, timings: bool) -> String {
     let mut out = String::new();
     let c = id.coefficients();
     let n = c.dofs();
-    let axes: Vec<String> = if run.axes.len() == n {
-        run.axes.clone()
-    } else {
-        (1..=n).map(|i| i.to_string()).collect()
-    };
+    let axes = crate::report::axis_labels(&run.axes, n);
     let freqs = id.freqs_hz();
     let _ = writeln!(
         out,
