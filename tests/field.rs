@@ -154,7 +154,7 @@ fn repeats_give_error_bars_without_stated_noise() {
 /// Release only: coverage of the first-order 95 % intervals over 400 draws: 1 % response noise
 /// with probes at the bearings; 0.1 % with probes one node inboard, where the recovery of the
 /// bearing force through the stiff shaft end (about 100 × the bearing's stiffness) amplifies
-/// noise some 60-fold, so that 1 % noise leaves the first-order regime (relative errors of
+/// noise about 70-fold, so that 1 % noise leaves the first-order regime (relative errors of
 /// tens of percent).
 #[test]
 #[ignore = "release only: 400 Monte-Carlo draws"]
@@ -187,7 +187,9 @@ fn error_bars_cover_at_their_nominal_rate() {
             }
         }
         let coverage = inside as f64 / total as f64;
-        eprintln!("probes at nodes {probe_nodes:?}, noise {noise}: coverage {coverage:.4} of {total}");
+        eprintln!(
+            "probes at nodes {probe_nodes:?}, noise {noise}: coverage {coverage:.4} of {total}"
+        );
         assert!((0.93..=0.97).contains(&coverage), "{coverage}");
     }
 }
