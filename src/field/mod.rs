@@ -44,7 +44,9 @@
 //!    separates `K` and `M` (one speed cannot).
 //!
 //! The rotor model is read from JSON ([`RotorModel::from_json`], feature `json`): ROSS 3.x
-//! users write it in a few lines (6 degrees of freedom per node, `x, y, z, alpha, beta, theta`):
+//! users write it in a few lines (6 degrees of freedom per node, `x, y, z, alpha, beta, theta`;
+//! `M0`, `K0`, `C0`, `G0` are ROSS 3.1's matrices without bearings, and a rotor built with ROSS
+//! and ROSS's own unbalance responses give back the bearings to 5e-10 in `tests/field.rs`):
 //!
 //! ```python
 //! import json, ross as rs
