@@ -205,7 +205,7 @@ pub(super) fn solve_speed(
                 }
             }
             let cond = condition_2x2(&q);
-            if !(cond <= FIELD_SINGULAR_PAIR) {
+            if cond.is_nan() || cond > FIELD_SINGULAR_PAIR {
                 return (cond, None);
             }
             let qinv = inverse_2x2(&q);
@@ -259,7 +259,7 @@ pub(super) fn solve_speed(
 pub(super) fn condition_2x2(q: &[[c64; 2]; 2]) -> f64 {
     let a: f64 = q.iter().flatten().map(|v| v.norm_sqr()).sum();
     let det = (q[0][0] * q[1][1] - q[0][1] * q[1][0]).norm();
-    if !(det > 0.0) || !a.is_finite() {
+    if det.is_nan() || det <= 0.0 || !a.is_finite() {
         return f64::INFINITY;
     }
     let p = a / (2.0 * det);
