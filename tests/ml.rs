@@ -155,16 +155,40 @@ fn noise_free_falls_back_and_faint_noise_recovers() {
     assert!(id.std_dev().is_some());
 }
 
-/// ML without repeated periods is refused with a typed error.
+/// ML is refused with a typed error on a ready-made FRF (no records for a noise model) and on
+/// periodic segmentation with fewer than 3 periods; cut as whole records, the records' own
+/// residuals give the noise model (`tests/ml_records.rs`).
 #[test]
-fn ml_needs_periods() {
+fn ml_needs_records_or_periods() {
     let clean = clean_records();
     let err = Identifier::new(8.0, 49.0)
         .estimator(Estimator::H1)
+        .segmentation(Segmentation::Periods { len: 6 * PERIOD })
         .method(Method::Ml)
         .identify(&clean)
         .unwrap_err();
     assert_eq!(err.kind(), "ml_needs_repeats");
+    let frf = identifier(Method::Ivf)
+        .identify(&clean)
+        .unwrap()
+        .frf()
+        .clone();
+    let err = identifier(Method::Ml).identify_frf(frf).unwrap_err();
+    assert_eq!(err.kind(), "ml_needs_repeats");
+    let id = Identifier::new(8.0, 49.0)
+        .estimator(Estimator::H1)
+        .method(Method::Ml)
+        .identify(&with_noise(
+            &clean,
+            0.0,
+            1e-2 * rms(&clean, false),
+            &mut StdRng::seed_from_u64(5),
+        ))
+        .unwrap();
+    assert_eq!(
+        id.ml().unwrap().noise_model,
+        bearing_ident::solve::ml::NoiseModel::ImpactResiduals
+    );
 }
 
 /// Monte-Carlo at a high noise floor: 300 trials (seed 2024), white noise of 1.0 × the RMS on

@@ -21,8 +21,9 @@ pub(crate) struct RecordMoments {
     pub(crate) observations: usize,
     /// Whether the spectra are Welch segments (else whole records: impacts, transients).
     pub(crate) welch: bool,
-    /// Variance inflation of a sum over one record's overlapping segments relative to as many
-    /// independent ones ([`overlap_inflation`]); 1 for whole records.
+    /// Variance inflation of the likelihood's sums over one record's overlapping, windowed
+    /// segments and neighbouring lines relative to independent spectra
+    /// ([`overlap_inflation`]); 1 for whole records.
     pub(crate) overlap_inflation: f64,
 }
 
@@ -121,35 +122,38 @@ impl FrfBuilder {
     }
 }
 
-/// How much more a sum of products of `segments` overlapping segments (window `weights`,
-/// `hop` samples apart) varies than one over as many independent segments, for a random
-/// (broadband, stationary) signal and independent broadband noise:
+/// How much more the likelihood's sums over `segments` Welch segments (window `weights`,
+/// `hop` samples apart) and over neighbouring lines vary than the same sums over independent
+/// spectra, for a random (broadband, stationary) signal and independent broadband noise:
 ///
-/// $$\kappa = 1 + 2\sum_{\ell \ge 1} \rho_\ell^2 \,\frac{S - \ell}{S},\qquad
-///   \rho_\ell = \frac{\sum_m w_m w_{m + \ell h}}{\sum_m w_m^2}.$$
+/// $$\kappa = \sum_{|\ell| < S} \frac{S - |\ell|}{S}\, \sum_{q} |\rho_{\ell q}|^2
+///   = \sum_{|\ell| < S} \frac{S - |\ell|}{S}\,
+///     \frac{N \sum_m (w_m w_{m + |\ell| h})^2}{\big(\sum_m w_m^2\big)^2}.$$
 ///
-/// `ρ_ℓ` is the correlation of one line's spectra of segments `ℓ` apart (signal or noise
-/// alike); a product of signal and noise spectra (a term of the likelihood's gradient)
-/// correlates by `ρ_ℓ²`. Hann at 50 % overlap: the overlapping halves give
-/// `ρ₁ = Σ sin²cos² / Σ sin⁴ = (N/16)/(3N/8) = 1/6` (Harris's 16.7 %), so
-/// `κ → 1 + 2/36 = 19/18` for many segments; rectangular at 50 %: `ρ₁ = 1/2`, `κ → 3/2`.
+/// `ρ_ℓq` is the correlation of the spectra at lines `q` apart in segments `ℓ` apart (signal
+/// or noise alike); a term of the likelihood's gradient, a product of noise and signal
+/// spectra, correlates by `|ρ_ℓq|²`, and Parseval sums those over `q` in closed form. A
+/// window spreads a line over its neighbours and overlap shares samples between segments:
+/// Hann at 50 % gives `35/18` within a segment (neighbouring lines correlate by `2/3` and
+/// `1/6`) and `1/12` for each neighbouring segment, `κ → 19/9` for many segments; a
+/// rectangular window on whole records or on non-overlapping periods gives 1.
 pub(crate) fn overlap_inflation(weights: &[f64], hop: usize, segments: usize) -> f64 {
     let power: f64 = weights.iter().map(|w| w * w).sum();
-    if segments < 2 || power <= 0.0 || hop == 0 {
+    if segments == 0 || power <= 0.0 || hop == 0 {
         return 1.0;
     }
-    let s = segments as f64;
-    let mut kappa = 1.0;
-    let mut lag = 1;
+    let (s, len) = (segments as f64, weights.len() as f64);
+    let mut kappa = 0.0;
+    let mut lag = 0;
     while lag < segments && lag * hop < weights.len() {
         let shift = lag * hop;
-        let rho: f64 = weights[..weights.len() - shift]
+        let fourth: f64 = weights[..weights.len() - shift]
             .iter()
             .zip(&weights[shift..])
-            .map(|(a, b)| a * b)
-            .sum::<f64>()
-            / power;
-        kappa += 2.0 * rho * rho * (s - lag as f64) / s;
+            .map(|(a, b)| (a * b).powi(2))
+            .sum();
+        let sides = if lag == 0 { 1.0 } else { 2.0 };
+        kappa += sides * (s - lag as f64) / s * len * fourth / (power * power);
         lag += 1;
     }
     kappa
@@ -159,9 +163,9 @@ pub(crate) fn overlap_inflation(weights: &[f64], hop: usize, segments: usize) ->
 mod tests {
     use super::*;
 
-    /// Hann at 50 %: ρ₁ = 1/6 exactly (Σ sin²cos² over the overlapping half / Σ sin⁴ =
-    /// (N/16)/(3N/8)), so κ = 1 + 2/36 (S − 1)/S; rectangular at 50 %: ρ₁ = 1/2; whole
-    /// records: 1.
+    /// Hann at 50 %: 35/18 + 2 · 1/12 · (S − 1)/S (Σ sin⁸ = 35N/128, Σ sin⁴cos⁴ over the
+    /// overlapping half = 3N/256, Σ sin⁴ = 3N/8); rectangular at 50 %: 1 + 2 · 1/2 · (S −
+    /// 1)/S; rectangular whole records: 1.
     #[test]
     fn overlap_inflation_closed_forms() {
         let len = 256;
@@ -169,10 +173,10 @@ mod tests {
             .map(|m| (std::f64::consts::PI * m as f64 / len as f64).sin().powi(2))
             .collect();
         let k = overlap_inflation(&hann, len / 2, 10);
-        assert!((k - (1.0 + 2.0 / 36.0 * 0.9)).abs() < 1e-12, "{k}");
+        assert!((k - (35.0 / 18.0 + 2.0 / 12.0 * 0.9)).abs() < 1e-12, "{k}");
         let rect = vec![1.0; len];
         let k = overlap_inflation(&rect, len / 2, 4);
-        assert!((k - (1.0 + 0.5 * 0.75)).abs() < 1e-12, "{k}");
-        assert!((overlap_inflation(&hann, len, 1) - 1.0).abs() < 1e-15);
+        assert!((k - (1.0 + 2.0 * 0.5 * 0.75)).abs() < 1e-12, "{k}");
+        assert!((overlap_inflation(&rect, len, 1) - 1.0).abs() < 1e-15);
     }
 }

@@ -43,16 +43,7 @@ pub fn crlb(system: &Coefficients, data: &MlData) -> Result<Coefficients> {
             expected: "the data's degrees of freedom",
         });
     }
-    let mut x0 = vec![c64::new(0.0, 0.0); data.x.len()];
-    for (k, &f) in data.freqs_hz.iter().enumerate() {
-        let g = system.flexibility_at(f)?;
-        for col in 0..data.columns {
-            let base = (k * data.columns + col) * n;
-            for i in 0..n {
-                x0[base + i] = (0..n).map(|b| g[(i, b)] * data.f[base + b]).sum();
-            }
-        }
-    }
+    let x0 = model_displacements(data, system)?;
     let eval = evaluate(data, &to_params(system), Some(&x0)).ok_or(Error::Singular {
         what: "noise covariance Σ (noise-free data?)",
     })?;

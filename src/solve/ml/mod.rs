@@ -19,8 +19,9 @@
 //! Levenberg–Marquardt steps `(F + λ diag F) δ = −∇V` (Marquardt's scaling makes the step
 //! independent of the units of `M`, `C`, `K`, as the column scaling of ls and IVF does) are
 //! accepted only when they lower `V`, so the result never costs more than the IVF start. The
-//! covariance of the estimate is `F⁻¹` at the solution; evaluated at the true system with
-//! noise-free spectra, `F⁻¹` is the Cramér–Rao lower bound ([`crlb`]).
+//! covariance of the estimate is `F⁻¹` at the solution, with `F` evaluated on the fitted
+//! displacements `G(ω; Θ̂) f` (the noisy ones would count their noise power as information);
+//! evaluated at the true system, `F⁻¹` is the Cramér–Rao lower bound ([`crlb`]).
 //!
 //! A small loop written out here, rather than a general optimisation crate: the problem has
 //! 3n² parameters, an exact gradient and a Fisher matrix assembled line by line from `n × n`
@@ -424,6 +425,26 @@ fn evaluate(data: &MlData, theta: &[f64], x_override: Option<&[c64]>) -> Option<
     })
 }
 
+/// The displacements `G(ω; system) f` of every column: what the measured ones would be
+/// without noise if `system` were true.
+///
+/// # Errors
+/// [`Error::Singular`] if `H(ω)` is singular at a line.
+fn model_displacements(data: &MlData, system: &Coefficients) -> Result<Vec<c64>> {
+    let n = data.n;
+    let mut x0 = vec![c64::new(0.0, 0.0); data.x.len()];
+    for (k, &f) in data.freqs_hz.iter().enumerate() {
+        let g = system.flexibility_at(f)?;
+        for col in 0..data.columns {
+            let base = (k * data.columns + col) * n;
+            for i in 0..n {
+                x0[base + i] = (0..n).map(|b| g[(i, b)] * data.f[base + b]).sum();
+            }
+        }
+    }
+    Ok(x0)
+}
+
 /// `inflation · F⁻¹` as per-column covariances of the stacked `Θ = [M; C; K]` (`3n × 3n`
 /// each), as [`super::Fit::covariance`] holds them; `None` if `F` is singular.
 fn column_covariances(fisher: &Mat<f64>, n: usize, inflation: f64) -> Option<Vec<Mat<f64>>> {
@@ -571,7 +592,13 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         }
     }
     let coefficients = from_params(&theta, n)?;
-    let covariance = column_covariances(&current.fisher, n, data.inflation);
+    // The Fisher information on the fitted displacements `G(ω; Θ̂) f` rather than the noisy
+    // ones, whose noise power would count as information (errors in variables).
+    let fisher = model_displacements(data, &coefficients)
+        .ok()
+        .and_then(|x| evaluate(data, &theta, Some(&x)))
+        .map_or(current.fisher, |e| e.fisher);
+    let covariance = column_covariances(&fisher, n, data.inflation);
     if covariance.is_none() {
         return Ok(fall_back(
             "the Fisher information is singular at the result",

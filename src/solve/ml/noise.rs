@@ -21,7 +21,7 @@
 //!
 //! pooled over `2h + 1` neighbouring lines until about
 //! [`POOLED_NOISE_DOF`](crate::tolerance::POOLED_NOISE_DOF) real degrees of freedom (`2S` per
-//! line), with `D` the degrees of freedom the `3n²` fitted coefficients took from the `L·S·n`
+//! line, `2S/κ` for correlated Welch spectra, below; [`pooling_half_width`]), with `D` the degrees of freedom the `3n²` fitted coefficients took from the `L·S·n`
 //! complex residuals. `C_F = C_XF = 0`.
 //!
 //! The likelihood depends on the spectra only through `Σ z zᴴ` (its cost is a trace against
@@ -29,11 +29,14 @@
 //! factored into at most `2n` columns `Z Zᴴ = Σ z zᴴ` and fitted as they are, whatever the
 //! number of records or segments.
 //!
-//! Welch segments that overlap are not independent: a sum of `S` products of one segment's
-//! signal and noise spectra varies `κ` times as much as over independent segments
-//! (`κ = 1 + 2Σρ_ℓ²(S − ℓ)/S`, `ρ₁ = 1/6` and `κ → 19/18` for Hann at 50 %; the frf stage's
-//! `overlap_inflation`),
-//! and the covariance `F⁻¹` is multiplied by `κ`.
+//! Welch spectra are not independent: the Hann window makes neighbouring lines correlate
+//! (by 2/3 and 1/6) and the 50 % overlap makes neighbouring segments correlate (by 1/6). The
+//! likelihood treats them as independent (a quasi-likelihood); its estimate stays unbiased,
+//! but its sums vary `κ` times as much as `F` says (`κ → 19/9` for Hann at 50 %; the frf
+//! stage's `overlap_inflation` gives `κ` in closed form for any window and overlap), and the
+//! covariance `F⁻¹` is multiplied by `κ`. Whole records with the rectangular window have
+//! `κ = 1`; under an exponential window the neighbouring lines of a whole record correlate
+//! too, which is not accounted for.
 //!
 //! When the assumptions fail: records that have not decayed (leakage) or a model that does
 //! not fit leave a residual that is not noise; it is counted as noise, which widens the error
@@ -93,10 +96,20 @@ impl std::fmt::Display for NoiseModel {
     }
 }
 
-/// Lines pooled on each side of a line so that `2h + 1` lines of `2S` real degrees of
-/// freedom each reach [`POOLED_NOISE_DOF`].
-pub fn pooling_half_width(spectra: usize) -> usize {
-    let lines = POOLED_NOISE_DOF / (2.0 * spectra.max(1) as f64);
+/// Lines pooled on each side of a line so that `2h + 1` lines of `2S/κ` real degrees of
+/// freedom each (`S` spectra per line, `κ ≥ 1` the correlation inflation of overlapping
+/// windowed segments, 1 for independent spectra) reach
+/// [`POOLED_NOISE_DOF`](crate::tolerance::POOLED_NOISE_DOF).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::solve::ml::noise::pooling_half_width;
+/// assert_eq!(pooling_half_width(16, 1.0), 4); // 16 impacts: 9 lines of 32
+/// assert_eq!(pooling_half_width(15, 19.0 / 9.0), 10); // 15 Hann segments: 21 lines
+/// ```
+pub fn pooling_half_width(spectra: usize, inflation: f64) -> usize {
+    let per_line = 2.0 * spectra.max(1) as f64 / inflation.max(1.0);
+    let lines = POOLED_NOISE_DOF / per_line;
     ((lines - 1.0) / 2.0).ceil().max(0.0) as usize
 }
 
@@ -130,7 +143,7 @@ pub(crate) fn residual_data(moments: &RecordMoments, start: &Coefficients) -> Re
     }
     let (l, sf, nf) = (lines as f64, spectra as f64, n as f64);
     let taken = 2.0 * l * sf * nf / (2.0 * l * sf * nf - 3.0 * nf * nf).max(1.0);
-    let h = pooling_half_width(spectra);
+    let h = pooling_half_width(spectra, moments.overlap_inflation);
     let cx: Vec<Mat<c64>> = (0..lines)
         .map(|k| {
             let range = k.saturating_sub(h)..(k + h + 1).min(lines);
@@ -238,9 +251,10 @@ mod tests {
 
     #[test]
     fn pooling_reaches_the_degrees_of_freedom() {
-        assert_eq!(pooling_half_width(16), 1); // 3 lines × 32
-        assert_eq!(pooling_half_width(48), 0);
-        assert_eq!(pooling_half_width(4), 6); // 13 lines × 8 ≥ 96
-        assert_eq!(pooling_half_width(1000), 0);
+        assert_eq!(pooling_half_width(16, 1.0), 4); // 9 lines × 32 = 288
+        assert_eq!(pooling_half_width(144, 1.0), 0);
+        assert_eq!(pooling_half_width(4, 1.0), 18); // 37 lines × 8 ≥ 288
+        assert_eq!(pooling_half_width(1000, 1.0), 0);
+        assert_eq!(pooling_half_width(15, 2.0), 10); // 21 lines × 15 ≥ 288
     }
 }
