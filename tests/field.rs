@@ -202,6 +202,18 @@ fn masses_in_one_plane_are_rank_deficient_or_warned() {
     let tests = plan.simulate(&rotor, bearings).unwrap();
     let e = field::identify(&rotor, &tests).unwrap_err();
     assert_eq!(e.kind(), "rank_deficient", "{e}");
+    // The error says why: the forces are proportional, and angles do not help.
+    assert!(
+        matches!(
+            e,
+            Error::FieldRankDeficient {
+                dependent_tests: true,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("another plane"), "{e}");
     // With noise the pair is merely ill-conditioned: the tests are flagged dependent.
     plan.noise = 0.01;
     let tests = plan.simulate(&rotor, bearings).unwrap();
@@ -216,7 +228,16 @@ fn isotropic_supports_give_circular_orbits_and_rank_deficient() {
     let rotor = rotor();
     let tests = runs([0, 7], 0.0, 1).simulate(&rotor, isotropic).unwrap();
     let e = field::identify(&rotor, &tests).unwrap_err();
-    assert!(matches!(e, Error::FieldRankDeficient { .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            Error::FieldRankDeficient {
+                dependent_tests: false,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("circular"), "{e}");
 }
 

@@ -601,16 +601,29 @@ pub enum Error {
     /// Field identification: at every speed the responses of the two tests at a bearing are
     /// dependent (masses in one plane, or isotropic supports and circular orbits).
     #[error(
-        "bearing `{bearing}`: the two tests' responses are dependent at every speed (largest \
-         condition number {worst:.3e}): add the masses in different planes or at different \
-         angles; isotropic supports give circular orbits, which imbalance tests cannot separate"
+        "bearing `{bearing}`: the two tests' responses are dependent at every speed (smallest \
+         condition number {worst:.3e}): {}",
+        rank_deficient_advice(*dependent_tests)
     )]
     FieldRankDeficient {
         /// Tag of the bearing.
         bearing: String,
         /// Smallest condition number of its response pair over the speeds.
         worst: f64,
+        /// Whether the two tests' added forces are proportional (masses in one plane).
+        dependent_tests: bool,
     },
+}
+
+/// Why a field identification's response pairs are singular everywhere, and what to change.
+fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
+    if dependent_tests {
+        "the two tests' added imbalance forces are proportional (masses in one plane give a \
+         rank-1 pair whatever their angles): put the second test's masses in another plane"
+    } else {
+        "the added forces differ, so the supports are nearly isotropic (circular orbits, which \
+         imbalance tests cannot separate) or the rotor's response leaves the tests dependent"
+    }
 }
 
 /// `line spacing … Hz`, or that it is unknown.

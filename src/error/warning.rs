@@ -506,9 +506,10 @@ impl fmt::Display for Warning {
             // ---- Field identification ----
             Warning::DependentTests { correlation } => write!(
                 f,
-                "the two tests' added imbalance forces are proportional (correlation \
-                 {correlation:.6}): masses in one plane give a rank-1 pair of responses \
-                 whatever their angles"
+                "the two tests' added imbalance forces are proportional (1 − correlation = \
+                 {:.1e}): masses in one plane give a rank-1 pair of responses whatever their \
+                 angles",
+                1.0 - correlation
             ),
             Warning::SingularPair {
                 bearing,
@@ -529,8 +530,9 @@ impl fmt::Display for Warning {
             } => write!(
                 f,
                 "bearing `{bearing}`: responses of the two tests nearly dependent (condition \
-                 number above {threshold:.0e}, worst {worst:.3e}) at {} speed(s): nearly \
-                 circular orbits or nearly dependent tests amplify noise",
+                 number above {threshold:.0e}, worst {worst:.3e}) at {} speed(s): near a \
+                 critical speed one mode dominates every test's response; away from one, nearly \
+                 circular orbits or nearly dependent tests; either way noise is amplified",
                 speeds_rad_s.len()
             ),
             Warning::NearPinnedCritical {

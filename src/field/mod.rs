@@ -219,7 +219,13 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
                 (String::new(), 0.0),
                 |acc, x| if x.1 >= acc.1 { x } else { acc },
             );
-        return Err(Error::FieldRankDeficient { bearing, worst });
+        return Err(Error::FieldRankDeficient {
+            bearing,
+            worst,
+            dependent_tests: warnings
+                .iter()
+                .any(|w| matches!(w, Warning::DependentTests { .. })),
+        });
     }
     for b in &bearings {
         let at = |keep: &dyn Fn(usize) -> bool| -> Vec<f64> {
