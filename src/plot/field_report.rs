@@ -3,9 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{STYLE, esc, write_file};
+use super::html::{STYLE, create_dir, esc, warnings_list, write_file};
 use super::{ReportOptions, significant as sig};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::field::FieldIdentification;
 
 /// Writes `field.svg` (the figure [`field`](super::field)) and an `index.html` into `dir`
@@ -45,10 +45,7 @@ pub fn field_report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: dir.display().to_string(),
-        message: e.to_string(),
-    })?;
+    create_dir(dir)?;
     let svg = super::field(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("field.svg"), &svg)?];
     written.push(write_file(
@@ -156,15 +153,7 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
         "<p>Lowest critical speeds of the rotor pinned at the probes (rad/s): {}.</p>",
         critical.join(", ")
     );
-    if id.warnings().is_empty() {
-        let _ = writeln!(h, "<p>No warnings.</p>");
-    } else {
-        let _ = writeln!(h, "<ul>");
-        for w in id.warnings() {
-            let _ = writeln!(h, "<li class=\"warn\">{}</li>", esc(&w.to_string()));
-        }
-        let _ = writeln!(h, "</ul>");
-    }
+    warnings_list(&mut h, id.warnings());
     let _ = writeln!(
         h,
         "<figure id=\"fig-field\">\n{svg}\n<figcaption>Per bearing: K(Ω) and C(Ω) per element \

@@ -120,10 +120,7 @@ pub fn report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: dir.display().to_string(),
-        message: e.to_string(),
-    })?;
+    create_dir(dir)?;
     let fig = &options.figure;
     let chosen: Vec<Record> = pick_records(records, options.checks.as_ref(), options.max_records)
         .into_iter()
@@ -178,6 +175,27 @@ fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -
 }
 
 /// Writes `contents` to `path`, mapping failures to [`Error::Io`].
+/// Creates the report's folder (and its parents).
+pub(super) fn create_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// The warnings of a result as a list (or that there are none), every report's same section.
+pub(super) fn warnings_list(h: &mut String, warnings: &[crate::Warning]) {
+    if warnings.is_empty() {
+        let _ = writeln!(h, "<p>No warnings.</p>");
+    } else {
+        let _ = writeln!(h, "<h3>Warnings</h3>\n<ul class=\"warn\">");
+        for w in warnings {
+            let _ = writeln!(h, "<li>{}</li>", esc(&w.to_string()));
+        }
+        let _ = writeln!(h, "</ul>");
+    }
+}
+
 pub(super) fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
     std::fs::write(path, contents).map_err(|e| Error::Io {
         path: path.display().to_string(),
@@ -356,15 +374,7 @@ fn page(
         );
     }
     let _ = writeln!(h, "</ul>");
-    if id.warnings().is_empty() {
-        let _ = writeln!(h, "<p>No warnings.</p>");
-    } else {
-        let _ = writeln!(h, "<h3>Warnings</h3>\n<ul class=\"warn\">");
-        for w in id.warnings() {
-            let _ = writeln!(h, "<li>{}</li>", esc(&w.to_string()));
-        }
-        let _ = writeln!(h, "</ul>");
-    }
+    warnings_list(&mut h, id.warnings());
     // Figures.
     for (stem, svg) in svgs {
         let (heading, caption) = FIGURES

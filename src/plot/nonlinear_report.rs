@@ -3,9 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{STYLE, esc, write_file};
+use super::html::{STYLE, create_dir, esc, warnings_list, write_file};
 use super::{ReportOptions, coefficient_rows, significant as sig};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::nonlinear::NonlinearIdentification;
 
 /// Writes `nonlinear.svg` (the figure [`nonlinear`](super::nonlinear)) and an `index.html`
@@ -42,10 +42,7 @@ pub fn nonlinear_report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: dir.display().to_string(),
-        message: e.to_string(),
-    })?;
+    create_dir(dir)?;
     let svg = super::nonlinear(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("nonlinear.svg"), &svg)?];
     let html = page(id, options, &svg);
@@ -138,15 +135,7 @@ fn page(id: &NonlinearIdentification, options: &ReportOptions, svg: &str) -> Str
         "<p>Smallest multiple coherence of a force on the inputs: {:.4}.</p>",
         id.min_output_coherence()
     );
-    if id.warnings().is_empty() {
-        let _ = writeln!(h, "<p>No warnings.</p>");
-    } else {
-        let _ = writeln!(h, "<ul>");
-        for w in id.warnings() {
-            let _ = writeln!(h, "<li class=\"warn\">{}</li>", esc(&w.to_string()));
-        }
-        let _ = writeln!(h, "</ul>");
-    }
+    warnings_list(&mut h, id.warnings());
     let _ = writeln!(
         h,
         "<figure id=\"fig-nonlinear\">\n{svg}\n<figcaption>Coefficient spectra Âⱼ(ω) per term: \
