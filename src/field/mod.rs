@@ -39,7 +39,10 @@
 //!    circular orbits and a singular pair; singular at every speed for every bearing is
 //!    [`Error::FieldRankDeficient`]); a speed within
 //!    [`FIELD_NEAR_CRITICAL`] of a synchronous
-//!    critical speed of the undamped rotor pinned at the probes, where noise is amplified.
+//!    critical speed of the undamped rotor pinned at the probes, where noise is amplified; a
+//!    noise gain (first-order `‖δZ‖/‖Z‖` per unit relative response noise, computed whether or
+//!    not the responses carry deviations) above
+//!    [`FIELD_NOISE_GAIN`].
 //! 6. **Constant fit** ([`fit_constant`]): `Re Z = K − Ω²M`, `Im Z = ΩC` over the speeds, which
 //!    separates `K` and `M` (one speed cannot).
 //!
@@ -120,7 +123,8 @@ pub use simulate::{BearingCoefficients, ImbalanceRuns};
 
 use crate::error::{Error, Result, Warning};
 use crate::tolerance::{
-    FIELD_DEPENDENT_TESTS, FIELD_ILL_CONDITIONED_PAIR, FIELD_NEAR_CRITICAL, FIELD_SINGULAR_PAIR,
+    FIELD_DEPENDENT_TESTS, FIELD_ILL_CONDITIONED_PAIR, FIELD_NEAR_CRITICAL, FIELD_NOISE_GAIN,
+    FIELD_SINGULAR_PAIR,
 };
 
 /// Identifies the bearings of `rotor` from the imbalance tests `tests` (see the
@@ -247,6 +251,24 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
                 speeds_rad_s: speeds,
                 worst,
                 threshold: FIELD_ILL_CONDITIONED_PAIR,
+            });
+        }
+    }
+    for b in &bearings {
+        let noisy = |s: usize| b.coefficients[s].is_some_and(|c| c.noise_gain > FIELD_NOISE_GAIN);
+        let speeds: Vec<f64> = (0..ns).filter(|&s| noisy(s)).map(|s| m.speeds[s]).collect();
+        if !speeds.is_empty() {
+            let worst = b
+                .coefficients
+                .iter()
+                .flatten()
+                .map(|c| c.noise_gain)
+                .fold(0.0, f64::max);
+            warnings.push(Warning::HighNoiseGain {
+                bearing: b.tag.clone(),
+                speeds_rad_s: speeds,
+                worst,
+                threshold: FIELD_NOISE_GAIN,
             });
         }
     }
