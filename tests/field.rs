@@ -187,9 +187,9 @@ fn repeats_give_error_bars_without_stated_noise() {
 
 /// Release only: coverage of the first-order 95 % intervals over 400 draws: 1 % response noise
 /// with probes at the bearings; 0.1 % with probes one node inboard, where the recovery of the
-/// bearing force through the stiff shaft end (about 100 × the bearing's stiffness) amplifies
-/// noise about 70-fold, so that 1 % noise leaves the first-order regime (relative errors of
-/// tens of percent).
+/// bearing force through the stiff shaft end (about 100 × the bearing's stiffness) raises the
+/// noise gain from about 5 to 20–290, so that 1 % noise leaves the first-order regime
+/// (relative errors of tens of percent).
 #[test]
 #[ignore = "release only: 400 Monte-Carlo draws"]
 fn error_bars_cover_at_their_nominal_rate() {
