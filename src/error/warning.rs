@@ -292,6 +292,18 @@ pub enum Warning {
         /// The warning threshold.
         threshold: f64,
     },
+    /// Field identification: at these speeds a bearing's `Z` amplifies relative response noise
+    /// by more than the threshold (the first-order `‖δZ‖/‖Z‖` per unit relative noise).
+    HighNoiseGain {
+        /// Tag of the bearing.
+        bearing: String,
+        /// The speeds (rad/s).
+        speeds_rad_s: Vec<f64>,
+        /// The largest gain among them.
+        worst: f64,
+        /// The threshold.
+        threshold: f64,
+    },
     /// Field identification: a speed sits near a synchronous natural frequency of the rotor
     /// pinned at the probes, where the recovery of the unmeasured degrees of freedom amplifies
     /// noise.
@@ -535,6 +547,19 @@ impl fmt::Display for Warning {
                  circular orbits or nearly dependent tests; either way noise is amplified",
                 speeds_rad_s.len()
             ),
+            Warning::HighNoiseGain {
+                bearing,
+                speeds_rad_s,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "bearing `{bearing}`: relative response noise is amplified more than \
+                 {threshold:.0}-fold in Z at {} speed(s) from {:.4} rad/s (worst {worst:.0}): \
+                 1 % noise gives errors of that many percent",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
             Warning::NearPinnedCritical {
                 speed_rad_s,
                 critical_rad_s,
@@ -590,6 +615,7 @@ impl Warning {
             Warning::SingularPair { .. } => "singular_pair",
             Warning::IllConditionedPair { .. } => "ill_conditioned_pair",
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
+            Warning::HighNoiseGain { .. } => "high_noise_gain",
         }
     }
 }

@@ -17,6 +17,11 @@ pub struct SpeedCoefficients {
     pub stiffness_std: Option<[[f64; 2]; 2]>,
     /// Standard deviations of `damping` (first order), if the responses had them.
     pub damping_std: Option<[[f64; 2]; 2]>,
+    /// Noise gain: the relative error `‖δZ‖/‖Z‖` (first order, root mean square) per unit
+    /// relative noise on every response (`E|δq|² = |q|²`); 1 % response noise gives about
+    /// `noise_gain` % error in `Z`. It grows with the pair's condition number and, with probes
+    /// away from the bearings, with the stiffness of the shaft between them.
+    pub noise_gain: f64,
 }
 
 /// One bearing's identification over the speeds.

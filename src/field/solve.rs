@@ -215,33 +215,47 @@ pub(super) fn solve_speed(
             });
             let stiffness = z.map(|r| r.map(|v| v.re));
             let damping = z.map(|r| r.map(|v| v.im / speed));
-            let spread = std.map(|sd| {
-                // δZ = W δΔ Q⁻¹ with W = −(L_f + Z L_q); δΔᵗ = δqᵗ − δq⁰.
-                let w: [Vec<c64>; 2] = std::array::from_fn(|i| {
-                    (0..ns)
-                        .map(|k| -(lf[i][k] + z[i][0] * lq[0][k] + z[i][1] * lq[1][k]))
-                        .collect()
-                });
-                let var: [[f64; 2]; 2] = std::array::from_fn(|i| {
+            // δZ = W δΔ Q⁻¹ with W = −(L_f + Z L_q); δΔᵗ = δqᵗ − δq⁰.
+            let w: [Vec<c64>; 2] = std::array::from_fn(|i| {
+                (0..ns)
+                    .map(|k| -(lf[i][k] + z[i][0] * lq[0][k] + z[i][1] * lq[1][k]))
+                    .collect()
+            });
+            // Standard deviations of Z_ij (each of Re, Im) for per-response deviations `sd`.
+            let propagate = |sd: &[Vec<f64>; 3]| -> [[f64; 2]; 2] {
+                std::array::from_fn(|i| {
                     std::array::from_fn(|j| {
                         let (g1, g2) = (qinv[0][j], qinv[1][j]);
                         (0..ns)
                             .map(|k| {
-                                let wk = w[i][k].norm_sqr();
-                                wk * (sd[1][k].powi(2) * g1.norm_sqr()
-                                    + sd[2][k].powi(2) * g2.norm_sqr()
-                                    + sd[0][k].powi(2) * (g1 + g2).norm_sqr())
+                                w[i][k].norm_sqr()
+                                    * (sd[1][k].powi(2) * g1.norm_sqr()
+                                        + sd[2][k].powi(2) * g2.norm_sqr()
+                                        + sd[0][k].powi(2) * (g1 + g2).norm_sqr())
                             })
-                            .sum()
+                            .sum::<f64>()
+                            .sqrt()
                     })
-                });
-                var.map(|r| r.map(f64::sqrt))
+                })
+            };
+            let spread = std.map(propagate);
+            // Noise gain: ‖σ_Z‖/‖Z‖ for a relative noise of 1 on every response.
+            let unit: [Vec<f64>; 3] = std::array::from_fn(|r| {
+                values[r]
+                    .iter()
+                    .map(|q| q.norm() / std::f64::consts::SQRT_2)
+                    .collect()
             });
+            let sz = propagate(&unit);
+            let gain = (sz.iter().flatten().map(|v| 2.0 * v * v).sum::<f64>()
+                / z.iter().flatten().map(|v| v.norm_sqr()).sum::<f64>())
+            .sqrt();
             let coefficients = SpeedCoefficients {
                 stiffness,
                 damping,
                 stiffness_std: spread,
                 damping_std: spread.map(|s| s.map(|r| r.map(|v| v / speed))),
+                noise_gain: gain,
             };
             let finite = stiffness
                 .iter()

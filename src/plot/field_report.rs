@@ -9,9 +9,9 @@ use crate::error::Result;
 use crate::field::FieldIdentification;
 
 /// Writes `field.svg` (the figure [`field`](super::field)) and an `index.html` into `dir`
-/// (created if needed): per bearing a table of `K(Ω)`, `C(Ω)` with `±σ` and the condition
-/// number per speed, the model residual, the pinned critical speeds, the warnings, the figure
-/// inline and `options.text` folded at the end. Returns the files written, `index.html` last.
+/// (created if needed): per bearing a table of `K(Ω)`, `C(Ω)` with `±σ`, the condition number
+/// and the noise gain per speed, the model residual, the pinned critical speeds, the warnings,
+/// the figure inline and `options.text` folded at the end. Returns the files written, `index.html` last.
 ///
 /// # Errors
 /// [`Error::Io`] if the directory or a file cannot be written; [`Error::Plot`] if the figure
@@ -84,7 +84,8 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
     for b in id.bearings() {
         let _ = writeln!(
             h,
-            "<h2>Bearing {} (node {})</h2>\n<table>\n<tr><th>Ω (rad/s)</th><th>cond</th>",
+            "<h2>Bearing {} (node {})</h2>\n<table>\n<tr><th>Ω (rad/s)</th><th>cond</th>\
+             <th>noise gain</th>",
             esc(&b.tag),
             b.node
         );
@@ -96,9 +97,10 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
         }
         let _ = writeln!(h, "</tr>");
         for (s, &w) in id.speeds_rad_s().iter().enumerate() {
+            let gain = b.coefficients[s].map_or("—".to_owned(), |c| sig(c.noise_gain, 3));
             let _ = write!(
                 h,
-                "<tr><td>{}</td><td>{}</td>",
+                "<tr><td>{}</td><td>{}</td><td>{gain}</td>",
                 sig(w, 6),
                 sig(b.condition_number[s], 3)
             );

@@ -112,6 +112,7 @@ fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
                 "K_std": per(&|c| c.stiffness_std),
                 "C_std": per(&|c| c.damping_std),
                 "condition_number": b.condition_number.iter().map(|&c| finite(c)).collect::<Vec<_>>(),
+                "noise_gain": b.coefficients.iter().map(|c| c.map_or(Value::Null, |c| finite(c.noise_gain))).collect::<Vec<_>>(),
                 "fit": fit.map(|f| json!({
                     "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds
                 })),
@@ -135,8 +136,8 @@ fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
     })
 }
 
-/// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known) and
-/// the condition number; the model residual; the warnings.
+/// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known), the
+/// condition number and the noise gain; the model residual; the warnings.
 pub fn table(id: &FieldIdentification) -> String {
     let mut out = String::new();
     let probes: Vec<String> = id
@@ -153,7 +154,7 @@ pub fn table(id: &FieldIdentification) -> String {
     let names = ["xx", "xy", "yx", "yy"];
     for b in id.bearings() {
         let _ = writeln!(out, "\nbearing {} (node {})", b.tag, b.node);
-        let _ = write!(out, "{:>10} {:>9}", "Ω rad/s", "cond");
+        let _ = write!(out, "{:>10} {:>9} {:>9}", "Ω rad/s", "cond", "gain");
         for n in names {
             let _ = write!(out, " {:>20}", format!("K{n} N/m"));
         }
