@@ -40,7 +40,10 @@
 //!
 //! When the assumptions fail: records that have not decayed (leakage) or a model that does
 //! not fit leave a residual that is not noise; it is counted as noise, which widens the error
-//! bars and weights the afflicted lines down, but the bias it causes stays.
+//! bars and weights the afflicted lines down, but the bias it causes stays (impacts on a rig
+//! with ζ ≈ 0.8 % cut at 1.2 s, rectangular window: C +7.5 % and +12.5 % against a spread of
+//! 0.7 % and error bars of 6.3 %; `tests/ml_records.rs`). Force noise breaks the
+//! output-noise assumption too: the model then attributes it to the displacements.
 
 use faer::{Mat, c64};
 
