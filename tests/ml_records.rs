@@ -366,9 +366,8 @@ fn undecayed_impacts_leave_a_bias_the_error_bars_do_not_cover() {
     let mut worst_bias: f64 = 0.0;
     for i in 0..6 {
         let mean = est.iter().map(|r| r[i]).sum::<f64>() / trials as f64;
-        let spread = (est.iter().map(|r| (r[i] - mean).powi(2)).sum::<f64>()
-            / (trials - 1) as f64)
-            .sqrt();
+        let spread =
+            (est.iter().map(|r| (r[i] - mean).powi(2)).sum::<f64>() / (trials - 1) as f64).sqrt();
         let reported = sd.iter().map(|r| r[i]).sum::<f64>() / trials as f64;
         let covered = est
             .iter()

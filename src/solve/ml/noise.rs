@@ -20,7 +20,7 @@
 //!   D = \frac{2LSn}{2LSn - 3n^2},$$
 //!
 //! pooled over `2h + 1` neighbouring lines until about
-//! [`POOLED_NOISE_DOF`](crate::tolerance::POOLED_NOISE_DOF) real degrees of freedom (`2S` per
+//! [`POOLED_NOISE_DOF`] real degrees of freedom (`2S` per
 //! line, `2S/κ` for correlated Welch spectra, below; [`pooling_half_width`]), with `D` the degrees of freedom the `3n²` fitted coefficients took from the `L·S·n`
 //! complex residuals. `C_F = C_XF = 0`.
 //!
@@ -102,7 +102,7 @@ impl std::fmt::Display for NoiseModel {
 /// Lines pooled on each side of a line so that `2h + 1` lines of `2S/κ` real degrees of
 /// freedom each (`S` spectra per line, `κ ≥ 1` the correlation inflation of overlapping
 /// windowed segments, 1 for independent spectra) reach
-/// [`POOLED_NOISE_DOF`](crate::tolerance::POOLED_NOISE_DOF).
+/// [`POOLED_NOISE_DOF`].
 ///
 /// # Examples
 /// ```
