@@ -17,9 +17,10 @@ use super::*;
 /// How many impacts for ±1 % on `C_xx`? The seed's test: 8040 samples at 6700 samples/s
 /// (lines 0.83 Hz apart, 8.3–48.3 Hz), one 500 N, 2 ms half-sine hit per direction (0.64 N·s
 /// per line), the force gated (clean), and a displacement noise floor of `σ = 0.1 mm` RMS per
-/// sample (the response peaks near 0.8 mm): white, so each line's variance is `σ² N Δt²` (this crate's DFT scaling) — what
-/// the residual noise model estimates from a real test ([`super::noise`]). The bound falls
-/// as one over the square root of the hits: plan with one, scale.
+/// sample (the response peaks near 0.8 mm): white, so each line's variance is `σ² N Δt²`
+/// (this crate's DFT scaling) — what the residual noise model estimates from a real test
+/// ([`super::noise`]). The bound falls as one over the square root of the hits: plan with
+/// one, scale.
 /// ```
 /// use bearing_ident::simulate::seed_rig;
 /// use bearing_ident::solve::ml::{MlData, crlb};
