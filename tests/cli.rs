@@ -725,7 +725,18 @@ fn maximum_likelihood_on_impact_and_random_records() {
     assert!(block_error(&matrix(&v, "K"), &seed_truth()[2]) < 0.02);
     let random = simulate(
         &dir.path().join("random"),
-        &["--kind", "random", "--records", "2", "--noise", "0.2"],
+        &[
+            "--kind",
+            "random",
+            "--records",
+            "2",
+            "--noise",
+            "0.2",
+            "--rate",
+            "1000",
+            "--duration",
+            "40",
+        ],
     );
     let v = identify_json(
         &["--band", "8,49", "--excitation", "random", "--method", "ml"],
@@ -746,11 +757,11 @@ fn maximum_likelihood_on_impact_and_random_records() {
             "--excitation",
             "random",
             "--nperseg",
-            "2048",
+            "1024",
         ],
         &random,
     );
-    assert_eq!(v["nperseg"], 2048);
+    assert_eq!(v["nperseg"], 1024);
     assert!(v["welch_choice"].is_null());
 }
 
