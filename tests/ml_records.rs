@@ -338,8 +338,13 @@ fn ml_on_random_records_reaches_the_bound_and_beats_ivf() {
 /// error bars widen, and the bias stays. Measured: C_xx +7.5 %, C_yy +12.5 % (spread 0.7 %,
 /// reported σ 6.3 %: coverage 1.00 and 0.48), M −0.3/−0.7 %, K +0.1/−0.5 %. At 1.0 × RMS
 /// noise the fits scatter wildly (C ± 360 %) with error bars far too narrow (M_xx coverage
-/// 0.03). Use an exponential window there. The test checks that the bias is there (a
-/// change that claimed to fix it should replace this test).
+/// 0.03). The test checks that the bias is there (a change that claimed to fix it should
+/// replace this test).
+///
+/// With the exponential window that such records need (`BI_EXP=0.01`, decaying to 1 % at
+/// the record's end) the bias goes (C −0.05 %, +0.11 %; M, K within 0.07 %), but the error
+/// bars come out 1.3–2.3 × too narrow (coverage 0.50–0.88): the window correlates
+/// neighbouring lines of a whole record, which the residual model does not account for.
 #[test]
 #[cfg_attr(
     debug_assertions,
@@ -376,9 +381,11 @@ fn undecayed_impacts_leave_a_bias_the_error_bars_do_not_cover() {
     let (mut est, mut sd) = (vec![[0.0; 6]; trials], vec![[0.0; 6]; trials]);
     for t in 0..trials {
         let noisy = with_noise(&clean, sx, &mut rng);
-        let id = impact_identifier(Estimator::PairedSets, Method::Ml)
-            .identify(&noisy)
-            .unwrap();
+        let mut idr = impact_identifier(Estimator::PairedSets, Method::Ml);
+        if env("BI_EXP", 0.0) > 0.0 {
+            idr = idr.window(Window::exponential_to(env("BI_EXP", 0.0), 1.2));
+        }
+        let id = idr.identify(&noisy).unwrap();
         est[t] = diagonal(id.coefficients());
         sd[t] = diagonal(id.std_dev().unwrap());
     }
