@@ -169,6 +169,31 @@ fn ml_identifies_impact_and_random_records() {
     assert!(err < 0.02, "random: {err}");
 }
 
+/// ML on whole records under an exponential window warns that its error bars are too narrow
+/// (the window correlates neighbouring lines; `undecayed_impacts_…` measures it); without the
+/// window it does not.
+#[test]
+fn ml_warns_on_windowed_whole_records() {
+    let mut rng = StdRng::seed_from_u64(4);
+    let impacts = impact_records();
+    let noisy = with_noise(&impacts, 0.1 * rms(&impacts), &mut rng);
+    let warned = |id: &bearing_ident::Identification| {
+        id.warnings()
+            .iter()
+            .any(|w| w.kind() == "ml_windowed_records")
+    };
+    let plain = impact_identifier(Estimator::PairedSets, Method::Ml)
+        .identify(&noisy)
+        .unwrap();
+    assert!(!warned(&plain));
+    let windowed = impact_identifier(Estimator::PairedSets, Method::Ml)
+        .window(Window::exponential_to(0.01, 1.2))
+        .identify(&noisy)
+        .unwrap();
+    assert!(warned(&windowed));
+    assert!(common::block_relative_error(windowed.coefficients(), &seed_rig()) < 0.02);
+}
+
 /// Runs `trials` noisy copies of `clean` through ML and IVF and checks the targets of the
 /// issue: ML std / bound in 0.8–1.3, IVF std / ML std ≥ 1.5, |bias| < 3.5 standard errors,
 /// 95 % interval coverage 93–97 %.
