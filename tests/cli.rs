@@ -707,6 +707,64 @@ fn maximum_likelihood_from_the_command_line() {
     );
 }
 
+/// `--method ml` on impact and random records: the residual noise models, named in the JSON
+/// (`ml.noise_model`); random records without `--nperseg` get a Welch length chosen from a
+/// first fit (`welch_choice`), and `--nperseg` overrides it.
+#[test]
+fn maximum_likelihood_on_impact_and_random_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let impacts = simulate(
+        &dir.path().join("hits"),
+        &["--impacts", "4", "--noise", "0.2"],
+    );
+    let v = identify_json(&["--band", "8,49", "--method", "ml"], &impacts);
+    assert_eq!(v["excitation"], "impact");
+    assert_eq!(v["ml"]["noise_model"], "impact_residuals");
+    assert!(v["ml"]["fell_back"].is_null());
+    assert!(v["welch_choice"].is_null());
+    assert!(block_error(&matrix(&v, "K"), &seed_truth()[2]) < 0.02);
+    let random = simulate(
+        &dir.path().join("random"),
+        &[
+            "--kind",
+            "random",
+            "--records",
+            "2",
+            "--noise",
+            "0.2",
+            "--rate",
+            "1000",
+            "--duration",
+            "40",
+        ],
+    );
+    let v = identify_json(
+        &["--band", "8,49", "--excitation", "random", "--method", "ml"],
+        &random,
+    );
+    assert_eq!(v["ml"]["noise_model"], "welch_residuals");
+    let choice = &v["welch_choice"];
+    assert_eq!(v["nperseg"], choice["nperseg"]);
+    assert!(
+        choice["predicted_bias"].as_f64().unwrap() < 0.01,
+        "{choice}"
+    );
+    assert!(block_error(&matrix(&v, "K"), &seed_truth()[2]) < 0.02);
+    let v = identify_json(
+        &[
+            "--band",
+            "8,49",
+            "--excitation",
+            "random",
+            "--nperseg",
+            "1024",
+        ],
+        &random,
+    );
+    assert_eq!(v["nperseg"], 1024);
+    assert!(v["welch_choice"].is_null());
+}
+
 #[test]
 fn identify_plot_writes_figures_and_a_static_report() {
     let dir = tempfile::tempdir().unwrap();

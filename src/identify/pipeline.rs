@@ -431,7 +431,13 @@ impl Settings {
         let data = if builder.is_periodic() {
             solve::ml::MlData::from_statistics(builder.period_statistics(frf)?)?
         } else {
-            solve::ml::noise::residual_data(&builder.record_moments(frf)?, start.coefficients())?
+            let moments = builder.record_moments(frf)?;
+            if let (false, Some(decay_per_s)) = (moments.welch, self.window.decay_per_s()) {
+                if decay_per_s > 0.0 {
+                    warnings.push(Warning::MlWindowedRecords { decay_per_s });
+                }
+            }
+            solve::ml::noise::residual_data(&moments, start.coefficients())?
         };
         let refined = solve::ml::fit(&data, start.coefficients(), &self.ml)?;
         let fit = match (&refined.report.fell_back, refined.covariance) {

@@ -42,6 +42,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         excitation_auto: false,
         crest_factor: crest_factor(&records[0]),
         segment_len: None,
+        welch_choice: None,
         sample_rate: test.sample_rate,
         files: records.iter().map(|r| r.label().to_owned()).collect(),
         compute_ms: start.elapsed().as_secs_f64() * 1e3,

@@ -25,6 +25,7 @@ use crate::read::{Layout, ReadAhead, is_uff, read_file, read_record};
 use crate::report;
 
 mod nonlinear;
+mod welch;
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum MethodArg {
@@ -509,6 +510,14 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     }
     nonlinear::linear_only(args)?;
     let (identifier, segment_len) = settings(args, excitation, first)?;
+    let (identifier, segment_len, welch_choice) = welch::choose(
+        args,
+        identifier,
+        segment_len,
+        excitation,
+        &first_file,
+        &layout,
+    )?;
     let sample_rate = first.sample_rate();
     // The labels of the records identified: the files, or a file's load cases for a UFF.
     let mut labels = Vec::new();
@@ -535,6 +544,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         excitation_auto: args.excitation == ExcitationArg::Auto,
         crest_factor: crest,
         segment_len,
+        welch_choice,
         sample_rate,
         files: labels,
         compute_ms,

@@ -18,6 +18,8 @@ pub struct Context {
     pub crest_factor: f64,
     /// Welch segment length, if any.
     pub segment_len: Option<usize>,
+    /// How the Welch segment length was chosen from the data, if it was.
+    pub welch_choice: Option<bearing_ident::excitation::WelchChoice>,
     /// Sampling rate (Hz).
     pub sample_rate: f64,
     /// The record files (or labels).
@@ -45,6 +47,7 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         map.insert("excitation_auto".into(), c.excitation_auto.into());
         map.insert("crest_factor".into(), c.crest_factor.into());
         map.insert("nperseg".into(), c.segment_len.into());
+        map.insert("welch_choice".into(), serde_json::to_value(c.welch_choice)?);
         map.insert("fs".into(), c.sample_rate.into());
         map.insert("n_records".into(), c.files.len().into());
         map.insert("files".into(), c.files.clone().into());

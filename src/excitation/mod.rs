@@ -23,6 +23,10 @@ use crate::records::Record;
 use crate::screening::Checks;
 use crate::spectra::{Segmentation, Window};
 
+mod welch;
+
+pub use welch::{LINES_PER_BANDWIDTH, MIN_AVERAGES, WelchChoice, choose_welch};
+
 pub use crate::quality::IMPACT_CREST_FACTOR;
 
 /// Fewest samples of a Welch segment or a period (as [`Segmentation::segment_len`] requires).

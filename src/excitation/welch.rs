@@ -1,0 +1,111 @@
+//! The Welch segment length for random excitation chosen from the data: a first fit gives the
+//! modes, the line spacing is set well inside the lightest mode's half-power bandwidth, and
+//! the record is cut into as many segments as that spacing allows ([`choose_welch`]).
+
+use super::{MIN_SEGMENT, welch_len};
+use crate::error::{Error, Result};
+use crate::gate::leakage_bias;
+use crate::identify::Identifier;
+use crate::records::Record;
+use crate::spectra::Segmentation;
+
+/// Lines per half-power bandwidth `2ζf_n` of the lightest mode that [`choose_welch`] aims
+/// for: the predicted leakage bias of the peak ([`leakage_bias`]) is then
+/// `(1/8)²/3 ≈ 0.5 %`, and less on coefficients fitted over the whole band.
+pub const LINES_PER_BANDWIDTH: f64 = 8.0;
+
+/// Fewest Welch segments over all records (Hann, 50 % overlap) [`choose_welch`] leaves: the
+/// random error of H1 with `q` inputs goes as `1/(n_d − q)`, so a handful of averages per
+/// input at least.
+pub const MIN_AVERAGES: usize = 16;
+
+/// The segment length [`choose_welch`] picked and why.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct WelchChoice {
+    /// Samples per segment (a power of two).
+    pub nperseg: usize,
+    /// Line spacing `f_s / nperseg` (Hz).
+    pub resolution_hz: f64,
+    /// Segments per record (50 % overlap).
+    pub segments_per_record: usize,
+    /// Half-power bandwidth `2ζf_n` of the lightest mode in the band from the first fit (Hz);
+    /// `None` if no mode lies in the band (the default length is kept).
+    pub lightest_bandwidth_hz: Option<f64>,
+    /// Predicted relative leakage bias of that mode's resonance peak (its damping comes out
+    /// high by about as much), [`leakage_bias`]: `(Δf / 2ζf_n)²/3`.
+    pub predicted_bias: Option<f64>,
+    /// Whether the records were too short for [`LINES_PER_BANDWIDTH`] lines with
+    /// [`MIN_AVERAGES`] segments (the segment is then the longest that leaves them).
+    pub record_limited: bool,
+}
+
+/// The Welch segment length for random `records` (all of one length) identified with
+/// `identifier`: a first fit with [`welch_len`] segments gives the modes; the lightest in the
+/// band (half-power bandwidth `B = 2ζf_n`) sets the line spacing `Δf ≤ B /`
+/// [`LINES_PER_BANDWIDTH`]; the segment is the shortest power of two that gives it (as many
+/// averages as the records allow), halved while the records give fewer than
+/// [`MIN_AVERAGES`] segments, and never shorter than the default (shorter segments trade
+/// lines for averages at about the same information, and leak more). Use it with
+/// [`Identifier::segmentation`]; an explicit length (`--nperseg`) overrides it.
+///
+/// # Errors
+/// [`Error::NoRecords`] for no records; the errors of the first fit.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::excitation::{choose_welch, welch_len};
+/// use bearing_ident::simulate::{AntiAlias, Simulator, seed_rig};
+/// use bearing_ident::{Estimator, Identifier, Window};
+/// let mut sim = Simulator::new(&seed_rig(), 500.0, 16_384, AntiAlias::default())?;
+/// let records = vec![sim.random_record("r", 20.0, 3)?];
+/// let id = Identifier::new(8.0, 49.0).estimator(Estimator::H1).window(Window::Hann);
+/// let choice = choose_welch(&records, &id)?;
+/// // ζ ≈ 0.08 at 28 Hz: B ≈ 4.5 Hz, Δf ≤ 0.56 Hz wants 1024 samples; the default (2048)
+/// // is finer already and is kept.
+/// assert_eq!(choice.nperseg, welch_len(16_384));
+/// assert!(choice.predicted_bias.unwrap() < 0.005);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<WelchChoice> {
+    let first = records.first().ok_or(Error::NoRecords)?;
+    let (len, rate) = (first.len(), first.sample_rate());
+    let default = welch_len(len);
+    let fit = identifier
+        .clone()
+        .segmentation(Segmentation::Welch { len: default })
+        .identify(records)?;
+    let band = fit.band();
+    let lightest = fit
+        .coefficients()
+        .modes()?
+        .iter()
+        .filter(|m| (band.low_hz()..=band.high_hz()).contains(&m.natural_frequency_hz))
+        .map(|m| 2.0 * m.damping_ratio * m.natural_frequency_hz)
+        .filter(|b| b.is_finite() && *b > 0.0)
+        .reduce(f64::min);
+    let averages =
+        |seg: usize| Segmentation::Welch { len: seg }.starts(len).count() * records.len();
+    let (nperseg, record_limited) = match lightest {
+        None => (default, false),
+        Some(b) => {
+            let wanted = (rate * LINES_PER_BANDWIDTH / b).ceil() as usize;
+            let mut seg = wanted.max(MIN_SEGMENT).next_power_of_two().max(default);
+            let mut limited = false;
+            while seg > default && (seg > len || averages(seg) < MIN_AVERAGES) {
+                seg /= 2;
+                limited = true;
+            }
+            (seg, limited)
+        }
+    };
+    let resolution_hz = rate / nperseg as f64;
+    Ok(WelchChoice {
+        nperseg,
+        resolution_hz,
+        segments_per_record: Segmentation::Welch { len: nperseg }.starts(len).count(),
+        lightest_bandwidth_hz: lightest,
+        predicted_bias: lightest.map(|b| leakage_bias(resolution_hz, b)),
+        record_limited,
+    })
+}
