@@ -6,7 +6,41 @@ use std::path::{Path, PathBuf};
 use super::html::{STYLE, create_dir, esc, warnings_list, write_file};
 use super::{ReportOptions, significant as sig};
 use crate::error::Result;
-use crate::field::FieldIdentification;
+use crate::field::{FieldIdentification, SpeedCoefficients};
+
+/// The eight cells of a bearing at one speed, `K_xx K_xy K_yx K_yy C_xx C_xy C_yx C_yy`, each
+/// with its standard deviation after `plus_minus` when there is one (the report's and the
+/// CLI table's rows).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::field::SpeedCoefficients;
+/// use bearing_ident::plot::field_cells;
+/// let c = SpeedCoefficients {
+///     stiffness: [[2.0e7, 1.0e6], [-1.0e6, 3.0e7]],
+///     damping: [[2.0e4, 0.0], [0.0, 3.0e4]],
+///     stiffness_std: Some([[1.0e5; 2]; 2]),
+///     damping_std: None,
+///     noise_gain: 5.0,
+/// };
+/// let cells = field_cells(&c, "±");
+/// assert_eq!(cells[0], "2.0000e7±100000");
+/// assert_eq!(cells[4], "20000.0");
+/// ```
+pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
+    let cell = |v: f64, sd: Option<f64>| match sd {
+        Some(sd) => format!("{}{plus_minus}{}", sig(v, 5), sig(sd, 2)),
+        None => sig(v, 6),
+    };
+    std::array::from_fn(|k| {
+        let (i, j) = ((k % 4) / 2, k % 2);
+        if k < 4 {
+            cell(c.stiffness[i][j], c.stiffness_std.map(|m| m[i][j]))
+        } else {
+            cell(c.damping[i][j], c.damping_std.map(|m| m[i][j]))
+        }
+    })
+}
 
 /// Writes `field.svg` (the figure [`field`](super::field)) and an `index.html` into `dir`
 /// (created if needed): per bearing a table of `K(Ω)`, `C(Ω)` with `±σ`, the condition number
@@ -112,19 +146,8 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
                     );
                 }
                 Some(c) => {
-                    let cell = |v: f64, sd: Option<f64>| match sd {
-                        Some(sd) => format!("{} ± {}", sig(v, 5), sig(sd, 2)),
-                        None => sig(v, 6),
-                    };
-                    for k in 0..4 {
-                        let (i, j) = (k / 2, k % 2);
-                        let sd = c.stiffness_std.map(|m| m[i][j]);
-                        let _ = write!(h, "<td>{}</td>", cell(c.stiffness[i][j], sd));
-                    }
-                    for k in 0..4 {
-                        let (i, j) = (k / 2, k % 2);
-                        let sd = c.damping_std.map(|m| m[i][j]);
-                        let _ = write!(h, "<td>{}</td>", cell(c.damping[i][j], sd));
+                    for cell in field_cells(c, " ± ") {
+                        let _ = write!(h, "<td>{cell}</td>");
                     }
                 }
             }

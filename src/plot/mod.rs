@@ -50,7 +50,7 @@ mod html;
 mod nonlinear_report;
 mod table;
 
-pub use field_report::field_report;
+pub use field_report::{field_cells, field_report};
 pub use figures::{
     coherence, convergence, field, flexibility, impedance, nonlinear, per_frequency, records,
 };

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use bearing_ident::Error;
 use bearing_ident::field::{self, FieldIdentification, FieldTests, RotorModel};
-use bearing_ident::plot::significant as sig;
+use bearing_ident::plot::{field_cells, significant as sig};
 use serde_json::{Value, json};
 
 use crate::failure::{Failure, print_out};
@@ -174,19 +174,8 @@ pub fn table(id: &FieldIdentification) -> String {
                     let _ = write!(out, "  singular pair: K, C not given");
                 }
                 Some(c) => {
-                    let cell = |v: f64, sd: Option<f64>| match sd {
-                        Some(sd) => format!("{}±{}", sig(v, 5), sig(sd, 2)),
-                        None => sig(v, 6),
-                    };
-                    for k in 0..4 {
-                        let (i, j) = (k / 2, k % 2);
-                        let sd = c.stiffness_std.map(|m| m[i][j]);
-                        let _ = write!(out, " {:>20}", cell(c.stiffness[i][j], sd));
-                    }
-                    for k in 0..4 {
-                        let (i, j) = (k / 2, k % 2);
-                        let sd = c.damping_std.map(|m| m[i][j]);
-                        let _ = write!(out, " {:>20}", cell(c.damping[i][j], sd));
+                    for cell in field_cells(c, "±") {
+                        let _ = write!(out, " {cell:>20}");
                     }
                 }
             }
