@@ -48,7 +48,7 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// the figure inline and `options.text` folded at the end. Returns the files written, `index.html` last.
 ///
 /// # Errors
-/// [`Error::Io`] if the directory or a file cannot be written; [`Error::Plot`] if the figure
+/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if the figure
 /// fails.
 ///
 /// # Examples

@@ -14,7 +14,7 @@ use crate::nonlinear::NonlinearIdentification;
 /// the figure inline and `options.text` folded at the end. Returns the files written.
 ///
 /// # Errors
-/// [`Error::Io`] if the directory or a file cannot be written; [`Error::Plot`] if a figure
+/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if a figure
 /// fails.
 ///
 /// # Examples
