@@ -243,3 +243,14 @@ pub const FIELD_LS_RANK: f64 = 1e12;
 /// `1 − FIELD_DEPENDENT_TESTS` (rounding of the forces is ~1e-16; any real second plane or angle
 /// is far below).
 pub const FIELD_DEPENDENT_TESTS: f64 = 1e-9;
+
+/// The residual of a measured response's sensitivity column, `‖s_k‖²/‖b_k‖²`, at most this is
+/// rounding (relative residual `1e-10`): no probe is redundant and the model residual cannot
+/// be judged against the noise ([`field`](crate::field)).
+pub const FIELD_RESIDUAL_ROUNDING: f64 = 1e-20;
+
+/// The model residual of a speed is too large (a warning) when `‖r‖²` exceeds this many times
+/// what the stated response noise explains. The ratio is a weighted χ² over its mean: with as
+/// few as 2 real degrees of freedom, noise alone passes 10 with probability `e⁻¹⁰ ≈ 5·10⁻⁵`
+/// per speed, and a model error three times the noise's residual already gives 10.
+pub const FIELD_RESIDUAL_RATIO: f64 = 10.0;

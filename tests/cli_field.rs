@@ -135,6 +135,12 @@ fn json_contract_recovers_the_bearings() {
             json!({"node": probe_nodes[0], "dir": "x"})
         );
         assert_eq!(v["model_residual"].as_array().unwrap().len(), 14);
+        // Noise-free and no redundant probe: nothing to judge the residual against.
+        let ratios = v["residual_ratio"].as_array().unwrap();
+        assert!(
+            ratios.len() == 14 && ratios.iter().all(Value::is_null),
+            "{ratios:?}"
+        );
         assert!(v["compute_ms"].as_f64().unwrap() >= 0.0);
         let mut worst: f64 = 0.0;
         for (b, brg) in v["bearings"].as_array().unwrap().iter().enumerate() {

@@ -270,6 +270,17 @@ pub enum Warning {
         /// Median over the band of its multiple coherence on the other inputs.
         coherence: f64,
     },
+    /// `field`: at some speeds the rotor model leaves a residual far beyond what the stated
+    /// response noise explains (redundant probes only): the rotor model, the probe positions or
+    /// the responses' phase convention do not fit the measurements.
+    ModelResidual {
+        /// Speeds (rad/s) where the residual is too large.
+        speeds_rad_s: Vec<f64>,
+        /// Largest ratio of `‖r‖²` to its expectation under the noise.
+        worst_ratio: f64,
+        /// The ratio above which a residual is too large.
+        limit: f64,
+    },
     /// Field identification: the added imbalance forces of the two tests are proportional
     /// (masses in one plane, whatever their angles): their responses are a rank-1 pair.
     DependentTests {
@@ -528,6 +539,19 @@ impl fmt::Display for Warning {
                  coherence {coherence:.4} on them): its coefficient is poorly determined"
             ),
             // ---- Field identification ----
+            Warning::ModelResidual {
+                speeds_rad_s,
+                worst_ratio,
+                limit,
+            } => write!(
+                f,
+                "the rotor model leaves a residual above {limit} times what the stated response \
+                 noise explains at {} speed(s) from {:.4} rad/s (worst {worst_ratio:.3e}): the \
+                 rotor model, the probe positions or the responses' phase convention do not fit \
+                 the measurements, and K, C there are not the bearings'",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
             Warning::DependentTests { correlation } => write!(
                 f,
                 "the two tests' added imbalance forces are proportional (1 − correlation = \
@@ -624,6 +648,7 @@ impl Warning {
             Warning::NonlinearMisfit { .. } => "nonlinear_misfit",
             Warning::NegativeDissipation { .. } => "negative_dissipation",
             Warning::CollinearRegressors { .. } => "collinear_regressors",
+            Warning::ModelResidual { .. } => "model_residual",
             Warning::DependentTests { .. } => "dependent_tests",
             Warning::SingularPair { .. } => "singular_pair",
             Warning::IllConditionedPair { .. } => "ill_conditioned_pair",

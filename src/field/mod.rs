@@ -45,6 +45,10 @@
 //!    noise gain (first-order `‖δZ‖/‖Z‖` per unit relative response noise, computed whether or
 //!    not the responses carry deviations) above
 //!    [`FIELD_NOISE_GAIN`].
+//!    With more probes than the unknowns need and stated noise, the model residual is judged
+//!    against the noise ([`FieldIdentification::residual_ratio`], about 1 when the model
+//!    fits): above [`FIELD_RESIDUAL_RATIO`](crate::tolerance::FIELD_RESIDUAL_RATIO) the rotor
+//!    model, the probe positions or the phase convention do not fit the measurements.
 //! 6. **Constant fit** ([`fit_constant`]): `Re Z = K − Ω²M`, `Im Z = ΩC` over the speeds, which
 //!    separates `K` and `M` (one speed cannot).
 //!
@@ -126,7 +130,7 @@ pub use simulate::{BearingCoefficients, ImbalanceRuns};
 use crate::error::{Error, Result, Warning};
 use crate::tolerance::{
     FIELD_DEPENDENT_TESTS, FIELD_ILL_CONDITIONED_PAIR, FIELD_NEAR_CRITICAL, FIELD_NOISE_GAIN,
-    FIELD_SINGULAR_PAIR,
+    FIELD_RESIDUAL_RATIO, FIELD_SINGULAR_PAIR,
 };
 
 /// Identifies the bearings of `rotor` from the imbalance tests `tests` (see the
@@ -181,10 +185,12 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
         })
         .collect();
     let mut model_residual = Vec::with_capacity(ns);
+    let mut residual_ratio = Vec::with_capacity(ns);
     for s in 0..ns {
         match solve::solve_speed(rotor, &layout, &m, &tests.imbalances, s) {
             Some(sol) => {
                 model_residual.push(Some(sol.residual));
+                residual_ratio.push(sol.residual_ratio);
                 for (b, (cond, c)) in sol.bearings.into_iter().enumerate() {
                     bearings[b].condition_number.push(cond);
                     bearings[b].coefficients.push(c);
@@ -192,6 +198,7 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
             }
             None => {
                 model_residual.push(None);
+                residual_ratio.push(None);
                 for b in &mut bearings {
                     b.condition_number.push(f64::INFINITY);
                     b.coefficients.push(None);
@@ -294,11 +301,25 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
             });
         }
     }
+    let misfit: Vec<(f64, f64)> = m
+        .speeds
+        .iter()
+        .zip(&residual_ratio)
+        .filter_map(|(&w, r)| r.filter(|&r| r > FIELD_RESIDUAL_RATIO).map(|r| (w, r)))
+        .collect();
+    if !misfit.is_empty() {
+        warnings.push(Warning::ModelResidual {
+            speeds_rad_s: misfit.iter().map(|p| p.0).collect(),
+            worst_ratio: misfit.iter().map(|p| p.1).fold(0.0, f64::max),
+            limit: FIELD_RESIDUAL_RATIO,
+        });
+    }
     Ok(FieldIdentification {
         speeds: m.speeds,
         probes: m.probes,
         bearings,
         model_residual,
+        residual_ratio,
         pinned_critical_speeds,
         warnings,
     })

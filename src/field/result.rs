@@ -46,6 +46,7 @@ pub struct FieldIdentification {
     pub(super) probes: Vec<Probe>,
     pub(super) bearings: Vec<BearingIdentification>,
     pub(super) model_residual: Vec<Option<f64>>,
+    pub(super) residual_ratio: Vec<Option<f64>>,
     pub(super) pinned_critical_speeds: Vec<f64>,
     pub(super) warnings: Vec<Warning>,
 }
@@ -71,6 +72,14 @@ impl FieldIdentification {
     /// it measures how well model and responses agree); `None` where the system is singular.
     pub fn model_residual(&self) -> &[Option<f64>] {
         &self.model_residual
+    }
+
+    /// Per speed, the model residual `‖r‖²` over what the stated response noise explains
+    /// (about 1 when the rotor model fits; see [`FIELD_RESIDUAL_RATIO`](crate::tolerance::FIELD_RESIDUAL_RATIO));
+    /// `None` without standard deviations, without redundant probes, or where the speed could
+    /// not be solved.
+    pub fn residual_ratio(&self) -> &[Option<f64>] {
+        &self.residual_ratio
     }
 
     /// Synchronous critical speeds (rad/s) of the undamped rotor pinned at the probes.

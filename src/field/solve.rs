@@ -8,7 +8,7 @@ use faer::{Mat, c64};
 use super::inputs::{Imbalance, Measurements};
 use super::model::{Direction, RotorModel};
 use super::result::SpeedCoefficients;
-use crate::tolerance::{FIELD_LS_RANK, FIELD_SINGULAR_PAIR};
+use crate::tolerance::{FIELD_LS_RANK, FIELD_RESIDUAL_ROUNDING, FIELD_SINGULAR_PAIR};
 
 /// Where the rotor's degrees of freedom go in the least-squares system: measured ones (their
 /// probe index) and unknown ones (their column).
@@ -72,6 +72,9 @@ impl Layout {
 /// system is rank-deficient at this speed.
 pub(super) struct SpeedSolution {
     pub residual: f64,
+    /// `‖r‖²` over what the stated response noise explains, `E‖r‖²` (see
+    /// [`residual_ratio`]); `None` without standard deviations or without redundant probes.
+    pub residual_ratio: Option<f64>,
     pub bearings: Vec<(f64, Option<SpeedCoefficients>)>,
 }
 
@@ -174,6 +177,10 @@ pub(super) fn solve_speed(
         }
     }
     let residual = if norm > 0.0 { (res / norm).sqrt() } else { 0.0 };
+    let residual_ratio = m
+        .std
+        .as_ref()
+        .and_then(|sd| residual_ratio(&a, &x, &rhs, res, &sd[s]));
     // A displacement of degree of freedom `dof` in test `t` and its sensitivity row.
     let displacement = |dof: usize, t: usize| -> (c64, Vec<c64>) {
         match layout.place[dof] {
@@ -265,7 +272,60 @@ pub(super) fn solve_speed(
             (cond, finite.then_some(coefficients))
         })
         .collect();
-    Some(SpeedSolution { residual, bearings })
+    Some(SpeedSolution {
+        residual,
+        residual_ratio,
+        bearings,
+    })
+}
+
+/// The model residual of both tests, `res = ‖r¹‖² + ‖r²‖²`, over its expectation under the
+/// stated response noise alone.
+///
+/// The residual of test `t` is linear in its measured differences `Δᵗ = qᵗ − q⁰`:
+/// `rᵗ = r_f + Σ_k s_k Δᵗ_k` with `s_k = A x_k − b_k` the residual of the sensitivity
+/// right-hand side `b_k = −D_{:,k}` (already solved). With independent circular noise of standard
+/// deviation `σ` on each of `Re`, `Im` of every response (`E|δq|² = 2σ²`), an exact model gives
+/// `E‖r¹‖² + E‖r²‖² = Σ_k ‖s_k‖² · 2 (σ¹_k² + σ²_k² + 2 σ⁰_k²)` (the baseline's noise enters both
+/// differences). The ratio is about 1 when the model explains the measurements; it is `None`
+/// when no probe is redundant (every `s_k = 0`: as many probes as the unknowns need, so the
+/// residual is zero whatever the model).
+fn residual_ratio(
+    a: &Mat<c64>,
+    x: &Mat<c64>,
+    rhs: &Mat<c64>,
+    res: f64,
+    sd: &[Vec<f64>; 3],
+) -> Option<f64> {
+    let (n, cols) = (a.nrows(), a.ncols());
+    let mut expected = 0.0;
+    let mut scale = 0.0;
+    for (k, ((s0, s1), s2)) in sd[0].iter().zip(&sd[1]).zip(&sd[2]).enumerate() {
+        let c = 2 + k;
+        let mut sk = 0.0;
+        for i in 0..n {
+            let mut v = -rhs[(i, c)];
+            for j in 0..cols {
+                v += a[(i, j)] * x[(j, c)];
+            }
+            sk += v.norm_sqr();
+        }
+        let column: f64 = (0..n).map(|i| rhs[(i, c)].norm_sqr()).sum();
+        scale += column;
+        expected += sk * 2.0 * (s1 * s1 + s2 * s2 + 2.0 * s0 * s0);
+    }
+    // Sensitivity residuals at rounding level (no redundant probe) give no test.
+    let noise_free = expected <= FIELD_RESIDUAL_ROUNDING * scale * mean_variance(sd);
+    (expected > 0.0 && !noise_free).then(|| res / expected)
+}
+
+/// Mean of `2σ²` over the responses: the scale of the noise variance.
+fn mean_variance(sd: &[Vec<f64>; 3]) -> f64 {
+    let (sum, count) = sd
+        .iter()
+        .flatten()
+        .fold((0.0, 0usize), |(s, c), v| (s + 2.0 * v * v, c + 1));
+    if count > 0 { sum / count as f64 } else { 0.0 }
 }
 
 /// `σ_max / σ_min` of a complex 2×2 matrix: with `a = ‖Q‖_F²` and `d = |det Q|`,

@@ -23,7 +23,7 @@ pub struct FieldArgs {
     #[arg(long, value_name = "TESTS.json")]
     tests: PathBuf,
     /// Print one JSON object on stdout (`speeds_rad_s`, `bearings` with `K`, `C`, their `_std`
-    /// and `condition_number` per speed, `measured`, `model_residual`, `warnings`, …).
+    /// and `condition_number` per speed, `measured`, `model_residual`, `residual_ratio`, `warnings`, …).
     #[arg(long)]
     pub json: bool,
     /// Also write `field.svg` (K(Ω), C(Ω) per bearing with condition numbers) and an
@@ -129,6 +129,7 @@ fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
         "bearings": bearings,
         "measured": measured,
         "model_residual": id.model_residual().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
+        "residual_ratio": id.residual_ratio().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
         "pinned_critical_speeds_rad_s": id.pinned_critical_speeds(),
         "compute_ms": compute_ms,
         "warnings": id.warnings().iter().map(ToString::to_string).collect::<Vec<_>>(),
