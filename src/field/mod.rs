@@ -47,7 +47,7 @@
 //!    [`FIELD_NOISE_GAIN`].
 //!    With more probes than the unknowns need and stated noise, the model residual is judged
 //!    against the noise ([`FieldIdentification::residual_ratio`], about 1 when the model
-//!    fits): above [`FIELD_RESIDUAL_RATIO`](crate::tolerance::FIELD_RESIDUAL_RATIO) the rotor
+//!    fits): above [`FIELD_RESIDUAL_RATIO`] the rotor
 //!    model, the probe positions or the phase convention do not fit the measurements.
 //! 6. **Constant fit** ([`fit_constant`]): `Re Z = K − Ω²M`, `Im Z = ΩC` over the speeds, which
 //!    separates `K` and `M` (one speed cannot).
