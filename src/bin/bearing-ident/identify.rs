@@ -13,8 +13,8 @@ use bearing_ident::quality::ImpactChecks;
 use bearing_ident::spectra::ForceGate;
 use bearing_ident::uff::{UffChannel, UffLayout};
 use bearing_ident::{
-    Assignment, Baseline, Error, Estimator, Identification, Identifier, Method, NonConvergence,
-    Record, Screening, Segmentation, Uncertainty,
+    Assignment, Error, Estimator, Identification, Identifier, Method, NonConvergence, Record,
+    Screening, Segmentation, Uncertainty,
 };
 use clap::ValueEnum;
 
@@ -24,6 +24,7 @@ use crate::parse::{library, parse_band, parse_window, response_columns};
 use crate::read::{Layout, ReadAhead, is_uff, read_file, read_record};
 use crate::report;
 
+mod baseline;
 mod nonlinear;
 mod welch;
 
@@ -414,73 +415,6 @@ fn identify_records(
     Ok(id)
 }
 
-/// The dry-structure baseline: identified from a directory of CSV records with the same
-/// settings, or read back from an earlier `identify --json` result.
-fn baseline(
-    args: &IdentifyArgs,
-    identifier: &Identifier,
-    excitation: Excitation,
-    path: &std::path::Path,
-) -> Result<Baseline, Failure> {
-    let io_failure = |e: std::io::Error| Failure {
-        kind: "io_error",
-        message: format!("{}: {e}", path.display()),
-    };
-    if path.is_dir() {
-        let mut files: Vec<PathBuf> = std::fs::read_dir(path)
-            .map_err(io_failure)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "csv"))
-            .collect();
-        files.sort();
-        if files.is_empty() {
-            return Err(invalid(format!(
-                "--baseline {}: no .csv records in the directory",
-                path.display()
-            )));
-        }
-        let first = read_file(&files[0], &layout(args)?)?;
-        let mut reading = std::time::Duration::ZERO;
-        let id = run(
-            args,
-            identifier,
-            excitation,
-            first,
-            &files,
-            &mut reading,
-            &mut Vec::new(),
-        )?;
-        return Ok(Baseline::from(&id));
-    }
-    // Read at most the limit (a sparse file or /dev/zero must not fill memory).
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(
-        &mut std::io::Read::take(
-            std::fs::File::open(path).map_err(io_failure)?,
-            MAX_BASELINE_BYTES + 1,
-        ),
-        &mut bytes,
-    )
-    .map_err(io_failure)?;
-    if bytes.len() as u64 > MAX_BASELINE_BYTES {
-        return Err(Failure {
-            kind: "too_large",
-            message: format!(
-                "--baseline {}: longer than the limit of {MAX_BASELINE_BYTES} bytes for a JSON result",
-                path.display()
-            ),
-        });
-    }
-    let text = String::from_utf8_lossy(&bytes);
-    Baseline::from_json(&text).map_err(|e| Failure {
-        kind: e.kind(),
-        message: format!("--baseline {}: {e}", path.display()),
-    })
-}
-
-/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
-const MAX_BASELINE_BYTES: u64 = 1 << 24;
-
 /// Reads the record files and identifies them; the excitation kind is decided from the first
 /// record with a force that is not flat (as [`Excitation::detect`] does, reading the files
 /// one at a time).
@@ -533,7 +467,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
     let bearing = match &args.baseline {
         Some(path) => {
-            let dry = baseline(args, &identifier, excitation, path)?;
+            let dry = baseline::baseline(args, &identifier, excitation, path)?;
             let (b, std) = id.subtract_baseline(dry)?;
             Some((b, std, path.display().to_string()))
         }
