@@ -171,6 +171,11 @@ fn noisy_responses_carry_error_bars_and_the_table_and_report_are_written() {
     let (r, t) = write(dir.path(), &rotor, &tests_json(&tests));
     let v = json_of(&field(&r, &t, &[]));
     let sd = v["bearings"][0]["K_std"][3][0][0].as_f64().unwrap();
+    // The constant fit over the speeds carries its own error bars.
+    let fit = &v["bearings"][0]["fit"];
+    for key in ["K_std", "C_std", "M_std"] {
+        assert!(fit[key][0][0].as_f64().unwrap() > 0.0, "{fit}");
+    }
     let k = v["bearings"][0]["K"][3][0][0].as_f64().unwrap();
     let truth = bearings(0, 425.0).stiffness[0][0];
     assert!(

@@ -370,6 +370,62 @@ fn constant_fit_over_speeds_summarises_the_trends() {
     assert_eq!(fit.speeds, 14);
 }
 
+/// Bearings that are a constant K, C, M: the fit over speeds returns them, and its error bars
+/// (from the per-speed ones) cover them at 1 % response noise.
+#[test]
+fn constant_fit_recovers_k_c_m_within_its_error_bars() {
+    let rotor = rotor();
+    let mass = [[2.0, 0.4], [-0.3, 3.0]];
+    let law = |b: usize, w: f64| {
+        let base = bearings(b, 0.0);
+        BearingCoefficients {
+            stiffness: std::array::from_fn(|i| {
+                std::array::from_fn(|j| base.stiffness[i][j] - w * w * mass[i][j])
+            }),
+            damping: base.damping,
+        }
+    };
+    // Noise-free: exact.
+    let tests = runs([0, 7], 0.0, 1).simulate(&rotor, law).unwrap();
+    let fit = field::fit_constant(&field::identify(&rotor, &tests).unwrap())[0].unwrap();
+    assert!((fit.mass[1][1] / 3.0 - 1.0).abs() < 1e-6, "{:?}", fit.mass);
+    let (mut inside, mut total) = (0, 0);
+    for seed in 0..40 {
+        let tests = runs([0, 7], 0.01, 100 + seed)
+            .simulate(&rotor, law)
+            .unwrap();
+        let fits = field::fit_constant(&field::identify(&rotor, &tests).unwrap());
+        for (b, fit) in fits.iter().enumerate() {
+            let fit = fit.unwrap();
+            let truth = bearings(b, 0.0);
+            for k in 0..4 {
+                let (i, j) = (k / 2, k % 2);
+                for (value, std, t) in [
+                    (
+                        fit.stiffness[i][j],
+                        fit.stiffness_std[i][j],
+                        truth.stiffness[i][j],
+                    ),
+                    (
+                        fit.damping[i][j],
+                        fit.damping_std[i][j],
+                        truth.damping[i][j],
+                    ),
+                    (fit.mass[i][j], fit.mass_std[i][j], mass[i][j]),
+                ] {
+                    total += 1;
+                    if (value - t).abs() <= 1.96 * std {
+                        inside += 1;
+                    }
+                }
+            }
+        }
+    }
+    let coverage = inside as f64 / total as f64;
+    eprintln!("constant fit: coverage {coverage:.3} of {total}");
+    assert!((0.93..=0.99).contains(&coverage), "{coverage}");
+}
+
 /// A rotor built with ROSS 3.1.0 (Timoshenko shaft, `M0`, `K0`, `G0`, `C0`) and ROSS's own
 /// unbalance responses (`tests/data/field_ross/generate.py`): the bearings come back to 1e-6,
 /// which checks the JSON form, the DOF order, the force convention and the gyroscopic sign

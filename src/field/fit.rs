@@ -1,7 +1,7 @@
 //! The constant fit over speeds ([`fit_constant`]): `K`, `C`, `M` of a bearing from its
 //! `K(Ω)`, `C(Ω)`.
 
-use super::result::FieldIdentification;
+use super::result::{FieldIdentification, SpeedCoefficients};
 
 /// Constant coefficients of one bearing fitted over the speeds (rows and columns `x, y`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -12,6 +12,12 @@ pub struct ConstantFit {
     pub damping: [[f64; 2]; 2],
     /// `M` (kg): the synchronous `Re Z = K − Ω²M` seen across speeds.
     pub mass: [[f64; 2]; 2],
+    /// Standard deviations of `stiffness`, `damping`, `mass` (see [`fit_constant`]).
+    pub stiffness_std: [[f64; 2]; 2],
+    /// Standard deviation of `damping`.
+    pub damping_std: [[f64; 2]; 2],
+    /// Standard deviation of `mass`.
+    pub mass_std: [[f64; 2]; 2],
     /// Speeds used.
     pub speeds: usize,
 }
@@ -24,6 +30,12 @@ pub struct ConstantFit {
 ///
 /// A bearing whose coefficients depend on speed (a fluid-film bearing's do) is not a constant
 /// `K`, `C`, `M`: the fit is then a summary, and `M` absorbs the trend of `K(Ω)`.
+///
+/// Standard deviations: weighted, $(X^\top W X)^{-1}$ scaled by the reduced
+/// $\chi^2 = \sum_s w_s r_s^2/(S - p)$ when it exceeds 1 (the scatter about the constant model is
+/// more than the per-speed error bars explain: a speed-dependent bearing, whose trend then
+/// counts as error); unweighted, $(X^\top X)^{-1}\, \mathrm{RSS}/(S - p)$. $S$ speeds, $p = 2$
+/// for `K`, `M` and $1$ for `C`.
 ///
 /// # Examples
 /// ```
@@ -66,21 +78,25 @@ pub fn fit_constant(id: &FieldIdentification) -> Vec<Option<ConstantFit>> {
                 stiffness: [[0.0; 2]; 2],
                 damping: [[0.0; 2]; 2],
                 mass: [[0.0; 2]; 2],
+                stiffness_std: [[0.0; 2]; 2],
+                damping_std: [[0.0; 2]; 2],
+                mass_std: [[0.0; 2]; 2],
                 speeds: points.len(),
             };
             for i in 0..2 {
                 for j in 0..2 {
                     // Weighted normal equations of k − Ω² m, and the weighted mean of c.
+                    let weights = |c: &SpeedCoefficients| match (c.stiffness_std, c.damping_std) {
+                        (Some(sk), Some(sc)) if weighted => (
+                            1.0 / sk[i][j].powi(2).max(f64::MIN_POSITIVE),
+                            1.0 / sc[i][j].powi(2).max(f64::MIN_POSITIVE),
+                        ),
+                        _ => (1.0, 1.0),
+                    };
                     let (mut s, mut sx, mut sxx, mut sy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
                     let (mut cw, mut cs) = (0.0, 0.0);
                     for (w, c) in &points {
-                        let (wk, wc) = match (c.stiffness_std, c.damping_std) {
-                            (Some(sk), Some(sc)) if weighted => (
-                                1.0 / sk[i][j].powi(2).max(f64::MIN_POSITIVE),
-                                1.0 / sc[i][j].powi(2).max(f64::MIN_POSITIVE),
-                            ),
-                            _ => (1.0, 1.0),
-                        };
+                        let (wk, wc) = weights(c);
                         let x = -w * w;
                         let y = c.stiffness[i][j];
                         s += wk;
@@ -92,16 +108,44 @@ pub fn fit_constant(id: &FieldIdentification) -> Vec<Option<ConstantFit>> {
                         cs += wc * c.damping[i][j];
                     }
                     let det = s * sxx - sx * sx;
-                    fit.mass[i][j] = (s * sxy - sx * sy) / det;
-                    fit.stiffness[i][j] = (sxx * sy - sx * sxy) / det;
-                    fit.damping[i][j] = cs / cw;
+                    let (m, k, cm) = (
+                        (s * sxy - sx * sy) / det,
+                        (sxx * sy - sx * sxy) / det,
+                        cs / cw,
+                    );
+                    // Weighted residual sums of both fits.
+                    let (mut rk, mut rc) = (0.0, 0.0);
+                    for (w, c) in &points {
+                        let (wk, wc) = weights(c);
+                        rk += wk * (c.stiffness[i][j] - (k - w * w * m)).powi(2);
+                        rc += wc * (c.damping[i][j] - cm).powi(2);
+                    }
+                    let n = points.len() as f64;
+                    let scale = |chi2: f64, dof: f64| {
+                        let reduced = chi2 / dof;
+                        if weighted { reduced.max(1.0) } else { reduced }
+                    };
+                    let (sk2, sc2) = (scale(rk, n - 2.0), scale(rc, n - 1.0));
+                    fit.mass[i][j] = m;
+                    fit.stiffness[i][j] = k;
+                    fit.damping[i][j] = cm;
+                    fit.mass_std[i][j] = (s / det * sk2).sqrt();
+                    fit.stiffness_std[i][j] = (sxx / det * sk2).sqrt();
+                    fit.damping_std[i][j] = (sc2 / cw).sqrt();
                 }
             }
-            let finite = [fit.stiffness, fit.damping, fit.mass]
-                .iter()
-                .flatten()
-                .flatten()
-                .all(|v| v.is_finite());
+            let finite = [
+                fit.stiffness,
+                fit.damping,
+                fit.mass,
+                fit.stiffness_std,
+                fit.damping_std,
+                fit.mass_std,
+            ]
+            .iter()
+            .flatten()
+            .flatten()
+            .all(|v| v.is_finite());
             finite.then_some(fit)
         })
         .collect()

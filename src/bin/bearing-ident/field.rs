@@ -114,7 +114,8 @@ fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
                 "condition_number": b.condition_number.iter().map(|&c| finite(c)).collect::<Vec<_>>(),
                 "noise_gain": b.coefficients.iter().map(|c| c.map_or(Value::Null, |c| finite(c.noise_gain))).collect::<Vec<_>>(),
                 "fit": fit.map(|f| json!({
-                    "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds
+                    "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds,
+                    "K_std": f.stiffness_std, "C_std": f.damping_std, "M_std": f.mass_std
                 })),
             })
         })
