@@ -143,6 +143,26 @@ fn coefficient_lines(
     }
 }
 
+/// `  timings (ms): read …, <every stage>, total …`, a line of the table.
+pub fn timings_line(
+    out: &mut String,
+    timings: &bearing_ident::identify::Timings,
+    read_ms: f64,
+    compute_ms: f64,
+) {
+    let stages: Vec<String> = timings
+        .stages()
+        .iter()
+        .map(|(name, d)| format!("{name} {:.2}", d.as_secs_f64() * 1e3))
+        .collect();
+    let _ = writeln!(
+        out,
+        "  timings (ms): read {read_ms:.2}, {}, total {:.2}",
+        stages.join(", "),
+        read_ms + compute_ms
+    );
+}
+
 /// The axes' names when there is one per degree of freedom, else `1`, `2`, ….
 pub fn axis_labels(axes: &[String], n: usize) -> Vec<String> {
     if axes.len() == n {
@@ -242,19 +262,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         c.compute_ms
     );
     if c.show_timings {
-        let stages: Vec<String> = id
-            .timings()
-            .stages()
-            .iter()
-            .map(|(name, d)| format!("{name} {:.2}", d.as_secs_f64() * 1e3))
-            .collect();
-        let _ = writeln!(
-            out,
-            "  timings (ms): read {:.2}, {}, total {:.2}",
-            c.read_ms,
-            stages.join(", "),
-            c.read_ms + c.compute_ms
-        );
+        timings_line(&mut out, &id.timings(), c.read_ms, c.compute_ms);
     }
     if let Some(ml) = id.ml() {
         let _ = writeln!(

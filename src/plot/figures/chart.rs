@@ -210,6 +210,39 @@ pub(crate) fn bar_range(
     }
 }
 
+/// Points with error bars and a model line drawn on one axis, in the SI-prefixed unit of their
+/// common range ([`bar_range`], [`si_unit`]): the values divided by the scale, the y range and
+/// the unit.
+pub(crate) struct ScaledPanel {
+    /// `(x, value, error bar)` in the scaled unit.
+    pub points: Vec<(f64, f64, Option<f64>)>,
+    /// The model line in the scaled unit.
+    pub model: Vec<(f64, f64)>,
+    /// The y range in the scaled unit.
+    pub y: std::ops::Range<f64>,
+    /// `unit` with its SI prefix.
+    pub unit: String,
+}
+
+/// `points` and `model` (in `unit`) scaled together ([`ScaledPanel`]).
+pub(crate) fn scaled_panel(
+    points: &[(f64, f64, Option<f64>)],
+    model: &[(f64, f64)],
+    unit: &str,
+) -> ScaledPanel {
+    let range = bar_range(points, model);
+    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
+    ScaledPanel {
+        points: points
+            .iter()
+            .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
+            .collect(),
+        model: model.iter().map(|&(f, v)| (f, v / scale)).collect(),
+        y: (range.start / scale)..(range.end / scale),
+        unit,
+    }
+}
+
 /// Breaks a phase curve (degrees, wrapped) where it jumps by more than 180°.
 pub(crate) fn phase_segments(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
     let mut segments: Vec<Vec<(f64, f64)>> = Vec::new();

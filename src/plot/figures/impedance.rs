@@ -5,8 +5,8 @@ use plotters::prelude::*;
 
 use super::canvas::{Key, MEASURED, MODEL, header, render, series};
 use super::chart::{
-    MODEL_POINTS, bar_range, draw_points_with_bars, freq_range, grid_size, linear_chart,
-    model_freqs, si_unit, stacked, titled,
+    MODEL_POINTS, draw_points_with_bars, freq_range, grid_size, linear_chart, model_freqs,
+    scaled_panel, stacked, titled,
 };
 use crate::error::Result;
 use crate::identify::Identification;
@@ -95,27 +95,23 @@ pub fn impedance(id: &Identification, options: &FigureOptions) -> Result<String>
                     (&top, "Re", &re, &re_fit, "K − ω²M"),
                     (&bottom, "Im", &im, &im_fit, "ωC"),
                 ] {
-                    let range = bar_range(points, fit);
-                    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), "N/m");
-                    let scaled: Vec<(f64, f64, Option<f64>)> = points
-                        .iter()
-                        .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
-                        .collect();
-                    let fit: Vec<(f64, f64)> = fit.iter().map(|&(f, v)| (f, v / scale)).collect();
-                    let y = (range.start / scale)..(range.end / scale);
+                    let panel = scaled_panel(points, fit, "N/m");
                     let x_desc = (part == "Im").then_some("frequency (Hz)");
                     let mut chart = linear_chart(
                         area,
                         x.clone(),
-                        y.clone(),
+                        panel.y.clone(),
                         x_desc,
-                        &format!("{part} H ({unit})"),
+                        &format!("{part} H ({})", panel.unit),
                     )?;
                     series(area, &format!("{part} H {el} measured"), || {
-                        draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
+                        draw_points_with_bars(&mut chart, &panel.points, &panel.y, MEASURED)
                     })?;
                     series(area, &format!("{part} H {el} model {model_name}"), || {
-                        chart.draw_series(LineSeries::new(fit, MODEL.stroke_width(2)))?;
+                        chart.draw_series(LineSeries::new(
+                            panel.model.iter().copied(),
+                            MODEL.stroke_width(2),
+                        ))?;
                         Ok(())
                     })?;
                 }

@@ -5,7 +5,7 @@ use plotters::prelude::*;
 
 use super::canvas::{GREY, Key, MEASURED, MODEL, header, render, series};
 use super::chart::{
-    bar_range, draw_points_with_bars, freq_range, linear_chart, si_unit, stacked, titled,
+    draw_points_with_bars, freq_range, linear_chart, scaled_panel, stacked, titled,
 };
 use crate::error::Result;
 use crate::nonlinear::NonlinearIdentification;
@@ -102,27 +102,21 @@ pub fn nonlinear(id: &NonlinearIdentification, options: &FigureOptions) -> Resul
                 (&bottom, "Im", &im, 0.0, format!("Im {label} zero"), GREY),
             ] {
                 let line = [(x.start, level), (x.end, level)];
-                let range = bar_range(points, &line);
-                let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), t.unit());
-                let scaled: Vec<(f64, f64, Option<f64>)> = points
-                    .iter()
-                    .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
-                    .collect();
-                let y = (range.start / scale)..(range.end / scale);
+                let panel = scaled_panel(points, &line, t.unit());
                 let x_desc = (part == "Im").then_some("frequency (Hz)");
                 let mut chart = linear_chart(
                     area,
                     x.clone(),
-                    y.clone(),
+                    panel.y.clone(),
                     x_desc,
-                    &format!("{part} Â ({unit})"),
+                    &format!("{part} Â ({})", panel.unit),
                 )?;
                 series(area, &format!("{part} {label}"), || {
-                    draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
+                    draw_points_with_bars(&mut chart, &panel.points, &panel.y, MEASURED)
                 })?;
                 series(area, &line_name, || {
                     chart.draw_series(LineSeries::new(
-                        line.iter().map(|&(f, v)| (f, v / scale)),
+                        panel.model.iter().copied(),
                         colour.stroke_width(2),
                     ))?;
                     Ok(())

@@ -4,7 +4,7 @@ use plotters::prelude::*;
 
 use super::canvas::{Key, MEASURED, MODEL, header, render, series};
 use super::chart::{
-    bar_range, draw_points_with_bars, freq_range, grid_size, linear_chart, si_unit, stacked, titled,
+    draw_points_with_bars, freq_range, grid_size, linear_chart, scaled_panel, stacked, titled,
 };
 use crate::error::Result;
 use crate::identify::Identification;
@@ -89,27 +89,21 @@ pub fn per_frequency(id: &Identification, options: &FigureOptions) -> Result<Str
                     (&bottom, "C", &c_points, co.damping()[(i, j)], "N·s/m"),
                 ] {
                     let fit = [(x.start, fitted), (x.end, fitted)];
-                    let range = bar_range(points, &fit);
-                    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
-                    let scaled: Vec<(f64, f64, Option<f64>)> = points
-                        .iter()
-                        .map(|&(f, v, s)| (f, v / scale, s.map(|s| s / scale)))
-                        .collect();
-                    let y = (range.start / scale)..(range.end / scale);
+                    let panel = scaled_panel(points, &fit, unit);
                     let x_desc = (name == "C").then_some("frequency (Hz)");
                     let mut chart = linear_chart(
                         area,
                         x.clone(),
-                        y.clone(),
+                        panel.y.clone(),
                         x_desc,
-                        &format!("{name} ({unit})"),
+                        &format!("{name} ({})", panel.unit),
                     )?;
                     series(area, &format!("{name} {el}(ω)"), || {
-                        draw_points_with_bars(&mut chart, &scaled, &y, MEASURED)
+                        draw_points_with_bars(&mut chart, &panel.points, &panel.y, MEASURED)
                     })?;
                     series(area, &format!("{name} {el} fit"), || {
                         chart.draw_series(LineSeries::new(
-                            fit.iter().map(|&(f, v)| (f, v / scale)),
+                            panel.model.iter().copied(),
                             MODEL.stroke_width(2),
                         ))?;
                         Ok(())

@@ -332,19 +332,7 @@ fn table(id: &NonlinearIdentification, run: &Run, timings: bool) -> String {
         run.compute_ms
     );
     if timings {
-        let stages: Vec<String> = id
-            .timings()
-            .stages()
-            .iter()
-            .map(|(name, d)| format!("{name} {:.2}", d.as_secs_f64() * 1e3))
-            .collect();
-        let _ = writeln!(
-            out,
-            "  timings (ms): read {:.2}, {}, total {:.2}",
-            run.read_ms,
-            stages.join(", "),
-            run.read_ms + run.compute_ms
-        );
+        crate::report::timings_line(&mut out, &id.timings(), run.read_ms, run.compute_ms);
     }
     for w in id.warnings() {
         let _ = writeln!(out, "  warning: {w}");
