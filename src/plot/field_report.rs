@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{STYLE, create_dir, esc, warnings_list, write_file};
+use super::html::{create_dir, esc, page_head, page_tail, warnings_list, write_file};
 use super::{ReportOptions, significant as sig};
 use crate::error::Result;
 use crate::field::{FieldIdentification, SpeedCoefficients};
@@ -91,15 +91,7 @@ pub fn field_report(
 
 fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String {
     let mut h = String::new();
-    let _ = write!(
-        h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>{0}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
-        esc(&options.title)
-    );
-    for line in &options.context {
-        let _ = writeln!(h, "<p>{}</p>", esc(line));
-    }
+    page_head(&mut h, options);
     let probes: Vec<String> = id
         .probes()
         .iter()
@@ -185,13 +177,6 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
          (±σ where known) and the condition number of the response pair, with the warning \
          threshold.</figcaption>\n</figure>"
     );
-    if let Some(text) = &options.text {
-        let _ = writeln!(
-            h,
-            "<details><summary>Text report</summary><pre>{}</pre></details>",
-            esc(text)
-        );
-    }
-    let _ = writeln!(h, "</body>\n</html>");
+    page_tail(&mut h, options);
     h
 }

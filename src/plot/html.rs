@@ -175,6 +175,32 @@ fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -
 }
 
 /// Writes `contents` to `path`, mapping failures to [`Error::Io`].
+/// Every report's page up to its first section: the document head with the style, the title,
+/// and the context lines.
+pub(super) fn page_head(h: &mut String, options: &ReportOptions) {
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>{0}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
+        esc(&options.title)
+    );
+    for line in &options.context {
+        let _ = writeln!(h, "<p>{}</p>", esc(line));
+    }
+}
+
+/// Every report's page end: the text report folded (if any), and the closing tags.
+pub(super) fn page_tail(h: &mut String, options: &ReportOptions) {
+    if let Some(text) = &options.text {
+        let _ = writeln!(
+            h,
+            "<details>\n<summary>Text report</summary>\n<pre>{}</pre>\n</details>",
+            esc(text)
+        );
+    }
+    let _ = writeln!(h, "</body>\n</html>");
+}
+
 /// Creates the report's folder (and its parents).
 pub(super) fn create_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io {
@@ -237,16 +263,7 @@ fn page(
     let co = id.coefficients();
     let n = co.dofs();
     let names = options.figure.axis_names(n);
-    let _ = write!(
-        h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
-        esc(&options.title),
-        esc(&options.title)
-    );
-    for line in &options.context {
-        let _ = writeln!(h, "<p>{}</p>", esc(line));
-    }
+    page_head(&mut h, options);
     // Contents.
     let _ = writeln!(
         h,
@@ -388,14 +405,7 @@ fn page(
             esc(caption)
         );
     }
-    if let Some(text) = &options.text {
-        let _ = writeln!(
-            h,
-            "<details>\n<summary>Text report</summary>\n<pre>{}</pre>\n</details>",
-            esc(text)
-        );
-    }
-    let _ = writeln!(h, "</body>\n</html>");
+    page_tail(&mut h, options);
     h
 }
 

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{STYLE, create_dir, esc, warnings_list, write_file};
+use super::html::{create_dir, esc, page_head, page_tail, warnings_list, write_file};
 use super::{ReportOptions, coefficient_rows, significant as sig};
 use crate::error::Result;
 use crate::nonlinear::NonlinearIdentification;
@@ -54,15 +54,7 @@ fn page(id: &NonlinearIdentification, options: &ReportOptions, svg: &str) -> Str
     let mut h = String::new();
     let n = id.coefficients().dofs();
     let names = options.figure.axis_names(n);
-    let _ = write!(
-        h,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>{0}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
-        esc(&options.title)
-    );
-    for line in &options.context {
-        let _ = writeln!(h, "<p>{}</p>", esc(line));
-    }
+    page_head(&mut h, options);
     let freqs = id.freqs_hz();
     let _ = writeln!(
         h,
@@ -142,13 +134,6 @@ fn page(id: &NonlinearIdentification, options: &ReportOptions, svg: &str) -> Str
          a regressor that describes the element gives a flat real part on the fitted constant \
          and an imaginary part about zero.</figcaption>\n</figure>"
     );
-    if let Some(text) = &options.text {
-        let _ = writeln!(
-            h,
-            "<details><summary>Text report</summary><pre>{}</pre></details>",
-            esc(text)
-        );
-    }
-    let _ = writeln!(h, "</body>\n</html>");
+    page_tail(&mut h, options);
     h
 }
