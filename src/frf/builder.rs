@@ -54,6 +54,25 @@ pub(super) struct Plan {
     pub(super) to_displacement: Vec<[Option<c64>; 3]>,
 }
 
+impl Plan {
+    /// The band lines a finished FRF kept (lines can be dropped there): per line, its index
+    /// `l` in the plan, its frequency and its index in `frf`. The FRF's frequencies are these
+    /// very values (the same computation), so the lookup is exact.
+    pub(super) fn lines_in<'a>(
+        &'a self,
+        frf: &'a Frf,
+    ) -> impl Iterator<Item = (usize, f64, usize)> + 'a {
+        self.lines.iter().enumerate().filter_map(|(l, &k)| {
+            let freq = k as f64 * self.resolution_hz;
+            let at = frf
+                .freqs_hz()
+                .binary_search_by(|u| u.total_cmp(&freq))
+                .ok()?;
+            Some((l, freq, at))
+        })
+    }
+}
+
 /// Collects records one at a time into what an estimator needs — band-line spectra for paired
 /// sets, accumulated cross-spectra for H1 — and keeps no time data, so memory does not grow with
 /// record length and, for H1, not with the number of records either.

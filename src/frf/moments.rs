@@ -51,16 +51,7 @@ impl FrfBuilder {
         let (n, nn) = (plan.n, plan.n * plan.n);
         let mut freqs = Vec::new();
         let mut szz = Vec::new();
-        for (l, &k) in plan.lines.iter().enumerate() {
-            let freq = k as f64 * plan.resolution_hz;
-            // The FRF's lines are these very values (same computation): exact lookup.
-            if frf
-                .freqs_hz()
-                .binary_search_by(|u| u.total_cmp(&freq))
-                .is_err()
-            {
-                continue;
-            }
+        for (l, freq, _) in plan.lines_in(frf) {
             freqs.push(freq);
             let mut s = Mat::<c64>::zeros(2 * n, 2 * n);
             if self.estimator.is_cross_spectral() {

@@ -50,16 +50,9 @@ impl FrfBuilder {
     ) -> Result<Replicates<'_>> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
         let n = plan.n;
-        let used = full.freqs_hz();
         let lines: Vec<(usize, f64, f64)> = plan
-            .lines
-            .iter()
-            .enumerate()
-            .filter_map(|(l, &k)| {
-                let freq = k as f64 * plan.resolution_hz;
-                let at = used.binary_search_by(|u| u.total_cmp(&freq)).ok()?;
-                Some((l, freq, full.condition_numbers()[at]))
-            })
+            .lines_in(full)
+            .map(|(l, freq, at)| (l, freq, full.condition_numbers()[at]))
             .collect();
         let count = self.replicates(assignment)?;
         let mut per_set = Vec::new();

@@ -55,16 +55,7 @@ impl FrfBuilder {
         let (mut x, mut f) = (Vec::new(), Vec::new());
         let (mut cx, mut cf, mut cxf) = (Vec::new(), Vec::new(), Vec::new());
         let mut freqs = Vec::new();
-        for (l, &k) in plan.lines.iter().enumerate() {
-            let freq = k as f64 * plan.resolution_hz;
-            // The FRF's lines are these very values (same computation): exact lookup.
-            if frf
-                .freqs_hz()
-                .binary_search_by(|u| u.total_cmp(&freq))
-                .is_err()
-            {
-                continue;
-            }
+        for (l, freq, _) in plan.lines_in(frf) {
             freqs.push(freq);
             let mut xm = Mat::<c64>::zeros(n, records);
             let mut fm = Mat::<c64>::zeros(n, records);
