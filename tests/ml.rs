@@ -53,33 +53,6 @@ fn with_noise(records: &[Record], sf: f64, sx: f64, rng: &mut StdRng) -> Vec<Rec
         .collect()
 }
 
-/// RMS of a record's channels of one kind, pooled over records and channels.
-fn rms(records: &[Record], force: bool) -> f64 {
-    let mut sum = 0.0;
-    let mut count = 0;
-    for r in records {
-        for c in 0..2 {
-            let ch = if force { r.force(c) } else { r.displacement(c) };
-            sum += ch.iter().map(|v| v * v).sum::<f64>();
-            count += ch.len();
-        }
-    }
-    (sum / count as f64).sqrt()
-}
-
-/// `M_xx, M_yy, C_xx, C_yy, K_xx, K_yy`.
-fn diagonal(c: &Coefficients) -> [f64; 6] {
-    let b = common::blocks(c);
-    [
-        b[0][(0, 0)],
-        b[0][(1, 1)],
-        b[1][(0, 0)],
-        b[1][(1, 1)],
-        b[2][(0, 0)],
-        b[2][(1, 1)],
-    ]
-}
-
 fn identifier(method: Method) -> Identifier {
     Identifier::new(8.0, 49.0)
         .estimator(Estimator::H1)
@@ -143,8 +116,8 @@ fn noise_free_falls_back_and_faint_noise_recovers() {
     let mut rng = StdRng::seed_from_u64(1);
     let faint = with_noise(
         &clean,
-        1e-6 * rms(&clean, true),
-        1e-6 * rms(&clean, false),
+        1e-6 * common::rms(&clean, true),
+        1e-6 * common::rms(&clean, false),
         &mut rng,
     );
     let id = identifier(Method::Ml).identify(&faint).unwrap();
@@ -181,7 +154,7 @@ fn ml_needs_records_or_periods() {
         .identify(&with_noise(
             &clean,
             0.0,
-            1e-2 * rms(&clean, false),
+            1e-2 * common::rms(&clean, false),
             &mut StdRng::seed_from_u64(5),
         ))
         .unwrap();
@@ -220,7 +193,10 @@ fn ml_reaches_the_cramer_rao_bound_and_beats_ivf() {
             .unwrap_or(default)
     };
     let (lf, lx) = (env("BI_LF", 0.01), env("BI_LX", 1.0));
-    let (sf, sx) = (lf * rms(&clean, true), lx * rms(&clean, false));
+    let (sf, sx) = (
+        lf * common::rms(&clean, true),
+        lx * common::rms(&clean, false),
+    );
     let bound = bound(&clean, sf, sx);
     let trials = env("BI_TRIALS", 300.0) as usize;
     let seed = env("BI_SEED", 2024.0) as u64;
@@ -232,10 +208,10 @@ fn ml_reaches_the_cramer_rao_bound_and_beats_ivf() {
         let b = identifier(Method::Ivf).identify(&noisy).unwrap();
         assert!(a.ml().unwrap().fell_back.is_none());
         ratio.push(a.ml().unwrap().cost_ratio);
-        ml.push(diagonal(a.coefficients()));
-        ivf.push(diagonal(b.coefficients()));
+        ml.push(common::diagonal(a.coefficients()));
+        ivf.push(common::diagonal(b.coefficients()));
     }
-    let (t, crlb) = (diagonal(&truth), diagonal(&bound));
+    let (t, crlb) = (common::diagonal(&truth), common::diagonal(&bound));
     let stats = |v: &[[f64; 6]], i: usize| {
         let m = v.iter().map(|r| r[i]).sum::<f64>() / v.len() as f64;
         let s = (v.iter().map(|r| (r[i] - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();

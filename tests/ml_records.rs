@@ -50,31 +50,6 @@ fn with_noise(records: &[Record], sx: f64, rng: &mut StdRng) -> Vec<Record> {
         .collect()
 }
 
-/// RMS of the displacement channels, pooled over records and channels.
-fn rms(records: &[Record]) -> f64 {
-    let (mut sum, mut count) = (0.0, 0);
-    for r in records {
-        for c in 0..2 {
-            sum += r.displacement(c).iter().map(|v| v * v).sum::<f64>();
-            count += r.len();
-        }
-    }
-    (sum / count as f64).sqrt()
-}
-
-/// `M_xx, M_yy, C_xx, C_yy, K_xx, K_yy`.
-fn diagonal(c: &Coefficients) -> [f64; 6] {
-    let b = common::blocks(c);
-    [
-        b[0][(0, 0)],
-        b[0][(1, 1)],
-        b[1][(0, 0)],
-        b[1][(1, 1)],
-        b[2][(0, 0)],
-        b[2][(1, 1)],
-    ]
-}
-
 fn impact_identifier(estimator: Estimator, method: Method) -> Identifier {
     Identifier::new(8.0, 49.0)
         .estimator(estimator)
@@ -135,7 +110,7 @@ fn bound(clean: &[Record], len: usize, window: Window, sx: f64, inflation: f64) 
         &vec![Mat::zeros(2, 2); l],
     )
     .unwrap();
-    diagonal(&crlb(&seed_rig(), &data).unwrap()).map(|s| s * inflation.sqrt())
+    common::diagonal(&crlb(&seed_rig(), &data).unwrap()).map(|s| s * inflation.sqrt())
 }
 
 /// ML runs on impacts (paired sets and H1) and on random records, reports its noise model,
@@ -145,7 +120,7 @@ fn ml_identifies_impact_and_random_records() {
     let truth = seed_rig();
     let mut rng = StdRng::seed_from_u64(3);
     let impacts = impact_records();
-    let noisy = with_noise(&impacts, 0.1 * rms(&impacts), &mut rng);
+    let noisy = with_noise(&impacts, 0.1 * common::rms(&impacts, false), &mut rng);
     for estimator in [Estimator::PairedSets, Estimator::H1] {
         let id = impact_identifier(estimator, Method::Ml)
             .identify(&noisy)
@@ -160,7 +135,7 @@ fn ml_identifies_impact_and_random_records() {
         assert!(id.std_dev().is_some());
     }
     let random = random_records();
-    let noisy = with_noise(&random, 0.3 * rms(&random), &mut rng);
+    let noisy = with_noise(&random, 0.3 * common::rms(&random, false), &mut rng);
     let id = random_identifier(Method::Ml).identify(&noisy).unwrap();
     let report = id.ml().unwrap();
     assert_eq!(report.noise_model, NoiseModel::WelchResiduals);
@@ -176,7 +151,7 @@ fn ml_identifies_impact_and_random_records() {
 fn ml_warns_on_windowed_whole_records() {
     let mut rng = StdRng::seed_from_u64(4);
     let impacts = impact_records();
-    let noisy = with_noise(&impacts, 0.1 * rms(&impacts), &mut rng);
+    let noisy = with_noise(&impacts, 0.1 * common::rms(&impacts, false), &mut rng);
     let warned = |id: &bearing_ident::Identification| {
         id.warnings()
             .iter()
@@ -206,7 +181,7 @@ fn monte_carlo(
     ml: &Identifier,
     ivf: &Identifier,
 ) {
-    let truth = diagonal(&seed_rig());
+    let truth = common::diagonal(&seed_rig());
     let names = ["M_xx", "M_yy", "C_xx", "C_yy", "K_xx", "K_yy"];
     let mut rng = StdRng::seed_from_u64(seed);
     let (mut a, mut b, mut covered, mut ratio) = (Vec::new(), Vec::new(), [0usize; 6], Vec::new());
@@ -218,10 +193,10 @@ fn monte_carlo(
         assert!(m.ml().unwrap().fell_back.is_none());
         ratio.push(m.ml().unwrap().cost_ratio);
         let (est, half) = (
-            diagonal(m.coefficients()),
-            diagonal(&m.interval_95().unwrap()),
+            common::diagonal(m.coefficients()),
+            common::diagonal(&m.interval_95().unwrap()),
         );
-        let sd = diagonal(m.std_dev().unwrap());
+        let sd = common::diagonal(m.std_dev().unwrap());
         for k in 0..6 {
             reported[k] += sd[k] / trials as f64;
             if (est[k] - truth[k]).abs() <= half[k] {
@@ -229,7 +204,7 @@ fn monte_carlo(
             }
         }
         a.push(est);
-        b.push(diagonal(i.coefficients()));
+        b.push(common::diagonal(i.coefficients()));
     }
     let stats = |v: &[[f64; 6]], i: usize| {
         let m = v.iter().map(|r| r[i]).sum::<f64>() / v.len() as f64;
@@ -297,7 +272,7 @@ fn env(name: &str, default: f64) -> f64 {
 )]
 fn ml_on_impacts_reaches_the_bound_and_beats_ivf() {
     let clean = impact_records();
-    let sx = env("BI_LX", 1.0) * rms(&clean);
+    let sx = env("BI_LX", 1.0) * common::rms(&clean, false);
     let len = clean[0].len();
     let b = bound(&clean, len, Window::Rectangular, sx, 1.0);
     let estimator = if env("BI_H1", 0.0) > 0.0 {
@@ -336,7 +311,7 @@ fn ml_on_impacts_reaches_the_bound_and_beats_ivf() {
 )]
 fn ml_on_random_records_reaches_the_bound_and_beats_ivf() {
     let clean = random_records();
-    let sx = env("BI_LX", 1.0) * rms(&clean);
+    let sx = env("BI_LX", 1.0) * common::rms(&clean, false);
     let segments = Segmentation::Welch {
         len: RANDOM_SEGMENT,
     }
@@ -399,8 +374,8 @@ fn undecayed_impacts_leave_a_bias_the_error_bars_do_not_cover() {
             sim.record(format!("hit-{h}"), &[impact]).unwrap()
         })
         .collect();
-    let sx = env("BI_LX", 0.1) * rms(&clean);
-    let truth = diagonal(&light);
+    let sx = env("BI_LX", 0.1) * common::rms(&clean, false);
+    let truth = common::diagonal(&light);
     let mut rng = StdRng::seed_from_u64(2024);
     let trials = env("BI_TRIALS", 100.0) as usize;
     let (mut est, mut sd) = (vec![[0.0; 6]; trials], vec![[0.0; 6]; trials]);
@@ -411,8 +386,8 @@ fn undecayed_impacts_leave_a_bias_the_error_bars_do_not_cover() {
             idr = idr.window(Window::exponential_to(env("BI_EXP", 0.0), 1.2));
         }
         let id = idr.identify(&noisy).unwrap();
-        est[t] = diagonal(id.coefficients());
-        sd[t] = diagonal(id.std_dev().unwrap());
+        est[t] = common::diagonal(id.coefficients());
+        sd[t] = common::diagonal(id.std_dev().unwrap());
     }
     let names = ["M_xx", "M_yy", "C_xx", "C_yy", "K_xx", "K_yy"];
     let mut worst_bias: f64 = 0.0;

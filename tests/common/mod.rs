@@ -22,6 +22,33 @@ pub fn blocks(c: &Coefficients) -> [MatRef<'_, f64>; 3] {
     [c.mass(), c.damping(), c.stiffness()]
 }
 
+/// RMS of a record's channels of one kind, pooled over records and channels.
+pub fn rms(records: &[bearing_ident::Record], force: bool) -> f64 {
+    let mut sum = 0.0;
+    let mut count = 0;
+    for r in records {
+        for c in 0..2 {
+            let ch = if force { r.force(c) } else { r.displacement(c) };
+            sum += ch.iter().map(|v| v * v).sum::<f64>();
+            count += ch.len();
+        }
+    }
+    (sum / count as f64).sqrt()
+}
+
+/// `M_xx, M_yy, C_xx, C_yy, K_xx, K_yy`.
+pub fn diagonal(c: &Coefficients) -> [f64; 6] {
+    let b = blocks(c);
+    [
+        b[0][(0, 0)],
+        b[0][(1, 1)],
+        b[1][(0, 0)],
+        b[1][(1, 1)],
+        b[2][(0, 0)],
+        b[2][(1, 1)],
+    ]
+}
+
 /// Largest error of `got` against `truth`, each element relative to the Frobenius norm of its
 /// block in `truth` (cross terms may be zero, so element-wise relative error is undefined).
 pub fn block_relative_error(got: &Coefficients, truth: &Coefficients) -> f64 {
