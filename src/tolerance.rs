@@ -244,9 +244,9 @@ pub const FIELD_LS_RANK: f64 = 1e12;
 /// is far below).
 pub const FIELD_DEPENDENT_TESTS: f64 = 1e-9;
 
-/// The residual of a measured response's sensitivity column, `‖s_k‖²/‖b_k‖²`, at most this is
-/// rounding (relative residual `1e-10`): no probe is redundant and the model residual cannot
-/// be judged against the noise ([`field`](crate::field)).
+/// The residuals of the measured responses' sensitivity columns, `Σ‖s_k‖²/Σ‖b_k‖²`, at most
+/// this are rounding (relative residual `1e-10`): no probe is redundant and the model residual
+/// cannot be judged against the noise ([`field`](crate::field)).
 pub const FIELD_RESIDUAL_ROUNDING: f64 = 1e-20;
 
 /// The model residual of a speed is too large (a warning) when `‖r‖²` exceeds this many times

@@ -298,8 +298,7 @@ fn residual_ratio(
     sd: &[Vec<f64>; 3],
 ) -> Option<f64> {
     let (n, cols) = (a.nrows(), a.ncols());
-    let mut expected = 0.0;
-    let mut scale = 0.0;
+    let (mut expected, mut residuals, mut columns) = (0.0, 0.0, 0.0);
     for (k, ((s0, s1), s2)) in sd[0].iter().zip(&sd[1]).zip(&sd[2]).enumerate() {
         let c = 2 + k;
         let mut sk = 0.0;
@@ -309,23 +308,14 @@ fn residual_ratio(
                 v += a[(i, j)] * x[(j, c)];
             }
             sk += v.norm_sqr();
+            columns += rhs[(i, c)].norm_sqr();
         }
-        let column: f64 = (0..n).map(|i| rhs[(i, c)].norm_sqr()).sum();
-        scale += column;
+        residuals += sk;
         expected += sk * 2.0 * (s1 * s1 + s2 * s2 + 2.0 * s0 * s0);
     }
-    // Sensitivity residuals at rounding level (no redundant probe) give no test.
-    let noise_free = expected <= FIELD_RESIDUAL_ROUNDING * scale * mean_variance(sd);
-    (expected > 0.0 && !noise_free).then(|| res / expected)
-}
-
-/// Mean of `2σ²` over the responses: the scale of the noise variance.
-fn mean_variance(sd: &[Vec<f64>; 3]) -> f64 {
-    let (sum, count) = sd
-        .iter()
-        .flatten()
-        .fold((0.0, 0usize), |(s, c), v| (s + 2.0 * v * v, c + 1));
-    if count > 0 { sum / count as f64 } else { 0.0 }
+    // Sensitivity residuals at rounding level: no probe is redundant, nothing to judge.
+    let redundant = residuals > FIELD_RESIDUAL_ROUNDING * columns;
+    (redundant && expected > 0.0).then(|| res / expected)
 }
 
 /// `σ_max / σ_min` of a complex 2×2 matrix: with `a = ‖Q‖_F²` and `d = |det Q|`,
