@@ -9,6 +9,7 @@ mod kind;
 mod quote;
 mod subject;
 mod warning;
+mod warning_text;
 
 pub use quote::{QUOTE_CHARS, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]

@@ -1,0 +1,280 @@
+//! The sentence of each [`Warning`]: what was seen, with its numbers.
+
+use std::fmt;
+
+use super::Warning;
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::IllConditioned {
+                lines,
+                of,
+                worst_hz,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "{lines} of {of} lines have a condition number above {threshold:.3e} \
+                 (worst {worst:.3e} at {worst_hz:.3} Hz): excitations close to dependent"
+            ),
+            Warning::LowCoherence { lines, threshold } => write!(
+                f,
+                "{lines} lines dropped with a multiple coherence below {threshold}"
+            ),
+            Warning::FewReplicates { replicates } => write!(
+                f,
+                "only {replicates} replicates for the jackknife (3 needed): sandwich standard deviations reported"
+            ),
+            Warning::DroppedLines { freqs_hz } => write!(
+                f,
+                "{} lines dropped (singular matrices) at {:?} Hz",
+                freqs_hz.len(),
+                freqs_hz
+            ),
+            Warning::UnpairedRecords { records } => write!(
+                f,
+                "{} records left out of the paired sets: {}",
+                records.len(),
+                records.join(", ")
+            ),
+            Warning::NotConverged { iterations, change } => write!(
+                f,
+                "not converged after {iterations} iterations (relative change {change:.3e})"
+            ),
+            Warning::Diverged {
+                iterations,
+                fallback_iteration,
+            } => write!(
+                f,
+                "diverged after {iterations} iterations; returning iterate {fallback_iteration}"
+            ),
+            Warning::DoubleHit {
+                record,
+                second_s,
+                ratio,
+            } => write!(
+                f,
+                "record `{record}`: double hit, a second pulse at {second_s:.4} s of {ratio:.2} × the main peak"
+            ),
+            Warning::Clipped {
+                record,
+                channel,
+                value,
+            } => write!(f, "record `{record}`: {channel} clipped at {value:.4e}"),
+            Warning::Rejected { record, reason } => {
+                write!(f, "record `{record}` rejected: {reason}")
+            }
+            Warning::MlFellBack { reason } => {
+                write!(f, "maximum likelihood kept the IVF result: {reason}")
+            }
+            Warning::MlWindowedRecords { decay_per_s } => write!(
+                f,
+                "maximum likelihood on whole records under an exponential window ({decay_per_s} 1/s): \
+                 neighbouring lines correlate, so its error bars are too narrow (jackknife ones are safer)"
+            ),
+            Warning::PoorFit {
+                row,
+                col,
+                r2,
+                threshold,
+            } => write!(
+                f,
+                "poor fit of flexibility element ({row},{col}): r² = {r2:.3} below {threshold}"
+            ),
+            Warning::NegativeDiagonal { block, dof, value } => write!(
+                f,
+                "{block}[{dof}][{dof}] = {value:.4e} is negative: not physical for a test system"
+            ),
+            Warning::UnstableMode {
+                frequency_hz,
+                damping_ratio,
+            } => write!(
+                f,
+                "the fitted model is unstable: mode at {frequency_hz:.3} Hz with damping ratio {damping_ratio:.3}"
+            ),
+            Warning::DependentReplicates {
+                replicates,
+                distinct,
+            } => write!(
+                f,
+                "only {distinct} of {replicates} replicates give distinct fits: records passed more than once? \
+                 error bars understate the error"
+            ),
+            Warning::ZeroSpread { entries, of } => write!(
+                f,
+                "{entries} of {of} diagonal coefficients have zero resampled spread: the replicates are identical"
+            ),
+            Warning::WindowTooShort {
+                decay_per_s,
+                limit_per_s,
+            } => write!(
+                f,
+                "exponential window decays at {decay_per_s:.4e} 1/s, faster than the lowest band frequency \
+                 ({limit_per_s:.4e} rad/s): it leaves too little of the record"
+            ),
+            Warning::ForceGateShort {
+                records,
+                gate_s,
+                pulse_end_s,
+            } => write!(
+                f,
+                "force gate open {gate_s:.4e} s closes before the pulse ends (up to {pulse_end_s:.4} s) in {records} records"
+            ),
+            Warning::CoarseResolution {
+                spacing_hz,
+                mode_hz,
+                half_power_hz,
+                peak_bias,
+            } => write!(
+                f,
+                "line spacing {spacing_hz:.4} Hz is coarse for the mode at {mode_hz:.3} Hz \
+                 (half-power bandwidth {half_power_hz:.3} Hz): predicted peak bias {:.1} %",
+                100.0 * peak_bias
+            ),
+            Warning::FewLines { lines, needed } => write!(
+                f,
+                "only {lines} lines in the band ({needed} wanted): little redundancy in the fit"
+            ),
+            // ---- Record screening ----
+            Warning::FlatChannel {
+                record,
+                channel,
+                value,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is flat, every sample at {value:.4e} \
+                 (a dead or disconnected sensor)"
+            ),
+            Warning::DeadChannel {
+                record,
+                channel,
+                rms,
+                median_rms,
+            } => write!(
+                f,
+                "record `{record}`: {channel} is dead, RMS {rms:.3e} is {:.1e} × the median \
+                 {median_rms:.3e} of its sibling records",
+                rms / median_rms
+            ),
+            Warning::LevelOutlier {
+                record,
+                channel,
+                rms,
+                median_rms,
+                sigmas,
+            } => write!(
+                f,
+                "record `{record}`: {channel} level is an outlier, RMS {rms:.3e} is {:.3} × the \
+                 median {median_rms:.3e} of its sibling records ({sigmas:.1} robust σ)",
+                rms / median_rms
+            ),
+            Warning::DuplicateRecord { record, of } if record == of => write!(
+                f,
+                "record `{record}` passed again: the same samples as its first copy"
+            ),
+            Warning::DuplicateRecord { record, of } => write!(
+                f,
+                "record `{record}` holds the same samples as record `{of}` (the same data twice)"
+            ),
+            Warning::OutlierSet {
+                records,
+                far_lines,
+                lines,
+            } => write!(
+                f,
+                "paired set ({}): impedance far from the other sets' at {far_lines} of {lines} lines",
+                records.join(", ")
+            ),
+            Warning::NonlinearMisfit {
+                term,
+                imaginary_ratio,
+                slope,
+            } => write!(
+                f,
+                "nonlinear term {term} does not fit: its coefficient spectrum has Im/Re = \
+                 {imaginary_ratio:.3} and changes by {:.1} % across the band (a right regressor \
+                 gives a real constant); its value is not the element's",
+                100.0 * slope
+            ),
+            Warning::NegativeDissipation { term, value, std } => write!(
+                f,
+                "nonlinear term {term} is dissipative but came out negative ({value:.4e}{}): \
+                 the element would feed energy into the motion, so the regressor is not the \
+                 element's",
+                std.map_or(String::new(), |s| format!(" ± {s:.2e}"))
+            ),
+            Warning::CollinearRegressors { term, coherence } => write!(
+                f,
+                "nonlinear term {term} is nearly collinear with the other inputs (multiple \
+                 coherence {coherence:.4} on them): its coefficient is poorly determined"
+            ),
+            // ---- Field identification ----
+            Warning::ModelResidual {
+                speeds_rad_s,
+                worst_ratio,
+                limit,
+            } => write!(
+                f,
+                "the rotor model leaves a residual above {limit} times what the stated response \
+                 noise explains at {} speed(s) from {:.4} rad/s (worst {worst_ratio:.3e}): the \
+                 rotor model, the probe positions or the responses' phase convention do not fit \
+                 the measurements, and K, C there are not the bearings'",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
+            Warning::DependentTests { correlation } => write!(
+                f,
+                "the two tests' added imbalance forces are proportional (1 − correlation = \
+                 {:.1e}): masses in one plane give a rank-1 pair of responses whatever their \
+                 angles",
+                1.0 - correlation
+            ),
+            Warning::SingularPair {
+                bearing,
+                speeds_rad_s,
+                limit,
+            } => write!(
+                f,
+                "bearing `{bearing}`: responses of the two tests dependent (condition number \
+                 above {limit:.0e}) at {} speed(s) from {:.4} rad/s; K and C not given there",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
+            Warning::IllConditionedPair {
+                bearing,
+                speeds_rad_s,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "bearing `{bearing}`: responses of the two tests nearly dependent (condition \
+                 number above {threshold:.0e}, worst {worst:.3e}) at {} speed(s): near a \
+                 critical speed one mode dominates every test's response; away from one, nearly \
+                 circular orbits or nearly dependent tests; either way noise is amplified",
+                speeds_rad_s.len()
+            ),
+            Warning::HighNoiseGain {
+                bearing,
+                speeds_rad_s,
+                worst,
+                threshold,
+            } => write!(
+                f,
+                "bearing `{bearing}`: relative response noise is amplified more than \
+                 {threshold:.0}-fold in Z at {} speed(s) from {:.4} rad/s (worst {worst:.0}): \
+                 1 % noise gives errors of that many percent",
+                speeds_rad_s.len(),
+                speeds_rad_s.first().copied().unwrap_or(f64::NAN)
+            ),
+            Warning::NearPinnedCritical {
+                speed_rad_s,
+                critical_rad_s,
+            } => write!(
+                f,
+                "speed {speed_rad_s:.4} rad/s is near {critical_rad_s:.4} rad/s, a critical \
+                 speed of the rotor pinned at the probes: noise is amplified there"
+            ),
+        }
+    }
+}
