@@ -121,6 +121,7 @@ pub mod identify;
 pub mod io;
 #[cfg(feature = "json")]
 pub mod json;
+mod lanes;
 mod linalg;
 pub mod model;
 pub mod nonlinear;

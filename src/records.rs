@@ -10,6 +10,7 @@
 use std::ops::Range;
 
 use crate::error::{Channel, Error, Result};
+use crate::lanes;
 
 mod response;
 pub use response::Response;
@@ -166,6 +167,9 @@ pub struct Record {
     displacements: Vec<Vec<f64>>,
     /// What each response channel measures.
     responses: Vec<Response>,
+    /// The force channel with the largest energy about its mean ([`Record::dominant_force`]),
+    /// found once when the record is built.
+    dominant: usize,
 }
 
 impl Record {
@@ -217,8 +221,12 @@ impl Record {
                     actual: samples.len(),
                 });
             }
-            if let Some((sample, &value)) = samples.iter().enumerate().find(|(_, v)| !v.is_finite())
-            {
+            if !lanes::all_finite(samples) {
+                let (sample, &value) = samples
+                    .iter()
+                    .enumerate()
+                    .find(|(_, v)| !v.is_finite())
+                    .expect("a sample is not finite");
                 return Err(Error::NonFinite {
                     record: label,
                     channel,
@@ -235,12 +243,14 @@ impl Record {
             });
         }
         let responses = vec![Response::Displacement; forces.len()];
+        let dominant = dominant(&forces);
         Ok(Self {
             label,
             sample_rate,
             forces,
             displacements,
             responses,
+            dominant,
         })
     }
 
@@ -392,27 +402,33 @@ impl Record {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn dominant_force(&self) -> usize {
-        // Scaled by the largest force of the record, so that forces near f64::MAX compare
-        // rather than all overflow to infinity.
-        let scale = self
-            .forces
-            .iter()
-            .flatten()
-            .fold(0.0, |m: f64, v| m.max(v.abs()))
-            .max(f64::MIN_POSITIVE);
-        let energy = |c: &[f64]| {
-            let mean = c.iter().map(|v| v / scale).sum::<f64>() / c.len() as f64;
-            c.iter().map(|v| (v / scale - mean).powi(2)).sum::<f64>()
-        };
-        let mut best = (0, f64::NEG_INFINITY);
-        for (i, c) in self.forces.iter().enumerate() {
-            let e = energy(c);
-            if e > best.1 {
-                best = (i, e);
-            }
-        }
-        best.0
+        self.dominant
     }
+}
+
+/// The force channel with the largest energy about its mean, `Σ (f − f̄)²` (the first of equals).
+/// The forces are scaled by a power of two at or above the largest `|f|` of the record, so that
+/// forces near `f64::MAX` compare rather than all overflow to infinity; a power of two scales
+/// exactly, so the order is that of the unscaled energies.
+fn dominant(forces: &[Vec<f64>]) -> usize {
+    let peak = forces.iter().map(|c| lanes::max_abs(c)).fold(0.0, f64::max);
+    // 2^e ≥ peak (up to the rounding of log2, which only halves or doubles the scale), e kept
+    // where 2^-e is a normal number.
+    let e = if peak > 0.0 {
+        (peak.log2().floor() as i32 + 1).clamp(-1022, 1022)
+    } else {
+        0
+    };
+    let scale = f64::from_bits(((1023 - e) as u64) << 52);
+    let mut best = (0, f64::NEG_INFINITY);
+    for (i, c) in forces.iter().enumerate() {
+        let mean = lanes::sum_scaled(c, scale) / c.len() as f64;
+        let energy = lanes::sum_sq_dev_scaled(c, scale, mean);
+        if energy > best.1 {
+            best = (i, energy);
+        }
+    }
+    best.0
 }
 
 /// Displacement at a bearing plane `z_b` from two sensor planes `z_1`, `z_2` on a rigid shaft:
@@ -637,6 +653,20 @@ mod tests {
             r.trimmed(10..16),
             Err(Error::RecordTooShort { samples: 6, .. })
         ));
+    }
+
+    #[test]
+    fn dominant_force_compares_forces_near_the_largest_float() {
+        let big =
+            |a: f64| -> Vec<f64> { (0..16).map(|m| if m % 2 == 0 { a } else { -a }).collect() };
+        for (a, b, expected) in [
+            (1e308, 1.5e308, 1),
+            (1.7e308, 1.5e308, 0),
+            (3e-320, 5e-320, 1),
+        ] {
+            let r = Record::new("a", 1.0, vec![big(a), big(b)], vec![ok_channel(); 2]).unwrap();
+            assert_eq!(r.dominant_force(), expected, "{a} vs {b}");
+        }
     }
 
     #[test]

@@ -503,6 +503,9 @@ impl Run {
     }
 }
 
+/// Samples tested at once for a sample near an extreme ([`clipping`]).
+const CLIP_BLOCK: usize = 16;
+
 /// Pushes a [`ImpactIssue::Clipped`] for each clipped extreme of channel `x`.
 fn clipping(
     channel: Channel,
@@ -521,10 +524,23 @@ fn clipping(
     // The quantisation step: the smallest non-zero change between consecutive samples.
     let step = scan.step;
     let tol = CLIP_TOLERANCE * range;
+    let (top, bottom) = (hi - tol, lo + tol);
     let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
-    for (i, &v) in x.iter().enumerate() {
-        at_hi.push(i, v >= hi - tol);
-        at_lo.push(i, v <= lo + tol);
+    // Most blocks hold no sample near either extreme: one (vectorised) test clears a block.
+    for (k, block) in x.chunks(CLIP_BLOCK).enumerate() {
+        if !block
+            .iter()
+            .fold(false, |a, &v| a | (v >= top) | (v <= bottom))
+        {
+            at_hi.current = 0;
+            at_lo.current = 0;
+            continue;
+        }
+        for (j, &v) in block.iter().enumerate() {
+            let i = k * CLIP_BLOCK + j;
+            at_hi.push(i, v >= top);
+            at_lo.push(i, v <= bottom);
+        }
     }
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
         // A smooth peak of a quantised signal sits on its top code for a few samples too, but

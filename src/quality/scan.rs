@@ -1,18 +1,20 @@
 //! [`Scan`]: one pass over a channel, shared by the record checks and the screening.
 
+use crate::lanes::LANES;
 use crate::records::Record;
 
 /// What one pass over a channel gives the record checks and the screening: its extremes and
 /// sum, the smallest non-zero change between consecutive samples, and a digest of its samples'
-/// bits. Each is computed exactly as the separate passes it replaces did (the same folds, in
-/// the same order), so results do not change.
+/// bits. The pass runs in [`LANES`] independent lanes (sample `m` in lane `m mod LANES`, see
+/// [`crate::lanes`]): extremes, smallest change and digest are those of a left-to-right pass,
+/// the sum rounds as a lane-wise sum does.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Scan {
-    /// `min x` (folded with `f64::min` from +∞).
+    /// `min x`.
     pub(crate) lo: f64,
-    /// `max x` (folded with `f64::max` from −∞).
+    /// `max x`.
     pub(crate) hi: f64,
-    /// `Σ x`, left to right from 0.
+    /// `Σ x`, lane-wise.
     pub(crate) sum: f64,
     /// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none.
     pub(crate) step: f64,
@@ -34,10 +36,14 @@ impl Scan {
             .collect()
     }
 
-    /// One pass over `x`.
+    /// One pass over `x`, each of its folds in [`LANES`] lanes (kept as separate arrays, so
+    /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
+    /// it), so comparisons stand in for `f64::min`/`max`.
     pub(crate) fn new(x: &[f64]) -> Self {
-        let (mut lo, mut hi, mut sum, mut step) =
-            (f64::INFINITY, f64::NEG_INFINITY, 0.0, f64::INFINITY);
+        let mut lo = [f64::INFINITY; LANES];
+        let mut hi = [f64::NEG_INFINITY; LANES];
+        let mut sum = [0.0; LANES];
+        let mut step = [f64::INFINITY; LANES];
         let mut digest = [
             0x243f_6a88_85a3_08d3_u64,
             0x1319_8a2e_0370_7344,
@@ -45,23 +51,41 @@ impl Scan {
             0x082e_fa98_ec4e_6c89,
         ];
         let mut prev = x.first().copied().unwrap_or_default();
-        for (m, &v) in x.iter().enumerate() {
-            lo = lo.min(v);
-            hi = hi.max(v);
-            sum += v;
+        let chunks = x.chunks_exact(LANES);
+        let rest = chunks.remainder();
+        for c in chunks {
+            let v: [f64; LANES] = [c[0], c[1], c[2], c[3]];
+            let before = [prev, c[0], c[1], c[2]];
+            for j in 0..LANES {
+                lo[j] = if v[j] < lo[j] { v[j] } else { lo[j] };
+                hi[j] = if v[j] > hi[j] { v[j] } else { hi[j] };
+                sum[j] += v[j];
+                let d = (v[j] - before[j]).abs();
+                step[j] = if d > 0.0 && d < step[j] { d } else { step[j] };
+            }
+            for j in 0..LANES {
+                digest[j] =
+                    ((digest[j] ^ v[j].to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
+            }
+            prev = c[LANES - 1];
+        }
+        for (j, &v) in rest.iter().enumerate() {
+            lo[j] = lo[j].min(v);
+            hi[j] = hi[j].max(v);
+            sum[j] += v;
             let d = (v - prev).abs();
             if d > 0.0 {
-                step = step.min(d);
+                step[j] = step[j].min(d);
             }
+            digest[j] = ((digest[j] ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
             prev = v;
-            let h = &mut digest[m % 4];
-            *h = ((*h ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
         }
+        let min4 = |a: [f64; LANES]| a[0].min(a[1]).min(a[2].min(a[3]));
         Self {
-            lo,
-            hi,
-            sum,
-            step,
+            lo: min4(lo),
+            hi: hi[0].max(hi[1]).max(hi[2].max(hi[3])),
+            sum: (sum[0] + sum[1]) + (sum[2] + sum[3]),
+            step: min4(step),
             digest,
         }
     }

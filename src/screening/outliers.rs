@@ -45,36 +45,52 @@ pub fn outlier_sets(impedances: &[Vec<Option<Mat<c64>>>], checks: &Checks) -> Ve
     }
     let lines = impedances.iter().map(Vec::len).min().unwrap_or(0);
     let (mut far, mut tested) = (vec![0; sets], vec![0; sets]);
+    // Buffers of one line, reused: the sets present, one element's values, its squared
+    // distances (compared squared: `d > k·σ` exactly when `d² > k²σ²`, for `d, σ ≥ 0`, and the
+    // median of the squares is the square of the median), the sets found far.
+    let mut present: Vec<(usize, &Mat<c64>)> = Vec::with_capacity(sets);
+    let (mut values, mut squares, mut sorted) = (Vec::new(), Vec::new(), Vec::new());
+    let mut far_here = Vec::with_capacity(sets);
     for l in 0..lines {
-        let present: Vec<(usize, &Mat<c64>)> = impedances
-            .iter()
-            .enumerate()
-            .filter_map(|(s, h)| h[l].as_ref().map(|h| (s, h)))
-            .collect();
+        present.clear();
+        present.extend(
+            impedances
+                .iter()
+                .enumerate()
+                .filter_map(|(s, h)| h[l].as_ref().map(|h| (s, h))),
+        );
         if present.len() < 3 {
             continue;
         }
         let n = present[0].1.nrows();
+        let mut median_of = |part: &dyn Fn(&Mat<c64>) -> f64| {
+            values.clear();
+            values.extend(present.iter().map(|(_, h)| part(h)));
+            median(&mut values)
+        };
         let centre = Mat::from_fn(n, n, |i, j| {
-            let mut re: Vec<f64> = present.iter().map(|(_, h)| h[(i, j)].re).collect();
-            let mut im: Vec<f64> = present.iter().map(|(_, h)| h[(i, j)].im).collect();
-            c64::new(median(&mut re), median(&mut im))
+            c64::new(median_of(&|h| h[(i, j)].re), median_of(&|h| h[(i, j)].im))
         });
-        let floor = checks.set_floor * centre.norm_l2();
-        let mut far_here = vec![false; present.len()];
+        let floor2 = (checks.set_floor * centre.norm_l2()).powi(2);
+        let sigmas2 = checks.set_sigmas * checks.set_sigmas;
+        far_here.clear();
+        far_here.resize(present.len(), false);
         for j in 0..n {
             for i in 0..n {
-                let distances: Vec<f64> = present
-                    .iter()
-                    .map(|(_, h)| (h[(i, j)] - centre[(i, j)]).norm())
-                    .collect();
-                let sigma = MAD_TO_SIGMA * median(&mut distances.clone());
-                for (f, d) in far_here.iter_mut().zip(&distances) {
-                    *f |= *d > checks.set_sigmas * sigma && *d > floor;
+                squares.clear();
+                squares.extend(
+                    present
+                        .iter()
+                        .map(|(_, h)| (h[(i, j)] - centre[(i, j)]).norm_sqr()),
+                );
+                sorted.clone_from(&squares);
+                let sigma2 = MAD_TO_SIGMA * MAD_TO_SIGMA * median(&mut sorted);
+                for (f, &d2) in far_here.iter_mut().zip(&squares) {
+                    *f |= d2 > sigmas2 * sigma2 && d2 > floor2;
                 }
             }
         }
-        for ((s, _), f) in present.iter().zip(far_here) {
+        for ((s, _), &f) in present.iter().zip(&far_here) {
             tested[*s] += 1;
             far[*s] += usize::from(f);
         }

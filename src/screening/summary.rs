@@ -4,6 +4,7 @@
 use std::hash::{DefaultHasher, Hash, Hasher};
 
 use crate::error::Channel;
+use crate::lanes;
 use crate::quality::Scan;
 use crate::records::{Record, Response};
 
@@ -112,12 +113,10 @@ impl Summary {
     }
 }
 
-/// RMS of `x` about its mean (`scan.sum / N`: the same sum, left to right, as
-/// `Iterator::sum`, whose start differs only for a channel of negative zeros, whose RMS is 0
-/// either way).
+/// RMS of `x` about its mean (`scan.sum / N`), summed lane-wise ([`lanes::sum_sq_dev`]).
 fn rms(x: &[f64], scan: &Scan) -> f64 {
     let mean = scan.sum / x.len() as f64;
-    (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / x.len() as f64).sqrt()
+    (lanes::sum_sq_dev(x, mean) / x.len() as f64).sqrt()
 }
 
 /// The value of a flat channel (from its [`Scan`]), `None` if it varies.
