@@ -81,3 +81,40 @@ impl Error {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// The quoted strings of `text` that follow `marker` (which ends in a quote).
+    fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+        text.match_indices(marker)
+            .map(|(at, _)| {
+                let rest = &text[at + marker.len()..];
+                &rest[..rest.find('"').expect("closing quote")]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn readme_lists_every_error_kind() {
+        let source = include_str!("kind.rs");
+        // Every string literal of `Error::kind`'s body is a kind.
+        let start = source.find("impl Error {").expect("impl Error");
+        let body = &source[start..];
+        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
+        let body = &body[..body.find("\n}\n").expect("end of impl")];
+        let mut kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
+        assert!(kinds.len() >= 17, "found only {kinds:?}");
+        // The CLI's own kinds for failures outside the library.
+        kinds.extend(quoted_after(
+            include_str!("../bin/bearing-ident/main.rs"),
+            "kind: \"",
+        ));
+        let readme = include_str!("../../README.md");
+        for kind in kinds {
+            assert!(
+                readme.contains(&format!("| `{kind}` |")),
+                "README's error table lacks `{kind}`"
+            );
+        }
+    }
+}

@@ -4,13 +4,23 @@
 //! numbers needed to find the problem: the record's label, the channel, the sample index, the
 //! frequency line. Panics are reserved for broken API contracts and are documented under
 //! `# Panics` where they can happen.
+//!
+//! What lives where: the [`Error`] enum is here, its variants grouped by the stage that raises
+//! them, in the order data flows; `message.rs` holds the parts of messages that need code and the
+//! tests of the messages, `kind.rs` [`Error::kind`], `convert.rs` the conversions from faer's
+//! errors, `warning.rs` and `warning_text.rs` the [`Warning`]s and their sentences, `subject.rs`
+//! what errors and warnings name ([`Channel`], [`Block`], …), `quote.rs` the bound on quoted
+//! input ([`excerpt`]).
 
+mod convert;
 mod kind;
+mod message;
 mod quote;
 mod subject;
 mod warning;
 mod warning_text;
 
+use message::{rank_deficient_advice, size, spacing};
 pub use quote::{QUOTE_CHARS, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
@@ -21,6 +31,50 @@ pub use warning::Warning;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
+    // ---- Arguments and limits, at any stage ----
+    /// A numeric parameter is outside its valid range.
+    #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
+    InvalidParameter {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// A name given for a choice (a method, an estimator, an excitation…) is not one of its
+    /// names.
+    #[error("{what} `{}` is not known: expected {expected}", excerpt(given))]
+    UnknownName {
+        /// What was being named: `"method"`, `"estimator"`, …
+        what: &'static str,
+        /// The name given.
+        given: String,
+        /// The accepted names, in words.
+        expected: &'static str,
+    },
+    /// Two inputs of a library function that must have one length do not.
+    #[error("{what}: {actual} values, expected {expected}")]
+    LengthMismatch {
+        /// Which inputs.
+        what: &'static str,
+        /// The length of the first input.
+        expected: usize,
+        /// The length of the one that differs.
+        actual: usize,
+    },
+    /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
+    /// of the crate.
+    #[error("{what} = {} is past the limit of {limit}", size(*value))]
+    TooLarge {
+        /// What was asked for, in words.
+        what: &'static str,
+        /// The size asked for (as `f64`: it may not fit any integer type).
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
+    // ---- Records and their excitations (`crate::records`, `crate::frf::assignment`, `crate::stepped`) ----
     /// A record's sampling rate is not a finite positive number.
     #[error("record `{record}`: sampling rate {sample_rate} Hz is not a finite positive number")]
     InvalidSampleRate {
@@ -55,22 +109,6 @@ pub enum Error {
         /// Number of kinds given.
         actual: usize,
     },
-    /// A velocity or acceleration channel cannot be turned into displacement at a line where
-    /// $s = \sigma + i\omega$ is zero (DC with no exponential window): $X = V/s$ is not defined.
-    #[error(
-        "record `{record}`: {channel} measures {response}, which has no displacement at \
-         {freq_hz} Hz (X = V/(iω) = A/(−ω²) needs ω ≠ 0): choose a band above 0 Hz"
-    )]
-    ResponseAtZeroFrequency {
-        /// Label of the record.
-        record: String,
-        /// The response channel.
-        channel: Channel,
-        /// What it measures.
-        response: crate::records::Response,
-        /// The line's frequency (Hz).
-        freq_hz: f64,
-    },
     /// A channel of a record is longer or shorter than the record's first force channel.
     #[error("record `{record}`: {channel} has {actual} samples, expected {expected}")]
     ChannelLength {
@@ -103,6 +141,22 @@ pub enum Error {
         /// Zero-based sample index.
         sample: usize,
         /// The offending value.
+        value: f64,
+    },
+    /// Every force channel (or every displacement channel) of a record is flat: nothing was
+    /// recorded, and the identification cannot use the record.
+    #[error(
+        "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
+         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
+         that did not register); leave the record out",
+        if matches!(channel, Channel::Force(_)) { "force" } else { "displacement" }
+    )]
+    DeadChannel {
+        /// Label of the record.
+        record: String,
+        /// The first flat channel of the record.
+        channel: Channel,
+        /// The constant value it holds (N or m).
         value: f64,
     },
     /// No records were given.
@@ -140,6 +194,41 @@ pub enum Error {
         /// Length of this record.
         actual: usize,
     },
+    /// An explicit excitation assignment does not fit the records.
+    #[error(
+        "record `{record}`: assigned to excitation {excitation}, but there are only {dofs} degrees of freedom"
+    )]
+    InvalidAssignment {
+        /// Label of the record.
+        record: String,
+        /// The excitation index given.
+        excitation: usize,
+        /// Number of degrees of freedom.
+        dofs: usize,
+    },
+    /// An explicit excitation assignment has a different length than the record list.
+    #[error("the excitation assignment names {actual} records, but {expected} were given")]
+    AssignmentLength {
+        /// Number of records.
+        expected: usize,
+        /// Length of the assignment.
+        actual: usize,
+    },
+    /// A step of a stepped-sine test has no record driving one of the directions.
+    #[error(
+        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
+         every frequency step needs one record per direction"
+    )]
+    IncompleteStep {
+        /// Drive frequency of the step (Hz).
+        freq_hz: f64,
+        /// The first direction without a record.
+        direction: usize,
+        /// Number of degrees of freedom.
+        dofs: usize,
+    },
+    // ---- Band, spectra and FRF (`crate::frf`, `crate::spectra`) ----
+    // Overflow is named where it starts, not where a later stage would only see its effect.
     /// The frequency band is empty, inverted, negative or not finite.
     #[error("band {low_hz}–{high_hz} Hz is not a valid band (need finite 0 ≤ low < high)")]
     InvalidBand {
@@ -172,26 +261,53 @@ pub enum Error {
         /// segments; `None` for a ready-made [`Frf`](crate::frf::Frf) of fewer than two lines.
         resolution_hz: Option<f64>,
     },
-    /// An explicit excitation assignment does not fit the records.
+    /// A velocity or acceleration channel cannot be turned into displacement at a line where
+    /// $s = \sigma + i\omega$ is zero (DC with no exponential window): $X = V/s$ is not defined.
     #[error(
-        "record `{record}`: assigned to excitation {excitation}, but there are only {dofs} degrees of freedom"
+        "record `{record}`: {channel} measures {response}, which has no displacement at \
+         {freq_hz} Hz (X = V/(iω) = A/(−ω²) needs ω ≠ 0): choose a band above 0 Hz"
     )]
-    InvalidAssignment {
+    ResponseAtZeroFrequency {
         /// Label of the record.
         record: String,
-        /// The excitation index given.
-        excitation: usize,
-        /// Number of degrees of freedom.
-        dofs: usize,
+        /// The response channel.
+        channel: Channel,
+        /// What it measures.
+        response: crate::records::Response,
+        /// The line's frequency (Hz).
+        freq_hz: f64,
     },
-    /// An explicit excitation assignment has a different length than the record list.
-    #[error("the excitation assignment names {actual} records, but {expected} were given")]
-    AssignmentLength {
-        /// Number of records.
-        expected: usize,
-        /// Length of the assignment.
-        actual: usize,
+    /// A spectrum, or a product of spectra, of finite samples overflowed to infinity or NaN.
+    #[error(
+        "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
+         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
+         channel, e.g. to N and m)"
+    )]
+    SpectrumOverflow {
+        /// Label of the record.
+        record: String,
+        /// Which spectrum.
+        stage: SpectrumKind,
+        /// The channel (for a cross-spectrum `S_ab`, channel `a`).
+        channel: Channel,
+        /// Frequency of the first line that overflowed (Hz).
+        freq_hz: f64,
+        /// Largest absolute sample of the channel.
+        peak: f64,
     },
+    /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
+    /// finite.
+    #[error(
+        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
+         estimator (rescale the channels, e.g. to N and m)"
+    )]
+    NonFiniteResult {
+        /// Which quantity.
+        stage: Quantity,
+        /// Frequency of the first line where it appears (Hz).
+        freq_hz: f64,
+    },
+    // ---- Conditioning and the fits (`crate::conditioning`, `crate::solve`) ----
     /// The excitations do not span all degrees of freedom.
     #[error(
         "the excitations are rank-deficient: they span {rank} of {dofs} directions over the band; \
@@ -217,6 +333,12 @@ pub enum Error {
         /// What was being inverted.
         what: &'static str,
     },
+    /// A matrix decomposition from faer did not converge.
+    #[error("the {what} decomposition did not converge")]
+    Decomposition {
+        /// Which decomposition.
+        what: Factorization,
+    },
     /// An iterative fit did not converge and the caller asked for convergence.
     #[error(
         "{method} did not converge in {iterations} iterations (last relative change {change:.3e})"
@@ -229,6 +351,13 @@ pub enum Error {
         /// Block-wise relative change at the last iteration.
         change: f64,
     },
+    /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
+    /// has none, and periodic records need at least 3 periods.
+    #[error(
+        "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
+    )]
+    MlNeedsRepeats,
+    // ---- Coefficients and baselines (`crate::model`, `crate::identify`) ----
     /// Mass, damping and stiffness matrices do not have one common square shape.
     #[error(
         "coefficient matrices must be square and of one size: M is {mass:?}, C is {damping:?}, K is {stiffness:?}"
@@ -276,242 +405,7 @@ pub enum Error {
         /// What is wrong, naming the key; at most about 80 characters of the input are quoted.
         message: String,
     },
-    /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
-    /// has none, and periodic records need at least 3 periods.
-    #[error(
-        "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
-    )]
-    MlNeedsRepeats,
-    /// A numeric parameter is outside its valid range.
-    #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
-    InvalidParameter {
-        /// Name of the parameter.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The valid range, in words.
-        expected: &'static str,
-    },
-    /// A name given for a choice (a method, an estimator, an excitation…) is not one of its
-    /// names.
-    #[error("{what} `{}` is not known: expected {expected}", excerpt(given))]
-    UnknownName {
-        /// What was being named: `"method"`, `"estimator"`, …
-        what: &'static str,
-        /// The name given.
-        given: String,
-        /// The accepted names, in words.
-        expected: &'static str,
-    },
-    /// A file could not be opened, read or written.
-    #[error("{path}: {message}")]
-    Io {
-        /// The file.
-        path: String,
-        /// What the operating system said.
-        message: String,
-    },
-    /// A CSV line is ragged or holds text that is not a number.
-    #[error("{path}, line {line}: {message}")]
-    #[cfg(feature = "csv")]
-    Csv {
-        /// The file.
-        path: String,
-        /// One-based line number.
-        line: u64,
-        /// What is wrong with the line.
-        message: String,
-    },
-    /// A named column is not in a CSV file's header.
-    #[error("{path}, line 1: no column named `{column}` (header has: {header})")]
-    #[cfg(feature = "csv")]
-    MissingColumn {
-        /// The file.
-        path: String,
-        /// The column asked for.
-        column: String,
-        /// The header's column names, comma-separated (at most 80 characters, then `…`).
-        header: String,
-    },
-    /// A CSV value is NaN or infinite.
-    #[error("{path}, line {line}, column `{column}`: value is not finite")]
-    #[cfg(feature = "csv")]
-    CsvNonFinite {
-        /// The file.
-        path: String,
-        /// One-based line number.
-        line: u64,
-        /// The column.
-        column: String,
-    },
-    /// The time column of a CSV file is not uniformly sampled.
-    #[error(
-        "{path}, line {line}: time {actual_s} s is off the uniform grid (expected {expected_s} s, \
-         step {step_s} s)"
-    )]
-    #[cfg(feature = "csv")]
-    NonUniformTime {
-        /// The file.
-        path: String,
-        /// One-based line number.
-        line: u64,
-        /// Time on the uniform grid (s).
-        expected_s: f64,
-        /// Time in the file (s).
-        actual_s: f64,
-        /// Grid step (s).
-        step_s: f64,
-    },
-    /// A figure could not be drawn (feature `plot`).
-    #[error("figure `{figure}`: {message}")]
-    #[cfg(feature = "plot")]
-    Plot {
-        /// The figure.
-        figure: crate::plot::Figure,
-        /// What the drawing library said.
-        message: String,
-    },
-    /// A matrix decomposition from faer did not converge.
-    #[error("the {what} decomposition did not converge")]
-    Decomposition {
-        /// Which decomposition.
-        what: Factorization,
-    },
-    /// A line of a CSV file, its number of columns, or its number of values is past the
-    /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
-    /// stops there, before the input can exhaust memory.
-    #[error("{path}, line {line}: {what} past the limit of {limit}")]
-    #[cfg(feature = "csv")]
-    CsvLimit {
-        /// The file.
-        path: String,
-        /// One-based line number where the limit was reached.
-        line: u64,
-        /// What was counted.
-        what: CsvLimitKind,
-        /// The limit.
-        limit: u64,
-    },
-    /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
-    /// of the crate.
-    #[error("{what} = {} is past the limit of {limit}", size(*value))]
-    TooLarge {
-        /// What was asked for, in words.
-        what: &'static str,
-        /// The size asked for (as `f64`: it may not fit any integer type).
-        value: f64,
-        /// The limit.
-        limit: f64,
-    },
-    /// A step of a stepped-sine test has no record driving one of the directions.
-    #[error(
-        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
-         every frequency step needs one record per direction"
-    )]
-    IncompleteStep {
-        /// Drive frequency of the step (Hz).
-        freq_hz: f64,
-        /// The first direction without a record.
-        direction: usize,
-        /// Number of degrees of freedom.
-        dofs: usize,
-    },
-    // Errors that name the cause where a later stage would only see its effect.
-    /// A spectrum, or a product of spectra, of finite samples overflowed to infinity or NaN.
-    #[error(
-        "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
-         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
-         channel, e.g. to N and m)"
-    )]
-    SpectrumOverflow {
-        /// Label of the record.
-        record: String,
-        /// Which spectrum.
-        stage: SpectrumKind,
-        /// The channel (for a cross-spectrum `S_ab`, channel `a`).
-        channel: Channel,
-        /// Frequency of the first line that overflowed (Hz).
-        freq_hz: f64,
-        /// Largest absolute sample of the channel.
-        peak: f64,
-    },
-    /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
-    /// finite.
-    #[error(
-        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
-         estimator (rescale the channels, e.g. to N and m)"
-    )]
-    NonFiniteResult {
-        /// Which quantity.
-        stage: Quantity,
-        /// Frequency of the first line where it appears (Hz).
-        freq_hz: f64,
-    },
-    /// Every force channel (or every displacement channel) of a record is flat: nothing was
-    /// recorded, and the identification cannot use the record.
-    #[error(
-        "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
-         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
-         that did not register); leave the record out",
-        if matches!(channel, Channel::Force(_)) { "force" } else { "displacement" }
-    )]
-    DeadChannel {
-        /// Label of the record.
-        record: String,
-        /// The first flat channel of the record.
-        channel: Channel,
-        /// The constant value it holds (N or m).
-        value: f64,
-    },
-    /// Two inputs of a library function that must have one length do not.
-    #[error("{what}: {actual} values, expected {expected}")]
-    LengthMismatch {
-        /// Which inputs.
-        what: &'static str,
-        /// The length of the first input.
-        expected: usize,
-        /// The length of the one that differs.
-        actual: usize,
-    },
-    /// A Universal File (dataset 58 / 58b) is malformed: a header field that is not a number, an
-    /// unknown ordinate type, too few values, a binary block shorter than its byte count, a
-    /// block that is never closed.
-    #[cfg(feature = "uff")]
-    #[error("{path}, block {block}, line {line}: {message}")]
-    Uff {
-        /// The file (or the label given to [`uff::parse`](crate::uff::parse)).
-        path: String,
-        /// One-based number of the `-1`-delimited block in the file.
-        block: usize,
-        /// One-based line number in the file (of the line at fault, or where the block starts).
-        line: u64,
-        /// What is wrong.
-        message: String,
-    },
-    /// Time histories read from a Universal File do not make a record: a load case without a
-    /// force or displacement channel, channels of different lengths or sample rates, or an
-    /// uneven abscissa.
-    #[cfg(feature = "uff")]
-    #[error("{path}: load case {load_case}: {message}")]
-    UffRecord {
-        /// The file (or the label given).
-        path: String,
-        /// The load case (record 6) of the time histories.
-        load_case: i64,
-        /// What is wrong.
-        message: String,
-    },
-    /// An identification exported to a format of a fixed number of degrees of freedom has
-    /// another: a ROSS bearing element (feature `ross`) is 2-DOF (`x`, `y`).
-    #[error("{format} needs {expected} degrees of freedom; this identification has {dofs}")]
-    ExportDofs {
-        /// What was asked for.
-        format: &'static str,
-        /// Degrees of freedom of the identification.
-        dofs: usize,
-        /// Degrees of freedom the format takes.
-        expected: usize,
-    },
+    // ---- Nonlinear elements (`crate::simulate`, `crate::nonlinear`) ----
     /// A nonlinear simulation stopped being finite: a term drove the state to infinity (a
     /// softening cubic past its turning point, a negative friction or damping), or the RK4 step
     /// is too long for a rate that grows with the amplitude (cubic stiffness, quadratic damping).
@@ -555,6 +449,7 @@ pub enum Error {
         /// Segments needed.
         required: usize,
     },
+    // ---- Field identification (`crate::field`) ----
     /// Field identification ([`field`](crate::field)): a rotor model or test set that is not
     /// well formed (shapes, names, nodes, speeds, masses); the message names the key or record.
     #[error("{message}")]
@@ -614,261 +509,130 @@ pub enum Error {
         /// Whether the two tests' added forces are proportional (masses in one plane).
         dependent_tests: bool,
     },
-}
-
-/// Why a field identification's response pairs are singular everywhere, and what to change.
-fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
-    if dependent_tests {
-        "the two tests' added imbalance forces are proportional (masses in one plane give a \
-         rank-1 pair whatever their angles): put the second test's masses in another plane"
-    } else {
-        "the added forces differ, so the supports are nearly isotropic (circular orbits, which \
-         imbalance tests cannot separate) or the rotor's response leaves the tests dependent"
-    }
-}
-
-/// `line spacing … Hz`, or that it is unknown.
-fn spacing(resolution_hz: Option<f64>) -> String {
-    match resolution_hz {
-        Some(df) => format!("line spacing {df} Hz"),
-        None => "line spacing unknown: fewer than two lines given".to_owned(),
-    }
-}
-
-/// A size for a message: whole numbers in full up to 10¹⁵, scientific beyond.
-fn size(value: f64) -> String {
-    if value.abs() < 1e15 {
-        format!("{value}")
-    } else {
-        format!("{value:.3e}")
-    }
+    // ---- Files and figures at the edge (`crate::io`, `crate::uff`, `crate::export`, `crate::plot`) ----
+    /// A file could not be opened, read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What the operating system said.
+        message: String,
+    },
+    /// A CSV line is ragged or holds text that is not a number.
+    #[error("{path}, line {line}: {message}")]
+    #[cfg(feature = "csv")]
+    Csv {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// What is wrong with the line.
+        message: String,
+    },
+    /// A named column is not in a CSV file's header.
+    #[error("{path}, line 1: no column named `{column}` (header has: {header})")]
+    #[cfg(feature = "csv")]
+    MissingColumn {
+        /// The file.
+        path: String,
+        /// The column asked for.
+        column: String,
+        /// The header's column names, comma-separated (at most 80 characters, then `…`).
+        header: String,
+    },
+    /// A CSV value is NaN or infinite.
+    #[error("{path}, line {line}, column `{column}`: value is not finite")]
+    #[cfg(feature = "csv")]
+    CsvNonFinite {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// The column.
+        column: String,
+    },
+    /// The time column of a CSV file is not uniformly sampled.
+    #[error(
+        "{path}, line {line}: time {actual_s} s is off the uniform grid (expected {expected_s} s, \
+         step {step_s} s)"
+    )]
+    #[cfg(feature = "csv")]
+    NonUniformTime {
+        /// The file.
+        path: String,
+        /// One-based line number.
+        line: u64,
+        /// Time on the uniform grid (s).
+        expected_s: f64,
+        /// Time in the file (s).
+        actual_s: f64,
+        /// Grid step (s).
+        step_s: f64,
+    },
+    /// A line of a CSV file, its number of columns, or its number of values is past the
+    /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
+    /// stops there, before the input can exhaust memory.
+    #[error("{path}, line {line}: {what} past the limit of {limit}")]
+    #[cfg(feature = "csv")]
+    CsvLimit {
+        /// The file.
+        path: String,
+        /// One-based line number where the limit was reached.
+        line: u64,
+        /// What was counted.
+        what: CsvLimitKind,
+        /// The limit.
+        limit: u64,
+    },
+    /// A Universal File (dataset 58 / 58b) is malformed: a header field that is not a number, an
+    /// unknown ordinate type, too few values, a binary block shorter than its byte count, a
+    /// block that is never closed.
+    #[cfg(feature = "uff")]
+    #[error("{path}, block {block}, line {line}: {message}")]
+    Uff {
+        /// The file (or the label given to [`uff::parse`](crate::uff::parse)).
+        path: String,
+        /// One-based number of the `-1`-delimited block in the file.
+        block: usize,
+        /// One-based line number in the file (of the line at fault, or where the block starts).
+        line: u64,
+        /// What is wrong.
+        message: String,
+    },
+    /// Time histories read from a Universal File do not make a record: a load case without a
+    /// force or displacement channel, channels of different lengths or sample rates, or an
+    /// uneven abscissa.
+    #[cfg(feature = "uff")]
+    #[error("{path}: load case {load_case}: {message}")]
+    UffRecord {
+        /// The file (or the label given).
+        path: String,
+        /// The load case (record 6) of the time histories.
+        load_case: i64,
+        /// What is wrong.
+        message: String,
+    },
+    /// An identification exported to a format of a fixed number of degrees of freedom has
+    /// another: a ROSS bearing element (feature `ross`) is 2-DOF (`x`, `y`).
+    #[error("{format} needs {expected} degrees of freedom; this identification has {dofs}")]
+    ExportDofs {
+        /// What was asked for.
+        format: &'static str,
+        /// Degrees of freedom of the identification.
+        dofs: usize,
+        /// Degrees of freedom the format takes.
+        expected: usize,
+    },
+    /// A figure could not be drawn (feature `plot`).
+    #[error("figure `{figure}`: {message}")]
+    #[cfg(feature = "plot")]
+    Plot {
+        /// The figure.
+        figure: crate::plot::Figure,
+        /// What the drawing library said.
+        message: String,
+    },
 }
 
 /// `Result` with the crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
-
-// faer 0.24's decomposition errors do not implement `std::error::Error`, so they are mapped here
-// by hand.
-impl From<faer::linalg::solvers::SvdError> for Error {
-    fn from(_: faer::linalg::solvers::SvdError) -> Self {
-        Error::Decomposition {
-            what: Factorization::SingularValue,
-        }
-    }
-}
-
-impl From<faer::linalg::solvers::EvdError> for Error {
-    fn from(_: faer::linalg::solvers::EvdError) -> Self {
-        Error::Decomposition {
-            what: Factorization::Eigenvalue,
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn channel_display_names_kind_and_index() {
-        assert_eq!(Channel::Force(1).to_string(), "force channel 1");
-        assert_eq!(
-            Channel::Displacement(0).to_string(),
-            "displacement channel 0"
-        );
-    }
-
-    #[test]
-    fn messages_carry_the_numbers() {
-        let e = Error::NonFinite {
-            record: "x1.csv".into(),
-            channel: Channel::Displacement(1),
-            sample: 42,
-            value: f64::NAN,
-        };
-        let s = e.to_string();
-        assert!(s.contains("x1.csv") && s.contains("displacement channel 1") && s.contains("42"));
-        let e = Error::RankDeficient { rank: 1, dofs: 2 };
-        assert!(e.to_string().contains("1 of 2"));
-    }
-
-    #[test]
-    fn quality_warnings_name_the_record_and_numbers() {
-        let w = Warning::DoubleHit {
-            record: "hit-x-1".into(),
-            second_s: 0.0512,
-            ratio: 0.31,
-        };
-        assert_eq!(
-            w.to_string(),
-            "record `hit-x-1`: double hit, a second pulse at 0.0512 s of 0.31 × the main peak"
-        );
-        let w = Warning::Clipped {
-            record: "hit-y-2".into(),
-            channel: Channel::Displacement(1),
-            value: -2.5e-4,
-        };
-        assert_eq!(
-            w.to_string(),
-            "record `hit-y-2`: displacement channel 1 clipped at -2.5000e-4"
-        );
-        let w = Warning::Rejected {
-            record: "hit-y-3".into(),
-            reason: "force channel 1 clipped".into(),
-        };
-        assert_eq!(
-            w.to_string(),
-            "record `hit-y-3` rejected: force channel 1 clipped"
-        );
-    }
-
-    #[test]
-    fn excerpts_are_bounded() {
-        assert_eq!(excerpt(""), "");
-        let eighty = "é".repeat(80);
-        assert_eq!(excerpt(&eighty), eighty);
-        let long = "é".repeat(81);
-        assert_eq!(excerpt(&long), format!("{eighty}… (2 more bytes)"));
-        assert_eq!(excerpt_bytes(b"abc"), "abc");
-        let s = excerpt_bytes(&[b'x'; 10_000]);
-        assert!(
-            s.starts_with(&"x".repeat(80)) && s.ends_with("(9920 more bytes)"),
-            "{s}"
-        );
-        assert!(excerpt_bytes(&[0xff; 10_000]).chars().count() < 110);
-    }
-
-    #[test]
-    fn limits_are_too_large() {
-        let e = Error::TooLarge {
-            what: "samples per record",
-            value: 6.7e33,
-            limit: 16_777_216.0,
-        };
-        assert_eq!(e.kind(), "too_large");
-        assert_eq!(
-            e.to_string(),
-            "samples per record = 6.700e33 is past the limit of 16777216"
-        );
-        #[cfg(feature = "csv")]
-        {
-            let e = Error::CsvLimit {
-                path: "f.csv".into(),
-                line: 1,
-                what: CsvLimitKind::LineBytes,
-                limit: 1 << 20,
-            };
-            assert_eq!(e.kind(), "too_large");
-            assert_eq!(
-                e.to_string(),
-                "f.csv, line 1: line length (bytes) past the limit of 1048576"
-            );
-        }
-    }
-
-    #[test]
-    fn export_dofs_name_both_counts() {
-        let e = Error::ExportDofs {
-            format: "a ROSS bearing element",
-            dofs: 3,
-            expected: 2,
-        };
-        assert_eq!(e.kind(), "invalid_argument");
-        assert_eq!(
-            e.to_string(),
-            "a ROSS bearing element needs 2 degrees of freedom; this identification has 3"
-        );
-    }
-
-    #[test]
-    #[cfg(feature = "plot")]
-    fn plot_errors_name_the_figure() {
-        let e = Error::Plot {
-            figure: crate::plot::Figure::Impedance,
-            message: "disk full".into(),
-        };
-        assert_eq!(e.kind(), "plot_error");
-        assert_eq!(e.to_string(), "figure `impedance`: disk full");
-    }
-
-    /// The quoted strings of `text` that follow `marker` (which ends in a quote).
-    fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
-        text.match_indices(marker)
-            .map(|(at, _)| {
-                let rest = &text[at + marker.len()..];
-                &rest[..rest.find('"').expect("closing quote")]
-            })
-            .collect()
-    }
-
-    #[test]
-    fn readme_lists_every_error_kind() {
-        let source = include_str!("kind.rs");
-        // Every string literal of `Error::kind`'s body is a kind.
-        let start = source.find("impl Error {").expect("impl Error");
-        let body = &source[start..];
-        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
-        let body = &body[..body.find("\n}\n").expect("end of impl")];
-        let mut kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
-        assert!(kinds.len() >= 17, "found only {kinds:?}");
-        // The CLI's own kinds for failures outside the library.
-        kinds.extend(quoted_after(
-            include_str!("../bin/bearing-ident/main.rs"),
-            "kind: \"",
-        ));
-        let readme = include_str!("../../README.md");
-        for kind in kinds {
-            assert!(
-                readme.contains(&format!("| `{kind}` |")),
-                "README's error table lacks `{kind}`"
-            );
-        }
-    }
-
-    #[test]
-    fn readme_lists_every_warning_kind() {
-        let source = include_str!("warning.rs");
-        let start = source.find("impl Warning {").expect("impl Warning");
-        let body = &source[start..];
-        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
-        let body = &body[..body.find("\n}\n").expect("end of impl")];
-        let kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
-        assert!(kinds.len() >= 25, "found only {kinds:?}");
-        let readme = include_str!("../../README.md");
-        let table = &readme[readme
-            .find("Warnings do not stop a run")
-            .expect("warnings table")..];
-        for kind in kinds {
-            assert!(
-                table.contains(&format!("`{kind}`")),
-                "README's warning table lacks `{kind}`"
-            );
-        }
-    }
-
-    #[test]
-    fn too_few_lines_says_the_spacing_or_that_it_is_unknown() {
-        let e = Error::TooFewLines {
-            lines: 1,
-            required: 6,
-            resolution_hz: None,
-        };
-        assert_eq!(e.kind(), "bad_band");
-        assert!(!e.to_string().contains("NaN"), "{e}");
-        assert!(e.to_string().contains("unknown"), "{e}");
-        let e = Error::TooFewLines {
-            lines: 0,
-            required: 6,
-            resolution_hz: Some(0.5),
-        };
-        assert!(e.to_string().contains("holds 0 usable") && e.to_string().contains("0.5 Hz"));
-    }
-
-    #[test]
-    fn faer_errors_convert() {
-        let e: Error = faer::linalg::solvers::SvdError::NoConvergence.into();
-        assert!(matches!(e, Error::Decomposition { .. }));
-        let e: Error = faer::linalg::solvers::EvdError::NoConvergence.into();
-        assert!(matches!(e, Error::Decomposition { .. }));
-    }
-}

@@ -46,3 +46,24 @@ pub fn excerpt_bytes(bytes: &[u8]) -> String {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn excerpts_are_bounded() {
+        assert_eq!(excerpt(""), "");
+        let eighty = "é".repeat(80);
+        assert_eq!(excerpt(&eighty), eighty);
+        let long = "é".repeat(81);
+        assert_eq!(excerpt(&long), format!("{eighty}… (2 more bytes)"));
+        assert_eq!(excerpt_bytes(b"abc"), "abc");
+        let s = excerpt_bytes(&[b'x'; 10_000]);
+        assert!(
+            s.starts_with(&"x".repeat(80)) && s.ends_with("(9920 more bytes)"),
+            "{s}"
+        );
+        assert!(excerpt_bytes(&[0xff; 10_000]).chars().count() < 110);
+    }
+}

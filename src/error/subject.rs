@@ -161,3 +161,17 @@ impl fmt::Display for CsvLimitKind {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channel_display_names_kind_and_index() {
+        assert_eq!(Channel::Force(1).to_string(), "force channel 1");
+        assert_eq!(
+            Channel::Displacement(0).to_string(),
+            "displacement channel 0"
+        );
+    }
+}

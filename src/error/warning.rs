@@ -380,3 +380,27 @@ impl Warning {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn readme_lists_every_warning_kind() {
+        let source = include_str!("warning.rs");
+        let start = source.find("impl Warning {").expect("impl Warning");
+        let body = &source[start..];
+        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
+        let body = &body[..body.find("\n}\n").expect("end of impl")];
+        let kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
+        assert!(kinds.len() >= 25, "found only {kinds:?}");
+        let readme = include_str!("../../README.md");
+        let table = &readme[readme
+            .find("Warnings do not stop a run")
+            .expect("warnings table")..];
+        for kind in kinds {
+            assert!(
+                table.contains(&format!("`{kind}`")),
+                "README's warning table lacks `{kind}`"
+            );
+        }
+    }
+}

@@ -278,3 +278,39 @@ impl fmt::Display for Warning {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Channel;
+
+    #[test]
+    fn quality_warnings_name_the_record_and_numbers() {
+        let w = Warning::DoubleHit {
+            record: "hit-x-1".into(),
+            second_s: 0.0512,
+            ratio: 0.31,
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-x-1`: double hit, a second pulse at 0.0512 s of 0.31 × the main peak"
+        );
+        let w = Warning::Clipped {
+            record: "hit-y-2".into(),
+            channel: Channel::Displacement(1),
+            value: -2.5e-4,
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-y-2`: displacement channel 1 clipped at -2.5000e-4"
+        );
+        let w = Warning::Rejected {
+            record: "hit-y-3".into(),
+            reason: "force channel 1 clipped".into(),
+        };
+        assert_eq!(
+            w.to_string(),
+            "record `hit-y-3` rejected: force channel 1 clipped"
+        );
+    }
+}
