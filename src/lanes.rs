@@ -57,6 +57,35 @@ pub(crate) fn max_abs(x: &[f64]) -> f64 {
     m.into_iter().fold(0.0, f64::max)
 }
 
+/// `(m, |x_m − c|)` at the largest `|x − c|`, the first such `m` (`(0, 0)` for none).
+pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
+    let mut best = [(0, 0.0_f64); LANES];
+    let chunks = x.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    for (k, chunk) in chunks.enumerate() {
+        for (j, (b, &v)) in best.iter_mut().zip(chunk).enumerate() {
+            let d = (v - c).abs();
+            if d > b.1 {
+                *b = (k * LANES + j, d);
+            }
+        }
+    }
+    let start = x.len() - rest.len();
+    for (j, (b, &v)) in best.iter_mut().zip(rest).enumerate() {
+        let d = (v - c).abs();
+        if d > b.1 {
+            *b = (start + j, d);
+        }
+    }
+    // Each lane holds its first largest; of equal lanes the earliest sample wins.
+    best.into_iter()
+        .fold((0, 0.0), |a, b| match b.1.total_cmp(&a.1) {
+            std::cmp::Ordering::Greater => b,
+            std::cmp::Ordering::Equal if b.0 < a.0 => b,
+            _ => a,
+        })
+}
+
 /// Whether every sample is finite (the lanes keep `|x| ≤ f64::MAX`; a NaN fails it too).
 pub(crate) fn all_finite(x: &[f64]) -> bool {
     fold(x, true, |a, v| a & (v.abs() <= f64::MAX))
@@ -87,6 +116,27 @@ mod tests {
             );
             same(max_abs(&x), x.iter().fold(0.0, |m: f64, v| m.max(v.abs())));
         }
+    }
+
+    #[test]
+    fn peak_is_the_first_largest_deviation() {
+        for n in 1..12 {
+            for at in 0..n {
+                for twin in 0..n {
+                    let mut x = vec![1.0; n];
+                    x[at] = 4.0;
+                    x[twin] = -2.0; // |−2 − 1| = 3 = |4 − 1|: a tie
+                    let expected = if at == twin { twin } else { at.min(twin) };
+                    let (m, d) = peak(&x, 1.0);
+                    assert_eq!(
+                        (m, d.to_bits()),
+                        (expected, 3f64.to_bits()),
+                        "n {n} {at} {twin}"
+                    );
+                }
+            }
+        }
+        assert_eq!(peak(&[1.0, 1.0], 1.0), (0, 0.0));
     }
 
     #[test]

@@ -32,6 +32,7 @@ pub(crate) use scan::Scan;
 use std::fmt;
 
 use crate::error::{Channel, Error, Result, Warning};
+use crate::lanes;
 use crate::records::Record;
 
 /// The force has returned to zero after a pulse when `|f − baseline|` falls below this fraction
@@ -429,15 +430,8 @@ fn double_hit(f: &[f64], checks: &ImpactChecks, range: f64) -> Option<(usize, us
     let sigma = MAD_TO_SIGMA * median(&mut scratch);
     drop(scratch);
 
-    let (mut p, mut peak, mut sum_sq) = (0, 0.0_f64, 0.0);
-    for (i, v) in f.iter().enumerate() {
-        let d = v - baseline;
-        sum_sq += d * d;
-        if d.abs() > peak {
-            (p, peak) = (i, d.abs());
-        }
-    }
-    let rms = (sum_sq / n as f64).sqrt();
+    let (p, peak) = lanes::peak(f, baseline);
+    let rms = (lanes::sum_sq_dev(f, baseline) / n as f64).sqrt();
     // Samples are finite (a `Record` guarantees it), so `peak` is a number.
     if peak <= 0.0 || peak < checks.min_crest_factor * rms {
         return None;
