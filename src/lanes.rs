@@ -7,6 +7,16 @@
 //! A lane-wise sum rounds differently from a left-to-right one (within the usual
 //! `N·ε·Σ|x|`); minima and maxima are exact either way.
 
+use faer::traits::pulp::Arch;
+
+/// Runs `pass` compiled for the widest SIMD instructions this processor has (AVX2 and FMA
+/// on most x86-64), found at run time by faer's SIMD layer (`pulp`); the same operations in
+/// the same order, so the same results, on any processor.
+#[inline(always)]
+pub(crate) fn simd<R>(pass: impl FnOnce() -> R) -> R {
+    Arch::new().dispatch(pass)
+}
+
 /// Independent accumulators of a pass.
 pub(crate) const LANES: usize = 4;
 
@@ -28,22 +38,28 @@ fn fold<T: Copy>(x: &[f64], init: T, step: impl Fn(T, f64) -> T) -> [T; LANES] {
     acc
 }
 
+/// `Σ x`.
+pub(crate) fn sum(x: &[f64]) -> f64 {
+    let a = simd(|| fold(x, 0.0, |a, v| a + v));
+    (a[0] + a[1]) + (a[2] + a[3])
+}
+
 /// `Σ s·x`, each `s·x` rounded first (as a scaled copy of `x` would be), lanes combined as
 /// `(a₀ + a₁) + (a₂ + a₃)` (as every sum here).
 pub(crate) fn sum_scaled(x: &[f64], s: f64) -> f64 {
-    let a = fold(x, 0.0, |a, v| a + v * s);
+    let a = simd(|| fold(x, 0.0, |a, v| a + v * s));
     (a[0] + a[1]) + (a[2] + a[3])
 }
 
 /// `Σ (x − c)²`.
 pub(crate) fn sum_sq_dev(x: &[f64], c: f64) -> f64 {
-    let s = fold(x, 0.0, |a, v| a + (v - c) * (v - c));
+    let s = simd(|| fold(x, 0.0, |a, v| a + (v - c) * (v - c)));
     (s[0] + s[1]) + (s[2] + s[3])
 }
 
 /// `Σ (s·x − c)²`, each `s·x` rounded first (as a scaled copy of `x` would be).
 pub(crate) fn sum_sq_dev_scaled(x: &[f64], s: f64, c: f64) -> f64 {
-    let a = fold(x, 0.0, |a, v| a + (v * s - c) * (v * s - c));
+    let a = simd(|| fold(x, 0.0, |a, v| a + (v * s - c) * (v * s - c)));
     (a[0] + a[1]) + (a[2] + a[3])
 }
 
@@ -88,7 +104,7 @@ pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
 
 /// Whether every sample is finite (the lanes keep `|x| ≤ f64::MAX`; a NaN fails it too).
 pub(crate) fn all_finite(x: &[f64]) -> bool {
-    fold(x, true, |a, v| a & (v.abs() <= f64::MAX))
+    simd(|| fold(x, true, |a, v| a & (v.abs() <= f64::MAX)))
         .into_iter()
         .all(|a| a)
 }
@@ -109,6 +125,7 @@ mod tests {
                 sum_sq_dev(&x, mean),
                 x.iter().map(|v| (v - mean) * (v - mean)).sum(),
             );
+            same(sum(&x), x.iter().sum());
             same(sum_scaled(&x, 0.25), x.iter().map(|v| v * 0.25).sum());
             same(
                 sum_sq_dev_scaled(&x, 0.25, mean),

@@ -20,6 +20,7 @@ use faer::c64;
 use realfft::{RealFftPlanner, RealToComplex};
 
 use crate::error::{Error, Result};
+use crate::lanes;
 use crate::records::require_finite_positive;
 
 /// Window applied to each segment before the DFT.
@@ -516,7 +517,7 @@ impl SpectralEstimator {
             "segment length differs from the plan"
         );
         let mean = if self.window.removes_mean() {
-            signal.iter().sum::<f64>() / self.len as f64
+            lanes::sum(signal) / self.len as f64
         } else {
             0.0
         };
@@ -543,8 +544,8 @@ impl SpectralEstimator {
             "segment length differs from the plan"
         );
         let offset = match signal.get(*closed..) {
-            Some(quiet) if !quiet.is_empty() => quiet.iter().sum::<f64>() / quiet.len() as f64,
-            _ if self.window.removes_mean() => signal.iter().sum::<f64>() / self.len as f64,
+            Some(quiet) if !quiet.is_empty() => lanes::sum(quiet) / quiet.len() as f64,
+            _ if self.window.removes_mean() => lanes::sum(signal) / self.len as f64,
             _ => 0.0,
         };
         for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(weights) {

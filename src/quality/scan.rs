@@ -1,6 +1,6 @@
 //! [`Scan`]: one pass over a channel, shared by the record checks and the screening.
 
-use crate::lanes::LANES;
+use crate::lanes::{self, LANES};
 use crate::records::Record;
 
 /// What one pass over a channel gives the record checks and the screening: its extremes and
@@ -40,6 +40,11 @@ impl Scan {
     /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
     /// it), so comparisons stand in for `f64::min`/`max`.
     pub(crate) fn new(x: &[f64]) -> Self {
+        lanes::simd(|| Self::folded(x))
+    }
+
+    #[inline(always)]
+    fn folded(x: &[f64]) -> Self {
         let mut lo = [f64::INFINITY; LANES];
         let mut hi = [f64::NEG_INFINITY; LANES];
         let mut sum = [0.0; LANES];
