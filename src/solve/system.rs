@@ -316,8 +316,8 @@ impl Stacked {
     /// `A Θ − Ī` are $R(G_k)\,T_k\Theta - (I; 0)$ with $T_k\Theta = (H_k^R; H_k^I)$,
     /// $H_k = K - \omega_k^2 M + i\omega_k C$, i.e. the real form of $G_k H_k - I$, so
     /// $\lVert A\Theta - \bar I \rVert_F^2 = \sum_k \lVert G_k H_k - I \rVert_F^2$:
-    /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`).
-    /// No allocation.
+    /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`), formed
+    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]). No allocation.
     pub fn residual_norm_into(&self, theta: MatRef<'_, f64>, work: &mut InstrumentWork) -> f64 {
         work.load(theta, true);
         let arch = work.arch;
@@ -407,8 +407,10 @@ impl Stacked {
     /// $\begin{pmatrix} \omega^4 P^R & \omega^3 P^I & -\omega^2 P^R \\ -\omega^3 P^I & \omega^2 P^R & \omega P^I \\ -\omega^2 P^R & -\omega P^I & P^R \end{pmatrix}$:
     /// one complex `n × n` product per line (`8n³` flops instead of `36n³` for the dense
     /// `Wᵀ A`) and five weighted sums. `W_kᵀ Ī` is the real rows of `W_k`: `−ω² G_mᴿ`,
-    /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Returns `false` if the model impedance is singular at
-    /// some line. No allocation.
+    /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Per line, in split storage and vectorised ([`split`]):
+    /// `H`, its Gauss–Jordan inverse `G_m` (`8n³` flops), $P^\top = G^\top \bar G_m$ from
+    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums. Returns `false` if the model
+    /// impedance is singular at some line. No allocation.
     pub fn instrument_normal(
         &self,
         theta: MatRef<'_, f64>,
