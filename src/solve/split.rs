@@ -212,7 +212,19 @@ pub(super) fn invert<S: Simd>(
             }
         }
     }
-    re.iter().chain(im.iter()).all(|v| v.is_finite())
+    all_finite(simd, re) && all_finite(simd, im)
+}
+
+/// Whether every entry is finite: `v − v` is 0 for a finite `v` and NaN otherwise, and NaN
+/// survives the sum.
+#[inline(always)]
+fn all_finite<S: Simd>(simd: S, a: &[f64]) -> bool {
+    let (v, tail) = S::as_simd_f64s(a);
+    let mut acc = simd.splat_f64s(0.0);
+    for &x in v {
+        acc = simd.add_f64s(acc, simd.sub_f64s(x, x));
+    }
+    simd.reduce_sum_f64s(acc).is_finite() && tail.iter().all(|x| x.is_finite())
 }
 
 /// Rows `row0 .. row0 + V·lanes` of column `a` of `X Y`: `Σ_c X[·, c] y_c` with the
@@ -404,6 +416,26 @@ mod tests {
     fn kernels_match_the_direct_forms() {
         for n in [1, 2, 3, 4, 5, 7, 8, 12, 16, 17, 19, 32, 33] {
             Arch::new().dispatch(Check(n));
+        }
+    }
+
+    /// `all_finite` sees an infinity or a NaN in the registers and in the tail.
+    #[test]
+    fn non_finite_entries_are_seen() {
+        struct Finite(Vec<f64>);
+        impl WithSimd for Finite {
+            type Output = bool;
+            #[inline(always)]
+            fn with_simd<S: Simd>(self, simd: S) -> bool {
+                all_finite(simd, &self.0)
+            }
+        }
+        let a: Vec<f64> = (0..11).map(|i| i as f64 - 5.0).collect();
+        assert!(Arch::new().dispatch(Finite(a.clone())));
+        for (at, bad) in [(0, f64::INFINITY), (3, f64::NAN), (10, f64::NEG_INFINITY)] {
+            let mut b = a.clone();
+            b[at] = bad;
+            assert!(!Arch::new().dispatch(Finite(b)), "{bad} at {at}");
         }
     }
 
