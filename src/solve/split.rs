@@ -411,11 +411,13 @@ mod tests {
     }
 
     /// Every register-count arm of `mul` and the scalar tail rows, both conjugations, and
-    /// the inverse, for sizes around the register width.
+    /// the inverse, for sizes around the register width: on this CPU's SIMD and on pulp's
+    /// scalar fallback (one lane, what a CPU without AVX2 runs).
     #[test]
     fn kernels_match_the_direct_forms() {
         for n in [1, 2, 3, 4, 5, 7, 8, 12, 16, 17, 19, 32, 33] {
             Arch::new().dispatch(Check(n));
+            Check(n).with_simd(faer::traits::pulp::Scalar::new());
         }
     }
 
