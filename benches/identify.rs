@@ -106,10 +106,10 @@ const SIZES: [(usize, usize); 14] = [
 
 /// Real flops of one IVF iteration as `IvfSolver::iterate` performs them (a complex
 /// multiply-add counted as 8 real flops). Per line: the model impedance inverted (`8n³`,
-/// Gauss–Jordan or LU + inverse), `G_mᴴ G` (`8n³`), the eight weighted `n × n` sums
-/// (`16n²`), `G H(Θ)` for the residual (`8n³`), the two impedances and the residual's norm
-/// (`10n²`); per iteration: the `3n × 3n` LU (`18n³`) and its solve for `n` columns
-/// (`18n³`). The matmul reference counts its `2 · (3n)² · 2nN = 36n³N`.
+/// Gauss–Jordan), `(G_mᴴ G)ᵀ` (`8n³`), the eight weighted `n × n` sums (`16n²`),
+/// `(G H(Θ))ᵀ` for the residual (`8n³`), the two impedances and the residual's norm (`10n²`);
+/// per iteration: the `3n × 3n` LU (`18n³`) and its solve for `n` columns (`18n³`). The
+/// matmul reference counts its `2 · (3n)² · 2nN = 36n³N`.
 fn ivf_flops(n: usize, lines: usize) -> u64 {
     ((24 * n * n * n + 26 * n * n) * lines + 36 * n * n * n) as u64
 }

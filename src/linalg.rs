@@ -15,7 +15,7 @@ use faer::{ColMut, MatMut, MatRef, Par, c64};
 /// `1 / z = z̄ / |z|²`, through the squared modulus (no libm `hypot`) while `|z|²` is a
 /// normal number, else without forming `|z|²`, which overflows for `|z|` beyond `1.3e154` (and
 /// underflows below `1e-154`) where `num_complex`'s `inv` would give 0 or infinity.
-fn reciprocal(z: c64) -> c64 {
+pub(crate) fn reciprocal(z: c64) -> c64 {
     let r2 = z.norm_sqr();
     if r2.is_finite() && r2 >= f64::MIN_POSITIVE {
         return c64::new(z.re / r2, -z.im / r2);

@@ -21,6 +21,7 @@ mod direct;
 mod ivf;
 mod ls;
 pub mod ml;
+mod split;
 mod system;
 
 use faer::Mat;

@@ -10,6 +10,7 @@ use crate::frf::Frf;
 use crate::linalg;
 
 use super::required_lines;
+use super::split::{self, Simd, WithSimd};
 
 /// `A` with unit-norm columns (`A_s = A D`), the scaling `D` and the line frequencies (rad/s).
 #[derive(Debug)]
@@ -20,85 +21,153 @@ pub(super) struct Stacked {
     pub a: Mat<f64>,
     /// Diagonal of `D`: `1 / ‖a_p‖`.
     pub scale: Vec<f64>,
-    /// The measured flexibilities `G_k`, `[line][n × n]` column-major (`A`'s unscaled blocks).
-    pub g: Vec<c64>,
+    /// The measured flexibilities transposed, `G_kᵀ`, `[line][n × n]` column-major, real
+    /// parts (`A`'s unscaled blocks, split for the kernels of [`split`]).
+    gt_re: Vec<f64>,
+    /// Their imaginary parts.
+    gt_im: Vec<f64>,
 }
 
-/// The buffers of [`Stacked::instrument_normal`]: the model flexibility of one line, its
-/// product with the measured one, and the eight weighted `n × n` sums over the lines.
+/// The buffers of [`Stacked::instrument_normal`] and [`Stacked::residual_norm_into`], split
+/// (real parts, imaginary parts) as the kernels of [`split`] want them: `M`, `C`, `K` of the
+/// iterate (or their transposes), the model impedance and flexibility of one line, one
+/// product, and the eight weighted `n × n` sums over the lines.
 pub(super) struct InstrumentWork {
-    gm: Vec<c64>,
-    p: Vec<c64>,
-    /// `Σ Pᴿ, Σ ω² Pᴿ, Σ ω⁴ Pᴿ, Σ ω Pᴵ, Σ ω³ Pᴵ, Σ G_mᴿ, Σ ω² G_mᴿ, Σ ω G_mᴵ`.
+    n: usize,
+    /// `M`, `C`, `K` column-major, one after the other (`3n²`).
+    blocks: Vec<f64>,
+    h_re: Vec<f64>,
+    h_im: Vec<f64>,
+    p_re: Vec<f64>,
+    p_im: Vec<f64>,
+    /// `Σ Pᴿ, Σ ω² Pᴿ, Σ ω⁴ Pᴿ, Σ ω Pᴵ, Σ ω³ Pᴵ` (of `Pᵀ`), `Σ G_mᴿ, Σ ω² G_mᴿ, Σ ω G_mᴵ`.
     sums: Vec<f64>,
-    inverter: linalg::Inverter,
+    pivots: Vec<usize>,
+    arch: split::Arch,
 }
 
 impl InstrumentWork {
     pub(super) fn new(n: usize) -> Self {
-        let zero = c64::new(0.0, 0.0);
+        let nn = n * n;
         Self {
-            gm: vec![zero; n * n],
-            p: vec![zero; n * n],
-            sums: vec![0.0; 8 * n * n],
-            inverter: linalg::Inverter::new(n),
+            n,
+            blocks: vec![0.0; 3 * nn],
+            h_re: vec![0.0; nn],
+            h_im: vec![0.0; nn],
+            p_re: vec![0.0; nn],
+            p_im: vec![0.0; nn],
+            sums: vec![0.0; 8 * nn],
+            pivots: vec![0; n],
+            arch: split::Arch::new(),
+        }
+    }
+
+    /// Copies `M`, `C`, `K` of the stacked `Θ` (transposed when `transpose`) into `blocks`.
+    fn load(&mut self, theta: MatRef<'_, f64>, transpose: bool) {
+        let n = self.n;
+        for (b, block) in self.blocks.chunks_exact_mut(n * n).enumerate() {
+            for j in 0..n {
+                for i in 0..n {
+                    block[i + j * n] = if transpose {
+                        theta[(b * n + j, i)]
+                    } else {
+                        theta[(b * n + i, j)]
+                    };
+                }
+            }
         }
     }
 }
 
-/// Smallest `n` whose per-line product `G_mᴴ G` goes through faer's matmul (SIMD kernels)
-/// rather than plain loops.
-const FAER_PRODUCT_MIN: usize = 8;
+/// One pass of [`Stacked::instrument_normal`] over the lines, vectorised: `false` if the
+/// model impedance is singular at a line.
+struct InstrumentSums<'a> {
+    sys: &'a Stacked,
+    work: &'a mut InstrumentWork,
+}
 
-/// `out = xᴴ y` for column-major `n × n` complex `x`, `y`.
-fn adjoint_product(x: &[c64], y: &[c64], out: &mut [c64], n: usize) {
-    if n >= FAER_PRODUCT_MIN {
-        matmul(
-            MatMut::from_column_major_slice_mut(out, n, n),
-            Accum::Replace,
-            MatRef::from_column_major_slice(x, n, n).adjoint(),
-            MatRef::from_column_major_slice(y, n, n),
-            c64::new(1.0, 0.0),
-            Par::Seq,
-        );
-        return;
-    }
-    for b in 0..n {
-        let yb = &y[b * n..(b + 1) * n];
-        for a in 0..n {
-            let xa = &x[a * n..(a + 1) * n];
-            let (mut re, mut im) = (0.0, 0.0);
-            for (u, v) in xa.iter().zip(yb) {
-                re += u.re * v.re + u.im * v.im;
-                im += u.re * v.im - u.im * v.re;
+impl WithSimd for InstrumentSums<'_> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) -> bool {
+        let Self { sys, work } = self;
+        let n = sys.n;
+        let nn = n * n;
+        let InstrumentWork {
+            blocks,
+            h_re,
+            h_im,
+            p_re,
+            p_im,
+            sums,
+            pivots,
+            ..
+        } = work;
+        sums.fill(0.0);
+        let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
+        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
+        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
+            split::impedance(simd, (h_re, h_im), (m, c, k), w);
+            if !split::invert(simd, (h_re, h_im), n, pivots) {
+                return false;
             }
-            out[a + b * n] = c64::new(re, im);
+            // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
+            split::mul(simd, (p_re, p_im), (gt_re, gt_im), (h_re, h_im), n, true);
+            let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
+            let sources: [(&[f64], f64); 8] = [
+                (p_re, 1.0),
+                (p_re, w2),
+                (p_re, w4),
+                (p_im, w),
+                (p_im, w3),
+                (h_re, 1.0),
+                (h_re, w2),
+                (h_im, w),
+            ];
+            for (dst, (src, weight)) in sums.chunks_exact_mut(nn).zip(sources) {
+                split::add_scaled(simd, dst, src, weight);
+            }
         }
+        true
     }
 }
 
-/// `out = x y` for column-major `n × n` complex `x`, `y`.
-fn product(x: &[c64], y: &[c64], out: &mut [c64], n: usize) {
-    if n >= FAER_PRODUCT_MIN {
-        matmul(
-            MatMut::from_column_major_slice_mut(out, n, n),
-            Accum::Replace,
-            MatRef::from_column_major_slice(x, n, n),
-            MatRef::from_column_major_slice(y, n, n),
-            c64::new(1.0, 0.0),
-            Par::Seq,
-        );
-        return;
-    }
-    // Column b of the product is the columns of `x` weighted by column b of `y`.
-    for b in 0..n {
-        let out_b = &mut out[b * n..(b + 1) * n];
-        out_b.fill(c64::new(0.0, 0.0));
-        for (c, &v) in y[b * n..(b + 1) * n].iter().enumerate() {
-            for (o, u) in out_b.iter_mut().zip(&x[c * n..(c + 1) * n]) {
-                *o += u * v;
+/// [`Stacked::residual_norm_into`]'s pass over the lines, vectorised.
+struct ResidualNorm<'a> {
+    sys: &'a Stacked,
+    work: &'a mut InstrumentWork,
+}
+
+impl WithSimd for ResidualNorm<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) -> f64 {
+        let Self { sys, work } = self;
+        let n = sys.n;
+        let nn = n * n;
+        let InstrumentWork {
+            blocks,
+            h_re,
+            h_im,
+            p_re,
+            p_im,
+            ..
+        } = work;
+        let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
+        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
+        let mut sum = 0.0;
+        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
+            // Hᵀ from the transposed blocks; (G H)ᵀ = Hᵀ Gᵀ.
+            split::impedance(simd, (h_re, h_im), (m, c, k), w);
+            split::mul(simd, (p_re, p_im), (h_re, h_im), (gt_re, gt_im), n, false);
+            for d in 0..n {
+                p_re[d * (n + 1)] -= 1.0;
             }
+            sum += split::norm_sqr(simd, p_re, p_im);
         }
+        sum
     }
 }
 
@@ -134,6 +203,19 @@ pub(super) fn fill_line(mut dst: MatMut<'_, f64>, g: &[c64], w: f64, n: usize, s
             dst[(n + i, 2 * n + m)] = sk * v.im;
         }
     }
+}
+
+/// The transposes of the column-major `n × n` blocks of `g`, one part (`part`) of each entry.
+fn transposed(g: &[c64], n: usize, part: fn(&c64) -> f64) -> Vec<f64> {
+    let mut out = vec![0.0; g.len()];
+    for (dst, src) in out.chunks_exact_mut(n * n).zip(g.chunks_exact(n * n)) {
+        for j in 0..n {
+            for i in 0..n {
+                dst[j + i * n] = part(&src[i + j * n]);
+            }
+        }
+    }
+    out
 }
 
 /// [`Error::TooFewLines`] unless `frf` holds [`required_lines`] lines.
@@ -185,7 +267,8 @@ impl Stacked {
             omegas,
             a,
             scale,
-            g: g.to_vec(),
+            gt_re: transposed(g, n, |z| z.re),
+            gt_im: transposed(g, n, |z| z.im),
         })
     }
 
@@ -233,21 +316,12 @@ impl Stacked {
     /// `A Θ − Ī` are $R(G_k)\,T_k\Theta - (I; 0)$ with $T_k\Theta = (H_k^R; H_k^I)$,
     /// $H_k = K - \omega_k^2 M + i\omega_k C$, i.e. the real form of $G_k H_k - I$, so
     /// $\lVert A\Theta - \bar I \rVert_F^2 = \sum_k \lVert G_k H_k - I \rVert_F^2$:
-    /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`).
-    /// No allocation.
+    /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`), formed
+    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]). No allocation.
     pub fn residual_norm_into(&self, theta: MatRef<'_, f64>, work: &mut InstrumentWork) -> f64 {
-        let n = self.n;
-        let nn = n * n;
-        let mut sum = 0.0;
-        for (k, &w) in self.omegas.iter().enumerate() {
-            impedance_into(theta, w, &mut work.gm, n);
-            product(&self.g[k * nn..(k + 1) * nn], &work.gm, &mut work.p, n);
-            for (q, v) in work.p.iter().enumerate() {
-                let re = if q % (n + 1) == 0 { v.re - 1.0 } else { v.re };
-                sum += re * re + v.im * v.im;
-            }
-        }
-        sum.sqrt()
+        work.load(theta, true);
+        let arch = work.arch;
+        arch.dispatch(ResidualNorm { sys: self, work }).sqrt()
     }
 
     /// Residual `A Θ − Ī = A_s Θ_s − Ī` into `residual` (`2nN × n`), `theta_s` as scratch.
@@ -333,8 +407,10 @@ impl Stacked {
     /// $\begin{pmatrix} \omega^4 P^R & \omega^3 P^I & -\omega^2 P^R \\ -\omega^3 P^I & \omega^2 P^R & \omega P^I \\ -\omega^2 P^R & -\omega P^I & P^R \end{pmatrix}$:
     /// one complex `n × n` product per line (`8n³` flops instead of `36n³` for the dense
     /// `Wᵀ A`) and five weighted sums. `W_kᵀ Ī` is the real rows of `W_k`: `−ω² G_mᴿ`,
-    /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Returns `false` if the model impedance is singular at
-    /// some line. No allocation.
+    /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Per line, in split storage and vectorised ([`split`]):
+    /// `H`, its Gauss–Jordan inverse `G_m` (`8n³` flops), $P^\top = G^\top \bar G_m$ from
+    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums. Returns `false` if the model
+    /// impedance is singular at some line. No allocation.
     pub fn instrument_normal(
         &self,
         theta: MatRef<'_, f64>,
@@ -342,29 +418,12 @@ impl Stacked {
         mut rhs: MatMut<'_, f64>,
         work: &mut InstrumentWork,
     ) -> bool {
-        let n = self.n;
-        let nn = n * n;
-        work.sums.fill(0.0);
-        for (k, &w) in self.omegas.iter().enumerate() {
-            let gm = &mut work.gm;
-            impedance_into(theta, w, gm, n);
-            if !work.inverter.invert(gm) {
-                return false;
-            }
-            adjoint_product(gm, &self.g[k * nn..(k + 1) * nn], &mut work.p, n);
-            let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
-            let sums = &mut work.sums;
-            for (q, (p, g)) in work.p.iter().zip(gm.iter()).enumerate() {
-                sums[q] += p.re;
-                sums[nn + q] += w2 * p.re;
-                sums[2 * nn + q] += w4 * p.re;
-                sums[3 * nn + q] += w * p.im;
-                sums[4 * nn + q] += w3 * p.im;
-                sums[5 * nn + q] += g.re;
-                sums[6 * nn + q] += w2 * g.re;
-                sums[7 * nn + q] += w * g.im;
-            }
+        work.load(theta, false);
+        let arch = work.arch;
+        if !arch.dispatch(InstrumentSums { sys: self, work }) {
+            return false;
         }
+        let (n, nn) = (self.n, self.n * self.n);
         let sums = &work.sums;
         let s = &self.scale;
         // Block (X, Y) of T_kᵀ R(P) T_k: the sum, its sign.
@@ -378,8 +437,9 @@ impl Stacked {
                 for (x, blocks) in BLOCKS.iter().enumerate() {
                     let (sum, sign) = blocks[y];
                     for a in 0..n {
+                        // The sums are of Pᵀ: entry (a, b) of P is at b + a n.
                         normal[(x * n + a, y * n + b)] =
-                            sign * s[x * n + a] * s[y * n + b] * sums[sum * nn + a + b * n];
+                            sign * s[x * n + a] * s[y * n + b] * sums[sum * nn + b + a * n];
                     }
                 }
             }
