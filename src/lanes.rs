@@ -73,6 +73,13 @@ pub(crate) fn max_abs(x: &[f64]) -> f64 {
     m.into_iter().fold(0.0, f64::max)
 }
 
+/// `#{m : |x_m − c| ≤ t}`.
+pub(crate) fn count_within(x: &[f64], c: f64, t: f64) -> usize {
+    simd(|| fold(x, 0usize, |a, v| a + usize::from((v - c).abs() <= t)))
+        .into_iter()
+        .sum()
+}
+
 /// `(m, |x_m − c|)` at the largest `|x − c|`, the first such `m` (`(0, 0)` for none).
 pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
     let mut best = [(0, 0.0_f64); LANES];
@@ -154,6 +161,9 @@ mod tests {
             }
         }
         assert_eq!(peak(&[1.0, 1.0], 1.0), (0, 0.0));
+        let x: Vec<f64> = (0..11).map(f64::from).collect();
+        assert_eq!(count_within(&x, 5.0, 2.0), 5);
+        assert_eq!(count_within(&x, 5.0, 1.5), 3);
     }
 
     #[test]

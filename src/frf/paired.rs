@@ -5,7 +5,7 @@
 //! [`FrfBuilder`] and the drive frequencies of [`stepped_sine`](crate::stepped::stepped_sine)
 //! both go through it.
 
-use faer::{Mat, c64};
+use faer::{Mat, MatRef, c64};
 
 use super::builder::{Contribution, FrfBuilder, Plan};
 use super::coherence::SpectraCoherence;
@@ -174,7 +174,7 @@ impl FrfBuilder {
                 lines.push(
                     kernel
                         .set_impedance(columns)
-                        .map(|h| Mat::from_fn(n, n, |i, j| h[i + j * n])),
+                        .map(|h| MatRef::from_column_major_slice(h, n, n).to_owned()),
                 );
             }
             out.records.push(records);

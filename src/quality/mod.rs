@@ -27,6 +27,7 @@
 //! ```
 
 mod scan;
+mod select;
 pub(crate) use scan::Scan;
 
 use std::fmt;
@@ -409,8 +410,54 @@ pub(crate) fn median(values: &mut [f64]) -> f64 {
         return f64::NAN;
     }
     let mid = values.len() / 2;
+    if values.len() <= SORT_MAX {
+        // A few values (the sets of a line, the siblings of a record): sorting them is faster
+        // than the selection's set-up, and puts the same element in the middle.
+        values.sort_unstable_by(f64::total_cmp);
+        return values[mid];
+    }
     *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }
+
+/// Most values [`median`] sorts rather than selects among.
+const SORT_MAX: usize = 16;
+
+/// `f64::total_cmp`'s order as unsigned integers: a negative value has every bit flipped,
+/// any other its sign bit.
+fn total_order_key(v: f64) -> u64 {
+    let bits = v.to_bits();
+    bits ^ (((bits as i64 >> 63) as u64) | (1 << 63))
+}
+
+/// The value of a [`total_order_key`].
+fn from_total_order_key(key: u64) -> f64 {
+    let flip = if key >> 63 == 1 { 1 << 63 } else { u64::MAX };
+    f64::from_bits(key ^ flip)
+}
+
+/// The level below which `f` is quiet about `baseline`: a fraction of the peak, or the noise
+/// (the MAD of the deviations, as a standard deviation) when that is higher
+/// (`max(`[`RETURN_FRACTION`]` · peak, `[`NOISE_SIGMAS`]` · σ)`). When more than half the
+/// deviations are within `t` (below), the MAD is too, and the noise term stays below the
+/// fraction of the peak by [`QUIET_MARGIN`]: the level is then the fraction, without the
+/// second median. `keys` is scratch of `f`'s length.
+fn quiet_level(f: &[f64], baseline: f64, peak: f64, keys: &mut [u64]) -> f64 {
+    let fraction = RETURN_FRACTION * peak;
+    let t = fraction / (NOISE_SIGMAS * MAD_TO_SIGMA) * (1.0 - QUIET_MARGIN);
+    let mid = f.len() / 2;
+    if lanes::count_within(f, baseline, t) > mid {
+        return fraction;
+    }
+    for (k, v) in keys.iter_mut().zip(f) {
+        *k = (v - baseline).abs().to_bits();
+    }
+    let sigma = MAD_TO_SIGMA * f64::from_bits(select::select(keys, mid));
+    fraction.max(NOISE_SIGMAS * sigma)
+}
+
+/// Relative margin of the quiet-level shortcut in [`double_hit`]: far above the rounding of
+/// its few products, far below any change of the answer.
+const QUIET_MARGIN: f64 = 1e-12;
 
 /// Whether the crest factor of `f` about its median `b` (peak `max |f − b|` over RMS about
 /// `b`) is surely below `threshold`, known without the median: a median lies within one
@@ -444,14 +491,12 @@ fn double_hit(f: &[f64], checks: &ImpactChecks, scan: &Scan) -> Option<(usize, u
     if crest_factor_below(f, scan, checks.min_crest_factor) {
         return None;
     }
-    let mut scratch = f.to_vec();
-    let baseline = median(&mut scratch);
-    for (s, v) in scratch.iter_mut().zip(f) {
-        *s = (v - baseline).abs();
-    }
-    let sigma = MAD_TO_SIGMA * median(&mut scratch);
-    drop(scratch);
-
+    // Both medians select on integer keys of the same order (`total_cmp`'s, and for the
+    // non-negative deviations their bits): the same elements as selecting on the floats, with
+    // cheaper comparisons.
+    let mid = n / 2;
+    let mut keys: Vec<u64> = f.iter().map(|&v| total_order_key(v)).collect();
+    let baseline = from_total_order_key(select::select(&mut keys, mid));
     let (p, peak) = lanes::peak(f, baseline);
     let rms = (lanes::sum_sq_dev(f, baseline) / n as f64).sqrt();
     // Samples are finite (a `Record` guarantees it), so `peak` is a number.
@@ -459,7 +504,8 @@ fn double_hit(f: &[f64], checks: &ImpactChecks, scan: &Scan) -> Option<(usize, u
         return None;
     }
     let sign = (f[p] - baseline).signum();
-    let floor = (RETURN_FRACTION * peak).max(NOISE_SIGMAS * sigma);
+    let floor = quiet_level(f, baseline, peak, &mut keys);
+    drop(keys);
     let quiet = |i: usize| (f[i] - baseline).abs() < floor;
 
     // First sample after the main pulse: the start of the first quiet run after p.
@@ -705,6 +751,81 @@ mod tests {
                 "signal {k}: loose"
             );
         }
+    }
+
+    #[test]
+    fn total_order_keys_sort_as_total_cmp() {
+        let v = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.0,
+            -1e-320,
+            -0.0,
+            0.0,
+            1e-320,
+            1.0,
+            f64::MAX,
+            f64::INFINITY,
+        ];
+        for w in v.windows(2) {
+            assert!(
+                total_order_key(w[0]) < total_order_key(w[1]),
+                "{} < {}",
+                w[0],
+                w[1]
+            );
+        }
+        for &x in &v {
+            assert_eq!(
+                from_total_order_key(total_order_key(x)).to_bits(),
+                x.to_bits()
+            );
+        }
+        // The double-hit medians (on keys) against `median` (on floats), odd and even counts.
+        for n in [7, 8, 301, 302] {
+            let f: Vec<f64> = (0..n)
+                .map(|m| ((m * 37 % 101) as f64 - 50.0) * 0.1)
+                .collect();
+            let mut keys: Vec<u64> = f.iter().map(|&v| total_order_key(v)).collect();
+            let by_key = from_total_order_key(*keys.select_nth_unstable(n / 2).1);
+            assert_eq!(by_key.to_bits(), median(&mut f.clone()).to_bits());
+        }
+    }
+
+    /// The quiet level with its shortcut against both medians taken the plain way, on pulses
+    /// over noise from negligible to dominant (either side of the shortcut's test).
+    #[test]
+    fn quiet_level_is_that_of_the_two_medians() {
+        let mut seed = 3u64;
+        let mut noise = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / 2f64.powi(53) - 0.5
+        };
+        let mut shortcuts = 0;
+        for level in [0.0, 1e-6, 1e-3, 3e-3, 1e-2, 0.03, 0.1, 1.0] {
+            for n in [9000, 9001] {
+                let mut f: Vec<f64> = (0..n).map(|_| 2.0 + level * noise()).collect();
+                pulse(&mut f, 3000, 1.0);
+                let baseline = median(&mut f.clone());
+                let (_, peak) = lanes::peak(&f, baseline);
+                let mut dev: Vec<f64> = f.iter().map(|v| (v - baseline).abs()).collect();
+                let sigma = MAD_TO_SIGMA * median(&mut dev);
+                let plain = (RETURN_FRACTION * peak).max(NOISE_SIGMAS * sigma);
+                let level_here = quiet_level(&f, baseline, peak, &mut vec![0; n]);
+                assert_eq!(
+                    level_here.to_bits(),
+                    plain.to_bits(),
+                    "noise {level}, n {n}"
+                );
+                shortcuts += usize::from(NOISE_SIGMAS * sigma < RETURN_FRACTION * peak);
+            }
+        }
+        assert!(
+            (4..16).contains(&shortcuts),
+            "both sides tested: {shortcuts}"
+        );
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! [`Scan`]: one pass over a channel, shared by the record checks and the screening.
 
-use crate::lanes::{self, LANES};
+use faer::traits::pulp::{Arch, Simd, WithSimd};
+
+use crate::lanes::LANES;
 use crate::records::Record;
 
 /// What one pass over a channel gives the record checks and the screening: its extremes and
@@ -23,6 +25,19 @@ pub(crate) struct Scan {
     pub(crate) digest: [u64; 4],
 }
 
+/// [`Scan::new`]'s pass as an operation of faer's SIMD dispatch: a named type rather than a
+/// closure, so that the whole pass is inlined into the instruction set chosen.
+struct Pass<'a>(&'a [f64]);
+
+impl WithSimd for Pass<'_> {
+    type Output = Scan;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _: S) -> Scan {
+        Scan::folded(self.0)
+    }
+}
+
 /// Odd multiplier of the digest (the 64-bit golden ratio).
 const DIGEST_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
 
@@ -40,7 +55,7 @@ impl Scan {
     /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
     /// it), so comparisons stand in for `f64::min`/`max`.
     pub(crate) fn new(x: &[f64]) -> Self {
-        lanes::simd(|| Self::folded(x))
+        Arch::new().dispatch(Pass(x))
     }
 
     #[inline(always)]

@@ -1,7 +1,7 @@
 //! The per-line test of paired sets: sets whose impedance is far from the others' at most
 //! lines ([`outlier_sets`]).
 
-use faer::{Mat, c64};
+use faer::{Mat, MatRef, c64};
 
 use super::{Checks, MAD_TO_SIGMA, median};
 
@@ -25,7 +25,7 @@ pub struct OutlierSet {
 /// Four sets agree within 1 %, the fifth has its columns swapped:
 /// ```
 /// use bearing_ident::screening::{Checks, OutlierSet, outlier_sets};
-/// use faer::{Mat, c64};
+/// use faer::{Mat, MatRef, c64};
 /// let h = |k: f64, swap: bool| -> Option<Mat<c64>> {
 ///     let m = [[146e3 * k, 22e3], [11e3, 169e3 * k]];
 ///     Some(Mat::from_fn(2, 2, |i, j| c64::new(m[i][if swap { 1 - j } else { j }], 800.0)))
@@ -45,54 +45,58 @@ pub fn outlier_sets(impedances: &[Vec<Option<Mat<c64>>>], checks: &Checks) -> Ve
     }
     let lines = impedances.iter().map(Vec::len).min().unwrap_or(0);
     let (mut far, mut tested) = (vec![0; sets], vec![0; sets]);
-    // Buffers of one line, reused: the sets present, one element's values, its squared
-    // distances (compared squared: `d > k·σ` exactly when `d² > k²σ²`, for `d, σ ≥ 0`, and the
-    // median of the squares is the square of the median), the sets found far.
-    let mut present: Vec<(usize, &Mat<c64>)> = Vec::with_capacity(sets);
-    let (mut values, mut squares, mut sorted) = (Vec::new(), Vec::new(), Vec::new());
+    // Buffers of one line, reused: the sets present and their impedances side by side
+    // (`[set][element]`, column-major elements), the line's median impedance, one element's
+    // values, its squared distances (compared squared: `d > k·σ` exactly when `d² > k²σ²`, for
+    // `d, σ ≥ 0`, and the median of the squares is the square of the median), the sets found
+    // far.
+    let mut present: Vec<usize> = Vec::with_capacity(sets);
+    let mut values: Vec<c64> = Vec::new();
+    let mut centre: Vec<c64> = Vec::new();
+    let (mut parts, mut squares, mut sorted) = (Vec::new(), Vec::new(), Vec::new());
     let mut far_here = Vec::with_capacity(sets);
+    let sigmas2 = checks.set_sigmas * checks.set_sigmas;
     for l in 0..lines {
         present.clear();
-        present.extend(
-            impedances
-                .iter()
-                .enumerate()
-                .filter_map(|(s, h)| h[l].as_ref().map(|h| (s, h))),
-        );
+        values.clear();
+        let mut n = 0;
+        for (s, h) in impedances.iter().enumerate() {
+            if let Some(h) = &h[l] {
+                n = h.nrows();
+                present.push(s);
+                values.extend(h.col_iter().flat_map(|c| c.iter().copied()));
+            }
+        }
         if present.len() < 3 {
             continue;
         }
-        let n = present[0].1.nrows();
-        let mut median_of = |part: &dyn Fn(&Mat<c64>) -> f64| {
-            values.clear();
-            values.extend(present.iter().map(|(_, h)| part(h)));
-            median(&mut values)
-        };
-        let centre = Mat::from_fn(n, n, |i, j| {
-            c64::new(median_of(&|h| h[(i, j)].re), median_of(&|h| h[(i, j)].im))
-        });
-        let floor2 = (checks.set_floor * centre.norm_l2()).powi(2);
-        let sigmas2 = checks.set_sigmas * checks.set_sigmas;
+        let nn = n * n;
+        let element = |e: usize| values.iter().skip(e).step_by(nn);
+        centre.clear();
+        for e in 0..nn {
+            parts.clear();
+            parts.extend(element(e).map(|z| z.re));
+            let re = median(&mut parts);
+            parts.clear();
+            parts.extend(element(e).map(|z| z.im));
+            centre.push(c64::new(re, median(&mut parts)));
+        }
+        let floor = checks.set_floor * MatRef::from_column_major_slice(&centre, n, n).norm_l2();
+        let floor2 = floor * floor;
         far_here.clear();
         far_here.resize(present.len(), false);
-        for j in 0..n {
-            for i in 0..n {
-                squares.clear();
-                squares.extend(
-                    present
-                        .iter()
-                        .map(|(_, h)| (h[(i, j)] - centre[(i, j)]).norm_sqr()),
-                );
-                sorted.clone_from(&squares);
-                let sigma2 = MAD_TO_SIGMA * MAD_TO_SIGMA * median(&mut sorted);
-                for (f, &d2) in far_here.iter_mut().zip(&squares) {
-                    *f |= d2 > sigmas2 * sigma2 && d2 > floor2;
-                }
+        for (e, &c) in centre.iter().enumerate() {
+            squares.clear();
+            squares.extend(element(e).map(|&z| (z - c).norm_sqr()));
+            sorted.clone_from(&squares);
+            let sigma2 = MAD_TO_SIGMA * MAD_TO_SIGMA * median(&mut sorted);
+            for (f, &d2) in far_here.iter_mut().zip(&squares) {
+                *f |= d2 > sigmas2 * sigma2 && d2 > floor2;
             }
         }
-        for ((s, _), &f) in present.iter().zip(&far_here) {
-            tested[*s] += 1;
-            far[*s] += usize::from(f);
+        for (&s, &f) in present.iter().zip(&far_here) {
+            tested[s] += 1;
+            far[s] += usize::from(f);
         }
     }
     (0..sets)
