@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Side-by-side timing of `bearing-ident identify` and the numpy reference (`identify.py`) on
-the three shapes of issue 12, as whole processes (CPU time: user + system, all threads) and
+the three shapes of issue 12, as whole processes (CPU time: user + system, all threads; and
+wall time) and
 as compute (ours: `compute_ms` and `timings_ms` from the JSON; numpy: its `compute_ms`).
 Not run by tests.
 
@@ -18,6 +19,7 @@ import resource
 import statistics
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -59,12 +61,14 @@ SIMULATE = {
 
 
 def run(cmd, env=None):
-    """Runs `cmd`; returns (stdout, CPU seconds of the child)."""
+    """Runs `cmd`; returns (stdout, CPU seconds of the child, wall seconds)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
     out = subprocess.run(cmd, capture_output=True, text=True, env=env, check=True).stdout
+    wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return out, cpu
+    return out, cpu, wall
 
 
 def main():
@@ -80,27 +84,30 @@ def main():
             subprocess.run([a.bin, "simulate", *args, "--out", str(data / folder)],
                            check=True, capture_output=True)
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    print("| shape | ours CPU ms | numpy CPU ms | ratio | ours compute ms | numpy compute ms | "
-          "ratio | ours stages (ms) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| shape | ours CPU ms | numpy CPU ms | ratio | ours wall ms | numpy wall ms | ratio | "
+          "ours compute ms | numpy compute ms | ratio | ours stages (ms) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, (folder, ours, theirs) in SHAPES.items():
         files = sorted(str(f) for f in (data / folder).glob("*.csv"))
-        cpu, compute, stages = [], [], []
+        cpu, wall, compute, stages = [], [], [], []
         for _ in range(a.runs):
-            out, t = run([a.bin, "identify", "--json", *ours, *files])
+            out, t, w = run([a.bin, "identify", "--json", *ours, *files])
             j = json.loads(out)
             cpu.append(t * 1e3)
+            wall.append(w * 1e3)
             compute.append(j["compute_ms"])
             stages.append(j["timings_ms"])
-        ncpu, ncompute = [], []
+        ncpu, nwall, ncompute = [], [], []
         for _ in range(max(3, a.runs // 2)):
-            out, t = run([sys.executable, str(HERE / "identify.py"), *theirs, *files], env)
+            out, t, w = run([sys.executable, str(HERE / "identify.py"), *theirs, *files], env)
             ncpu.append(t * 1e3)
+            nwall.append(w * 1e3)
             ncompute.append(json.loads(out)["compute_ms"])
         med = statistics.median
         keys = stages[0].keys()
         st = ", ".join(f"{k} {med(s[k] for s in stages):.2f}" for k in keys)
         print(f"| {name} | {med(cpu):.1f} | {med(ncpu):.1f} | {med(ncpu) / med(cpu):.1f}× | "
+              f"{med(wall):.1f} | {med(nwall):.1f} | {med(nwall) / med(wall):.1f}× | "
               f"{med(compute):.2f} | {med(ncompute):.1f} | {med(ncompute) / med(compute):.1f}× | "
               f"{st} |")
 
