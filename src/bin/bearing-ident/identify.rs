@@ -351,47 +351,59 @@ fn settings(
     Ok((identifier, segment_len))
 }
 
-/// Identifies the records of `files`, the first file's already read (`first`, all its
-/// records): streamed one at a time (memory holds one record plus band-line spectra, however
-/// many files), or all together for a stepped-sine test.
+/// The records to identify: the first file's (read on this thread) followed by the others,
+/// parsed ahead on worker threads; or every file's, read already (for the Welch choice).
+pub(crate) enum Files {
+    Streamed {
+        first: Vec<Record>,
+        ahead: ReadAhead,
+    },
+    Read(Vec<Record>),
+}
+
+/// Identifies the records of `files` (read from `paths`): streamed one at a time (memory holds one record plus
+/// band-line spectra, however many files), or all together for a stepped-sine test.
+/// `reading` gathers the time spent waiting for files.
 fn run(
     args: &IdentifyArgs,
     identifier: &Identifier,
     excitation: Excitation,
-    first: Vec<Record>,
-    files: &[PathBuf],
+    paths: &[PathBuf],
+    files: Files,
     reading: &mut std::time::Duration,
     labels: &mut Vec<String>,
 ) -> Result<Identification, Failure> {
-    let layout = layout(args)?;
+    let (first, mut ahead) = match files {
+        Files::Read(records) => {
+            labels.extend(records.iter().map(|r| r.label().to_owned()));
+            let records = records.into_iter().map(Ok);
+            return identify_records(args, identifier, excitation, records);
+        }
+        Files::Streamed { first, ahead } => (first, ahead),
+    };
     let bar = indicatif::ProgressBar::with_draw_target(
-        Some(files.len() as u64),
+        Some(paths.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
     // The first file is read already (a Universal File may hold several records, one per
-    // load case): the workers hand it over empty. The others are parsed ahead on worker
-    // threads, in order.
-    std::thread::scope(|scope| {
-        let mut ahead = ReadAhead::spawn(scope, files, &layout);
-        let rest = (0..files.len()).flat_map(|i| {
-            let t = Instant::now();
-            bar.set_message(files[i].display().to_string());
-            let records = match ahead.next(i) {
-                Ok(r) => r.into_iter().map(Ok).collect(),
-                Err(e) => vec![Err(e)],
-            };
-            bar.inc(1);
-            *reading += t.elapsed();
-            records
-        });
-        let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
-            if let Ok(r) = r {
-                labels.push(r.label().to_owned());
-            }
-        });
-        identify_records(args, identifier, excitation, records)
-    })
-    .inspect(|_| bar.finish_and_clear())
+    // load case): the workers hand it over empty. The others are taken in order.
+    let rest = (0..paths.len()).flat_map(|i| {
+        let t = Instant::now();
+        bar.set_message(paths[i].display().to_string());
+        let records = match ahead.next(i) {
+            Ok(r) => r.into_iter().map(Ok).collect(),
+            Err(e) => vec![Err(e)],
+        };
+        bar.inc(1);
+        *reading += t.elapsed();
+        records
+    });
+    let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
+        if let Ok(r) = r {
+            labels.push(r.label().to_owned());
+        }
+    });
+    identify_records(args, identifier, excitation, records).inspect(|_| bar.finish_and_clear())
 }
 
 /// Identifies `records` as they arrive, or all together for a stepped-sine test.
@@ -422,14 +434,32 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
     crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
     let start = Instant::now();
-    let first_file = read_file(&args.files[0], &layout)?;
+    std::thread::scope(|scope| {
+        // The files after the first are parsed on worker threads from the start, while this
+        // thread reads the first and settles the settings (`--nonlinear` reads its own).
+        let ahead = args
+            .nonlinear
+            .is_none()
+            .then(|| ReadAhead::spawn(scope, &args.files, &layout));
+        identify_files(args, &layout, start, ahead)
+    })
+}
+
+/// [`identify`] once the workers (if any) are parsing.
+fn identify_files(
+    args: &IdentifyArgs,
+    layout: &Layout,
+    start: Instant,
+    ahead: Option<ReadAhead>,
+) -> Result<(), Failure> {
+    let first_file = read_file(&args.files[0], layout)?;
     let first = &first_file[0];
     let crest = if args.excitation == ExcitationArg::Auto {
         // A flat force (a hammer hit that did not register) says nothing of the excitation:
         // the library decides from the first record with a force, reading no further.
         let rest = args.files[1..]
             .iter()
-            .map(|path| read_record(path, &layout).map(Cow::Owned));
+            .map(|path| read_record(path, layout).map(Cow::Owned));
         deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?
     } else {
         crest_factor(first)
@@ -439,28 +469,36 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .excitation
         .kind()
         .unwrap_or_else(|| Excitation::from_crest_factor(crest));
-    if let Some(terms) = &args.nonlinear {
-        return nonlinear::run(args, terms, &layout, excitation, first_file);
-    }
+    let (Some(ahead), None) = (ahead, &args.nonlinear) else {
+        let terms = args
+            .nonlinear
+            .as_ref()
+            .expect("no workers only for --nonlinear");
+        return nonlinear::run(args, terms, layout, excitation, first_file);
+    };
     nonlinear::linear_only(args)?;
     let (identifier, segment_len) = settings(args, excitation, first)?;
-    let (identifier, segment_len, welch_choice) = welch::choose(
+    let sample_rate = first.sample_rate();
+    let files = Files::Streamed {
+        first: first_file,
+        ahead,
+    };
+    let (identifier, segment_len, welch_choice, files) = welch::choose(
         args,
         identifier,
         segment_len,
         excitation,
-        &first_file,
-        &layout,
+        files,
+        &mut reading,
     )?;
-    let sample_rate = first.sample_rate();
     // The labels of the records identified: the files, or a file's load cases for a UFF.
     let mut labels = Vec::new();
     let id = run(
         args,
         &identifier,
         excitation,
-        first_file,
         &args.files,
+        files,
         &mut reading,
         &mut labels,
     )?;
@@ -498,7 +536,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             .files
             .iter()
             .take(PLOTTED_FILES)
-            .map(|path| read_record(path, &layout))
+            .map(|path| read_record(path, layout))
             .collect::<bearing_ident::Result<Vec<_>>>()?;
         let checks = (excitation == Excitation::Impact).then(ImpactChecks::default);
         write_report(dir, &id, &records, &context, None, checks)?;

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use bearing_ident::excitation::Excitation;
 use bearing_ident::{Baseline, Identifier};
 
-use super::{IdentifyArgs, layout, run};
+use super::{Files, IdentifyArgs, layout, run};
 use crate::failure::{Failure, invalid};
-use crate::read::read_file;
+use crate::read::{ReadAhead, read_file};
 
 /// The dry-structure baseline: identified from a directory of CSV records with the same
 /// settings, or read back from an earlier `identify --json` result.
@@ -35,17 +35,22 @@ pub(super) fn baseline(
                 path.display()
             )));
         }
-        let first = read_file(&files[0], &layout(args)?)?;
-        let mut reading = std::time::Duration::ZERO;
-        let id = run(
-            args,
-            identifier,
-            excitation,
-            first,
-            &files,
-            &mut reading,
-            &mut Vec::new(),
-        )?;
+        let layout = layout(args)?;
+        let id = std::thread::scope(|scope| {
+            let ahead = ReadAhead::spawn(scope, &files, &layout);
+            let first = read_file(&files[0], &layout)?;
+            let mut reading = std::time::Duration::ZERO;
+            let streamed = Files::Streamed { first, ahead };
+            run(
+                args,
+                identifier,
+                excitation,
+                &files,
+                streamed,
+                &mut reading,
+                &mut Vec::new(),
+            )
+        })?;
         return Ok(Baseline::from(&id));
     }
     // Read at most the limit (a sparse file or /dev/zero must not fill memory).

@@ -2,16 +2,18 @@
 //! first fit ([`choose_welch`]), reported in the JSON as `welch_choice`.
 
 use bearing_ident::excitation::{Excitation, WelchChoice, choose_welch};
-use bearing_ident::records::Record;
+use std::time::{Duration, Instant};
+
 use bearing_ident::{Identifier, Segmentation};
 
-use super::IdentifyArgs;
+use super::{Files, IdentifyArgs};
 use crate::failure::Failure;
-use crate::read::{Layout, read_file};
 
 /// For random excitation cut into Welch segments with no `--nperseg`: every record read (the
-/// first file's are at hand), a first fit, and the identifier with the chosen segment length;
-/// otherwise the identifier and segment length as they were, and no choice.
+/// first file's are at hand, the others taken from the workers, `reading` gathering the wait),
+/// a first fit, and the identifier with the chosen segment length, and the records for the
+/// identification (not read again); otherwise the identifier, segment length and files as they
+/// were, and no choice.
 ///
 /// # Errors
 /// Reading a file, and the first fit's errors.
@@ -20,17 +22,21 @@ pub fn choose(
     identifier: Identifier,
     segment_len: Option<usize>,
     excitation: Excitation,
-    first_file: &[Record],
-    layout: &Layout,
-) -> Result<(Identifier, Option<usize>, Option<WelchChoice>), Failure> {
+    files: Files,
+    reading: &mut Duration,
+) -> Result<(Identifier, Option<usize>, Option<WelchChoice>, Files), Failure> {
     // Random records are cut into Welch segments unless paired sets took whole records.
-    if excitation != Excitation::Random || args.nperseg.is_some() || segment_len.is_none() {
-        return Ok((identifier, segment_len, None));
+    let needed = excitation == Excitation::Random && args.nperseg.is_none();
+    let (first, mut ahead) = match files {
+        Files::Streamed { first, ahead } if needed && segment_len.is_some() => (first, ahead),
+        files => return Ok((identifier, segment_len, None, files)),
+    };
+    let mut records = first;
+    let t = Instant::now();
+    for i in 1..args.files.len() {
+        records.extend(ahead.next(i)?);
     }
-    let mut records = first_file.to_vec();
-    for path in &args.files[1..] {
-        records.extend(read_file(path, layout)?);
-    }
+    *reading += t.elapsed();
     // The first fit is for the modes only: IVF, no resampled error bars.
     let first = identifier
         .clone()
@@ -40,5 +46,10 @@ pub fn choose(
     let identifier = identifier.segmentation(Segmentation::Welch {
         len: choice.nperseg,
     });
-    Ok((identifier, Some(choice.nperseg), Some(choice)))
+    Ok((
+        identifier,
+        Some(choice.nperseg),
+        Some(choice),
+        Files::Read(records),
+    ))
 }
