@@ -82,6 +82,12 @@ pub(crate) fn count_within(x: &[f64], c: f64, t: f64) -> usize {
 
 /// `(m, |x_m − c|)` at the largest `|x − c|`, the first such `m` (`(0, 0)` for none).
 pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
+    simd(|| peak_in(x, c))
+}
+
+/// [`peak`]'s pass.
+#[inline(always)]
+fn peak_in(x: &[f64], c: f64) -> (usize, f64) {
     let mut best = [(0, 0.0_f64); LANES];
     let chunks = x.chunks_exact(LANES);
     let rest = chunks.remainder();
@@ -107,6 +113,22 @@ pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
             std::cmp::Ordering::Equal if b.0 < a.0 => b,
             _ => a,
         })
+}
+
+/// `f64::total_cmp`'s order as unsigned integers, one key per sample, into `keys` (cleared
+/// first): a negative value has every bit flipped, any other its sign bit.
+pub(crate) fn total_order_keys(x: &[f64], keys: &mut Vec<u64>) {
+    keys.clear();
+    simd(|| {
+        keys.extend(x.iter().map(|v| {
+            let bits = v.to_bits();
+            if bits >> 63 == 1 {
+                !bits
+            } else {
+                bits | 1 << 63
+            }
+        }))
+    });
 }
 
 /// Whether every sample is finite (the lanes keep `|x| ≤ f64::MAX`; a NaN fails it too).

@@ -15,14 +15,15 @@ use super::{ImpactChecks, MAD_TO_SIGMA, NOISE_SIGMAS, QUIET_SAMPLES, RETURN_FRAC
 /// has no peak.
 const SQUARES_TO_ZERO: f64 = 1e-150;
 
-/// `f64::total_cmp`'s order as unsigned integers: a negative value has every bit flipped,
-/// any other its sign bit.
+/// The key of one value ([`lanes::total_order_keys`] for many).
+#[cfg(test)]
 fn total_order_key(v: f64) -> u64 {
-    let bits = v.to_bits();
-    bits ^ (((bits as i64 >> 63) as u64) | (1 << 63))
+    let mut key = Vec::with_capacity(1);
+    lanes::total_order_keys(&[v], &mut key);
+    key[0]
 }
 
-/// The value of a [`total_order_key`].
+/// The value of a key of [`lanes::total_order_keys`].
 fn from_total_order_key(key: u64) -> f64 {
     let flip = if key >> 63 == 1 { 1 << 63 } else { u64::MAX };
     f64::from_bits(key ^ flip)
@@ -92,7 +93,8 @@ pub(super) fn double_hit(
     // non-negative deviations their bits): the same elements as selecting on the floats, with
     // cheaper comparisons.
     let mid = n / 2;
-    let mut keys: Vec<u64> = f.iter().map(|&v| total_order_key(v)).collect();
+    let mut keys = Vec::with_capacity(n);
+    lanes::total_order_keys(f, &mut keys);
     let baseline = from_total_order_key(select::select(&mut keys, mid));
     let (p, peak) = lanes::peak(f, baseline);
     let rms = (lanes::sum_sq_dev(f, baseline) / n as f64).sqrt();
@@ -226,7 +228,8 @@ mod tests {
             let f: Vec<f64> = (0..n)
                 .map(|m| ((m * 37 % 101) as f64 - 50.0) * 0.1)
                 .collect();
-            let mut keys: Vec<u64> = f.iter().map(|&v| total_order_key(v)).collect();
+            let mut keys = Vec::new();
+            lanes::total_order_keys(&f, &mut keys);
             let by_key = from_total_order_key(*keys.select_nth_unstable(n / 2).1);
             assert_eq!(by_key.to_bits(), median(&mut f.clone()).to_bits());
         }

@@ -34,6 +34,8 @@ pub(crate) use scan::Scan;
 
 use std::fmt;
 
+use faer::traits::pulp::{Arch, Simd, WithSimd};
+
 use crate::error::{Channel, Error, Result, Warning};
 use crate::records::Record;
 
@@ -425,6 +427,7 @@ struct Run {
 }
 
 impl Run {
+    #[inline(always)]
     fn push(&mut self, i: usize, hit: bool) {
         if !hit {
             self.current = 0;
@@ -437,6 +440,42 @@ impl Run {
         if self.current > self.longest {
             (self.longest, self.longest_start) = (self.current, self.current_start);
         }
+    }
+}
+
+/// The longest runs of samples at or above `top` and at or below `bottom` ([`clipping`]), as
+/// an operation of faer's SIMD dispatch (a named type, so that the pass is compiled for the
+/// instruction set chosen).
+struct ExtremeRuns<'a> {
+    x: &'a [f64],
+    top: f64,
+    bottom: f64,
+}
+
+impl WithSimd for ExtremeRuns<'_> {
+    type Output = (Run, Run);
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _: S) -> (Run, Run) {
+        let Self { x, top, bottom } = self;
+        let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
+        // Most blocks hold no sample near either extreme: one (vectorised) test clears a block.
+        for (k, block) in x.chunks(CLIP_BLOCK).enumerate() {
+            if !block
+                .iter()
+                .fold(false, |a, &v| a | (v >= top) | (v <= bottom))
+            {
+                at_hi.current = 0;
+                at_lo.current = 0;
+                continue;
+            }
+            for (j, &v) in block.iter().enumerate() {
+                let i = k * CLIP_BLOCK + j;
+                at_hi.push(i, v >= top);
+                at_lo.push(i, v <= bottom);
+            }
+        }
+        (at_hi, at_lo)
     }
 }
 
@@ -462,23 +501,7 @@ fn clipping(
     let step = scan.step;
     let tol = CLIP_TOLERANCE * range;
     let (top, bottom) = (hi - tol, lo + tol);
-    let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
-    // Most blocks hold no sample near either extreme: one (vectorised) test clears a block.
-    for (k, block) in x.chunks(CLIP_BLOCK).enumerate() {
-        if !block
-            .iter()
-            .fold(false, |a, &v| a | (v >= top) | (v <= bottom))
-        {
-            at_hi.current = 0;
-            at_lo.current = 0;
-            continue;
-        }
-        for (j, &v) in block.iter().enumerate() {
-            let i = k * CLIP_BLOCK + j;
-            at_hi.push(i, v >= top);
-            at_lo.push(i, v <= bottom);
-        }
-    }
+    let (at_hi, at_lo) = Arch::new().dispatch(ExtremeRuns { x, top, bottom });
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
         // A smooth peak of a quantised signal sits on its top code for a few samples too, but
         // is flanked on both sides by samples one step below: not an overload.
