@@ -60,11 +60,9 @@ const QUIET_MARGIN: f64 = 1e-12;
 /// `1 + P/σ`. Kept clear of rounding by a relative margin; `false` whenever `σ` or `P` is
 /// not a positive finite number. Random and periodic forces (crest factors of 3–5) skip the
 /// medians of the double-hit check this way.
-fn crest_factor_below(f: &[f64], scan: &Scan, threshold: f64) -> bool {
+fn crest_factor_below(scan: &Scan, threshold: f64) -> bool {
     const MARGIN: f64 = 1e-9;
-    let n = f.len() as f64;
-    let mean = scan.sum / n;
-    let sigma = (lanes::sum_sq_dev(f, mean) / n).sqrt();
+    let (mean, sigma) = (scan.mean, scan.rms);
     let p = (scan.hi - mean).max(mean - scan.lo);
     let usable = sigma.is_normal() && p.is_finite();
     usable && (p + sigma) * (1.0 + MARGIN) < threshold * sigma
@@ -86,7 +84,7 @@ pub(super) fn double_hit(
         return None;
     }
     let n = f.len();
-    if crest_factor_below(f, scan, checks.min_crest_factor) {
+    if crest_factor_below(scan, checks.min_crest_factor) {
         return None;
     }
     // Both medians select on integer keys of the same order (`total_cmp`'s, and for the
@@ -145,17 +143,21 @@ mod tests {
     use crate::quality::median;
     use crate::quality::tests::pulse;
 
-    /// The bound of [`crest_factor_below`] never excludes a crest factor that is reached: at
-    /// a threshold equal to the true crest factor about the median, it must not answer "below".
-    #[test]
-    fn crest_factor_bound_holds_on_skewed_and_offset_signals() {
-        let mut seed = 11u64;
-        let mut uniform = || {
+    /// Uniform numbers in `[0, 1)` from a 64-bit linear congruential generator seeded by `seed`.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed = seed
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / 2f64.powi(53)
-        };
+        }
+    }
+
+    /// The bound of [`crest_factor_below`] never excludes a crest factor that is reached: at
+    /// a threshold equal to the true crest factor about the median, it must not answer "below".
+    #[test]
+    fn crest_factor_bound_holds_on_skewed_and_offset_signals() {
+        let mut uniform = uniform(11);
         let n = 4000;
         let noise: Vec<f64> = (0..n)
             .map(|_| uniform() + uniform() + uniform() - 1.5)
@@ -185,11 +187,11 @@ mod tests {
             let rms = (f.iter().map(|v| (v - b) * (v - b)).sum::<f64>() / n as f64).sqrt();
             let crest = peak / rms;
             assert!(
-                !crest_factor_below(f, &scan, crest),
+                !crest_factor_below(&scan, crest),
                 "signal {k}: crest {crest}"
             );
             assert!(
-                crest_factor_below(f, &scan, 2.0 * crest + 2.0),
+                crest_factor_below(&scan, 2.0 * crest + 2.0),
                 "signal {k}: loose"
             );
         }
@@ -239,13 +241,8 @@ mod tests {
     /// over noise from negligible to dominant (either side of the shortcut's test).
     #[test]
     fn quiet_level_is_that_of_the_two_medians() {
-        let mut seed = 3u64;
-        let mut noise = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / 2f64.powi(53) - 0.5
-        };
+        let mut uniform = uniform(3);
+        let mut noise = || uniform() - 0.5;
         let mut shortcuts = 0;
         for level in [0.0, 1e-6, 1e-3, 3e-3, 1e-2, 0.03, 0.1, 1.0] {
             for n in [9000, 9001] {

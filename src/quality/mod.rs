@@ -496,7 +496,7 @@ fn clipping(
     if range <= 0.0 {
         return;
     }
-    let mean = scan.sum / x.len() as f64;
+    let mean = scan.mean;
     // The quantisation step: the smallest non-zero change between consecutive samples.
     let step = scan.step;
     let tol = CLIP_TOLERANCE * range;

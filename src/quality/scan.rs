@@ -2,22 +2,25 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
-use crate::lanes::LANES;
+use crate::lanes::{self, LANES};
 use crate::records::Record;
 
-/// What one pass over a channel gives the record checks and the screening: its extremes and
-/// sum, the smallest non-zero change between consecutive samples, and a digest of its samples'
-/// bits. The pass runs in [`LANES`] independent lanes (sample `m` in lane `m mod LANES`, see
-/// [`crate::lanes`]): extremes, smallest change and digest are those of a left-to-right pass,
-/// the sum rounds as a lane-wise sum does.
+/// What two passes over a channel give the record checks and the screening: its extremes and
+/// mean, the smallest non-zero change between consecutive samples and a digest of its samples'
+/// bits (the first pass), and its RMS about the mean (the second). The passes run in [`LANES`]
+/// independent lanes (sample `m` in lane `m mod LANES`, see [`crate::lanes`]): extremes,
+/// smallest change and digest are those of a left-to-right pass, the sums round as lane-wise
+/// sums do.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Scan {
     /// `min x`.
     pub(crate) lo: f64,
     /// `max x`.
     pub(crate) hi: f64,
-    /// `Σ x`, lane-wise.
-    pub(crate) sum: f64,
+    /// `x̄ = Σ x / N` (0 for no samples).
+    pub(crate) mean: f64,
+    /// `√(Σ (x − x̄)² / N)` (0 for no samples).
+    pub(crate) rms: f64,
     /// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none.
     pub(crate) step: f64,
     /// Four interleaved lanes of `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each
@@ -51,11 +54,17 @@ impl Scan {
             .collect()
     }
 
-    /// One pass over `x`, each of its folds in [`LANES`] lanes (kept as separate arrays, so
+    /// The first pass over `x` (its `mean` still the sum, its `rms` 0), each of its folds in [`LANES`] lanes (kept as separate arrays, so
     /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
     /// it), so comparisons stand in for `f64::min`/`max`.
     pub(crate) fn new(x: &[f64]) -> Self {
-        Arch::new().dispatch(Pass(x))
+        let mut scan = Arch::new().dispatch(Pass(x));
+        if !x.is_empty() {
+            let n = x.len() as f64;
+            scan.mean /= n;
+            scan.rms = (lanes::sum_sq_dev(x, scan.mean) / n).sqrt();
+        }
+        scan
     }
 
     #[inline(always)]
@@ -104,7 +113,8 @@ impl Scan {
         Self {
             lo: min4(lo),
             hi: hi[0].max(hi[1]).max(hi[2].max(hi[3])),
-            sum: (sum[0] + sum[1]) + (sum[2] + sum[3]),
+            mean: (sum[0] + sum[1]) + (sum[2] + sum[3]),
+            rms: 0.0,
             step: min4(step),
             digest,
         }

@@ -4,7 +4,6 @@
 use std::hash::{DefaultHasher, Hash, Hasher};
 
 use crate::error::Channel;
-use crate::lanes;
 use crate::quality::Scan;
 use crate::records::{Record, Response};
 
@@ -44,8 +43,7 @@ impl Summary {
     }
 
     /// The summary from the record's dominant force and the [`Scan`]s of its channels (forces,
-    /// then displacements), done once and shared with the record checks: one more pass per
-    /// channel, for its RMS.
+    /// then displacements, their RMS included), done once and shared with the record checks.
     pub(super) fn scanned(record: &Record, dominant: usize, scans: &[Scan]) -> Self {
         let n = record.dofs();
         let mut hasher = DefaultHasher::new();
@@ -57,10 +55,8 @@ impl Summary {
         Self {
             label: record.label().to_owned(),
             dominant,
-            force_rms: (0..n).map(|c| rms(record.force(c), &scans[c])).collect(),
-            displacement_rms: (0..n)
-                .map(|c| rms(record.displacement(c), &scans[n + c]))
-                .collect(),
+            force_rms: scans[..n].iter().map(|s| s.rms).collect(),
+            displacement_rms: scans[n..].iter().map(|s| s.rms).collect(),
             responses: record.responses().to_vec(),
             hash: hasher.finish(),
             flat: Vec::new(),
@@ -111,12 +107,6 @@ impl Summary {
             .map(Channel::Force)
             .chain((0..n).map(Channel::Displacement))
     }
-}
-
-/// RMS of `x` about its mean (`scan.sum / N`), summed lane-wise ([`lanes::sum_sq_dev`]).
-fn rms(x: &[f64], scan: &Scan) -> f64 {
-    let mean = scan.sum / x.len() as f64;
-    (lanes::sum_sq_dev(x, mean) / x.len() as f64).sqrt()
 }
 
 /// The value of a flat channel (from its [`Scan`]), `None` if it varies.

@@ -469,7 +469,7 @@ fn identify_files(
         .excitation
         .kind()
         .unwrap_or_else(|| Excitation::from_crest_factor(crest));
-    let (Some(ahead), None) = (ahead, &args.nonlinear) else {
+    let Some(ahead) = ahead else {
         let terms = args
             .nonlinear
             .as_ref()
