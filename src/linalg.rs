@@ -346,6 +346,15 @@ impl Conditioner {
         }
     }
 
+    /// [`Conditioner::condition_number`] of each of the `out.len()` column-major `n × n`
+    /// matrices stored back to back in `a`.
+    pub(crate) fn condition_numbers(&mut self, a: &[c64], out: &mut [f64]) {
+        let nn = self.n * self.n;
+        for (o, m) in out.iter_mut().zip(a.chunks_exact(nn)) {
+            *o = self.condition_number(m);
+        }
+    }
+
     /// Condition number `σ_max / σ_min` of the column-major `n × n` complex matrix `a` (`∞`
     /// when `σ_min = 0`, NaN if an entry is not finite or faer's SVD does not converge).
     pub(crate) fn condition_number(&mut self, a: &[c64]) -> f64 {

@@ -3,10 +3,13 @@
 //! running totals. The finishes live beside their estimators ([`paired`](super::paired),
 //! [`cross`](super::cross)).
 
+use std::sync::OnceLock;
+
 use crate::error::SpectrumKind;
 use faer::c64;
 
 use super::conversion::{response_at_dc, to_displacement};
+use super::sets::SetTable;
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Channel, Error, Result};
 use crate::records::{Record, check_against, common_shape};
@@ -111,6 +114,9 @@ pub struct FrfBuilder {
     pub(super) keep_partials: bool,
     /// The first record with every force or every displacement channel flat.
     pub(super) dead: Option<Error>,
+    /// Paired sets: each set's `cond(X_s)` and `H_s` per line, once asked for
+    /// ([`FrfBuilder::set_table`]); cleared when records come in or go out.
+    pub(super) sets: OnceLock<SetTable>,
 }
 
 impl FrfBuilder {
@@ -140,6 +146,7 @@ impl FrfBuilder {
             averages: 0,
             keep_partials: false,
             dead: None,
+            sets: OnceLock::new(),
         }
     }
 
@@ -219,6 +226,7 @@ impl FrfBuilder {
         if !self.can_remove() || indices.is_empty() {
             return;
         }
+        self.sets.take();
         let mut index = 0;
         self.gathered.retain(|_| {
             index += 1;
@@ -408,6 +416,7 @@ impl FrfBuilder {
                 spectra
             }
         };
+        self.sets.take();
         self.gathered.push(Gathered {
             label: record.label().to_owned(),
             dominant: record.dominant_force(),

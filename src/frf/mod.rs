@@ -39,6 +39,7 @@ mod hv;
 mod moments;
 mod paired;
 mod replicates;
+mod sets;
 mod statistics;
 mod variance;
 

@@ -5,7 +5,7 @@
 //! [`FrfBuilder`] and the drive frequencies of [`stepped_sine`](crate::stepped::stepped_sine)
 //! both go through it.
 
-use faer::{Mat, MatRef, c64};
+use faer::c64;
 
 use super::builder::{Contribution, FrfBuilder, Plan};
 use super::coherence::SpectraCoherence;
@@ -23,6 +23,16 @@ pub(crate) enum Share {
     Times(f64),
     /// `H_s / d` (`d = S` for a plain mean).
     Over(f64),
+}
+
+impl Share {
+    /// `h += share · hs`.
+    pub(crate) fn add(self, h: &mut [c64], hs: &[c64]) {
+        match self {
+            Share::Times(w) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b * w),
+            Share::Over(d) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b / d),
+        }
+    }
 }
 
 /// The paired-set kernel, with its buffers for `n` degrees of freedom: per set,
@@ -98,23 +108,11 @@ impl PairedKernel {
             self.load(columns);
             worst = worst.max(self.conditioner.condition_number(&self.x));
             let hs = self.impedance()?;
-            match share {
-                Share::Times(w) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b * w),
-                Share::Over(d) => h.iter_mut().zip(hs).for_each(|(a, b)| *a += b / d),
-            }
+            share.add(h, hs);
             each(hs);
         }
         Some(worst)
     }
-}
-
-/// Each paired set's own impedance per band line ([`FrfBuilder::set_impedances`]).
-#[derive(Debug, Clone)]
-pub(crate) struct SetImpedances {
-    /// Records (push order) of each set, one per direction.
-    pub(crate) records: Vec<Vec<usize>>,
-    /// `[set][line]`: `H_s`, `None` where the set's displacements are singular.
-    pub(crate) impedances: Vec<Vec<Option<Mat<c64>>>>,
 }
 
 /// Records (push order) per direction.
@@ -139,48 +137,6 @@ impl FrfBuilder {
             )),
             Contribution::Cross { .. } => None,
         }
-    }
-
-    /// Each paired set's own impedance `H_s = F_s X_s⁻¹` on every band line, `None` where
-    /// `X_s` is singular, with the records (push order) of each set, one per direction.
-    /// Empty unless paired sets.
-    ///
-    /// # Errors
-    /// As [`FrfBuilder::excitations`].
-    pub(crate) fn set_impedances(&self, assignment: &Assignment) -> Result<SetImpedances> {
-        let mut out = SetImpedances {
-            records: Vec::new(),
-            impedances: Vec::new(),
-        };
-        let Some((plan, _)) = self.plan.as_ref() else {
-            return Ok(out);
-        };
-        if self.estimator != Estimator::PairedSets {
-            return Ok(out);
-        }
-        let n = plan.n;
-        let by_direction = by_direction(&self.excitations(assignment)?, n);
-        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
-        let mut kernel = PairedKernel::new(n);
-        for s in 0..sets {
-            let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
-            let mut lines = Vec::with_capacity(plan.lines.len());
-            for l in 0..plan.lines.len() {
-                let columns: Option<Vec<_>> =
-                    records.iter().map(|&r| self.spectra_at(r, l, n)).collect();
-                let Some(columns) = columns else {
-                    return Ok(out);
-                };
-                lines.push(
-                    kernel
-                        .set_impedance(columns)
-                        .map(|h| MatRef::from_column_major_slice(h, n, n).to_owned()),
-                );
-            }
-            out.records.push(records);
-            out.impedances.push(lines);
-        }
-        Ok(out)
     }
 
     /// Paired sets from the gathered band-line spectra, replicate (set) `s` weighted by
@@ -218,27 +174,29 @@ impl FrfBuilder {
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let (mut h, mut g) = (vec![zero; nn], vec![zero; nn]);
-        let mut kernel = PairedKernel::new(n);
+        let table = self.set_table(excitation);
         let mut inverter = linalg::Inverter::new(n);
         let mut coherence = SpectraCoherence::new(n);
         let mut per_set = Vec::with_capacity(if with_variance { used.len() * nn } else { 0 });
         let mut variance = vec![0.0; nn];
-        for (l, &k) in plan.lines.iter().enumerate() {
+        'lines: for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             per_set.clear();
-            let sets_at_line = used.iter().map(|&s| {
-                let columns = by_direction.iter().map(move |dir| spectra(dir[s], l));
-                (columns, Share::Times(weight(s) / total_weight))
-            });
-            let keep = |hs: &[c64]| {
+            // `H = Σ_s (w_s/Σw) H_s` in set order, and the worst `cond(X_s)`, as
+            // [`PairedKernel::average`] forms them; no line where some `X_s` is singular.
+            h.fill(zero);
+            let mut worst = 0.0_f64;
+            for &s in &used {
+                let Some(hs) = table.impedance(s, l) else {
+                    frf.dropped_hz.push(freq);
+                    continue 'lines;
+                };
+                worst = worst.max(table.condition(s, l));
+                Share::Times(weight(s) / total_weight).add(&mut h, hs);
                 if with_variance {
                     per_set.extend_from_slice(hs);
                 }
-            };
-            let Some(worst) = kernel.average(sets_at_line, &mut h, keep) else {
-                frf.dropped_hz.push(freq);
-                continue;
-            };
+            }
             g.copy_from_slice(&h);
             if inverter.invert(&mut g) {
                 frf.push_line(freq, &h, &g, worst);

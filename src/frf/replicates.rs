@@ -12,11 +12,14 @@
 //! the order of the full finish, not by subtracting the left-out term from the total: every
 //! replicate is then bit for bit the one [`FrfBuilder`] would finish from the same weights.
 
+use std::borrow::Cow;
+
 use faer::c64;
 
 use super::builder::{Contribution, FrfBuilder, Plan};
 use super::cross::{LineSums, LineWork, UNEXCITED_RATIO, line_estimator};
-use super::paired::{PairedKernel, by_direction};
+use super::paired::Share;
+use super::sets::SetTable;
 use super::{Assignment, Estimator, Frf};
 use crate::error::{Error, Result};
 use crate::spectra::Segmentation;
@@ -30,15 +33,16 @@ pub(crate) struct Replicates<'a> {
     plan: &'a Plan,
     /// `(plan line index, frequency in Hz, condition number)` of every line of the full `Frf`.
     lines: Vec<(usize, f64, f64)>,
-    /// Paired sets: `H_s` per `[set][line]`, `n × n` column-major each; empty otherwise.
-    per_set: Vec<c64>,
+    /// Paired sets: each set's `H_s` per line ([`FrfBuilder::set_table`]); empty otherwise.
+    sets: Cow<'a, SetTable>,
     count: usize,
 }
 
 impl FrfBuilder {
     /// What the replicates of this builder share, on the lines of `full` (this builder's own
     /// finish, possibly with lines left out since). Paired sets: each set's `H_s = F_s X_s⁻¹`
-    /// at each of those lines, computed here once. Cross-spectral estimators need
+    /// at each of those lines, from the builder's [`SetTable`] (computed once, by the
+    /// screening or the finish). Cross-spectral estimators need
     /// [`FrfBuilder::keeping_partials`] (no replicate without).
     ///
     /// # Errors
@@ -49,42 +53,30 @@ impl FrfBuilder {
         full: &Frf,
     ) -> Result<Replicates<'_>> {
         let (plan, _) = self.plan.as_ref().ok_or(Error::NoRecords)?;
-        let n = plan.n;
         let lines: Vec<(usize, f64, f64)> = plan
             .lines_in(full)
             .map(|(l, freq, at)| (l, freq, full.condition_numbers()[at]))
             .collect();
         let count = self.replicates(assignment)?;
-        let mut per_set = Vec::new();
-        if self.estimator == Estimator::PairedSets {
-            let by_direction = by_direction(&self.excitations(assignment)?, n);
-            let mut kernel = PairedKernel::new(n);
-            let nn = n * n;
-            per_set.reserve(count * lines.len() * nn);
-            for s in 0..count {
-                for &(l, freq, _) in &lines {
-                    let columns = by_direction.iter().map(|dir| {
-                        self.spectra_at(dir[s], l, n)
-                            .expect("paired builders gather spectra")
-                    });
-                    match kernel.set_impedance(columns) {
-                        Some(h) => per_set.extend_from_slice(h),
-                        // The full finish keeps a line only where every set is regular.
-                        None => {
-                            return Err(Error::NonFiniteResult {
-                                stage: crate::error::Quantity::Impedance,
-                                freq_hz: freq,
-                            });
-                        }
-                    }
-                }
+        let excitation = match self.estimator {
+            Estimator::PairedSets => self.excitations(assignment)?,
+            _ => Vec::new(),
+        };
+        let sets = self.set_table(&excitation);
+        for s in 0..sets.sets() {
+            // The full finish keeps a line only where every set is regular.
+            if let Some(&(_, freq, _)) = lines.iter().find(|l| sets.impedance(s, l.0).is_none()) {
+                return Err(Error::NonFiniteResult {
+                    stage: crate::error::Quantity::Impedance,
+                    freq_hz: freq,
+                });
             }
         }
         Ok(Replicates {
             builder: self,
             plan,
             lines,
-            per_set,
+            sets,
             count,
         })
     }
@@ -116,19 +108,16 @@ impl Replicates<'_> {
     /// [`PairedKernel::average`] sums), then `G = H⁻¹`.
     fn paired(&self, weights: &[f64], frf: &mut Frf) {
         let n = self.plan.n;
-        let nn = n * n;
         let weight = |s: usize| weights.get(s).copied().unwrap_or(0.0);
         let used: Vec<usize> = (0..self.count).filter(|&s| weight(s) > 0.0).collect();
         let total_weight: f64 = used.iter().map(|&s| weight(s)).sum();
         frf.averages = used.len();
         let mut work = LineWork::new(n);
-        let lines = self.lines.len();
-        for (i, &(_, freq, cond)) in self.lines.iter().enumerate() {
+        for &(l, freq, cond) in &self.lines {
             work.h.fill(c64::new(0.0, 0.0));
             for &s in &used {
-                let w = weight(s) / total_weight;
-                let hs = &self.per_set[(s * lines + i) * nn..(s * lines + i + 1) * nn];
-                work.h.iter_mut().zip(hs).for_each(|(a, b)| *a += b * w);
+                let hs = self.sets.impedance(s, l).expect("checked by replicates_on");
+                Share::Times(weight(s) / total_weight).add(&mut work.h, hs);
             }
             work.g.copy_from_slice(&work.h);
             if work.inverter.invert(&mut work.g) {

@@ -40,10 +40,18 @@ impl Settings {
         reject: bool,
         warnings: &mut Vec<Warning>,
     ) -> Result<()> {
-        let sets = builder.set_impedances(&self.assignment)?;
+        let excitation = builder.excitations(&self.assignment)?;
+        let table = builder.set_table(&excitation);
+        let outliers = screening::outlier_sets_by(
+            table.sets(),
+            table.lines(),
+            table.dofs(),
+            |s, l| table.impedance(s, l),
+            checks,
+        );
         let mut out = Vec::new();
-        for o in screening::outlier_sets(&sets.impedances, checks) {
-            let members = &sets.records[o.set];
+        for o in outliers {
+            let members = &table.records[o.set];
             let labels: Vec<String> = members
                 .iter()
                 .map(|&r| builder.label(r).to_owned())
@@ -65,6 +73,7 @@ impl Settings {
                 warnings.push(warning);
             }
         }
+        drop(table);
         builder.remove(&out);
         Ok(())
     }

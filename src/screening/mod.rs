@@ -83,6 +83,7 @@ mod screener;
 mod summary;
 
 pub use outliers::{OutlierSet, outlier_sets};
+pub(crate) use outliers::outlier_sets_by;
 pub use screener::Screener;
 pub use summary::Summary;
 

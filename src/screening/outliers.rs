@@ -39,11 +39,39 @@ pub struct OutlierSet {
 /// );
 /// ```
 pub fn outlier_sets(impedances: &[Vec<Option<Mat<c64>>>], checks: &Checks) -> Vec<OutlierSet> {
-    let sets = impedances.len();
+    let lines = impedances.iter().map(Vec::len).min().unwrap_or(0);
+    let n = impedances
+        .iter()
+        .flatten()
+        .flatten()
+        .next()
+        .map_or(0, Mat::nrows);
+    let flat: Vec<Vec<Option<Vec<c64>>>> = impedances
+        .iter()
+        .map(|set| {
+            set.iter()
+                .map(|h| {
+                    h.as_ref()
+                        .map(|h| h.col_iter().flat_map(|c| c.iter().copied()).collect())
+                })
+                .collect()
+        })
+        .collect();
+    outlier_sets_by(flat.len(), lines, n, |s, l| flat[s][l].as_deref(), checks)
+}
+
+/// [`outlier_sets`] on `sets × lines` impedances given by `impedance(set, line)`, each a
+/// column-major `n × n` slice (`None` where it could not be computed).
+pub(crate) fn outlier_sets_by<'a>(
+    sets: usize,
+    lines: usize,
+    n: usize,
+    impedance: impl Fn(usize, usize) -> Option<&'a [c64]>,
+    checks: &Checks,
+) -> Vec<OutlierSet> {
     if sets < 3 {
         return Vec::new();
     }
-    let lines = impedances.iter().map(Vec::len).min().unwrap_or(0);
     let (mut far, mut tested) = (vec![0; sets], vec![0; sets]);
     // Buffers of one line, reused: the sets present and their impedances side by side
     // (`[set][element]`, column-major elements), the line's median impedance, one element's
@@ -59,12 +87,10 @@ pub fn outlier_sets(impedances: &[Vec<Option<Mat<c64>>>], checks: &Checks) -> Ve
     for l in 0..lines {
         present.clear();
         values.clear();
-        let mut n = 0;
-        for (s, h) in impedances.iter().enumerate() {
-            if let Some(h) = &h[l] {
-                n = h.nrows();
+        for s in 0..sets {
+            if let Some(h) = impedance(s, l) {
                 present.push(s);
-                values.extend(h.col_iter().flat_map(|c| c.iter().copied()));
+                values.extend_from_slice(h);
             }
         }
         if present.len() < 3 {

@@ -1,0 +1,140 @@
+//! [`SetTable`]: each paired set's own `cond(X_s)` and `H_s = F_s X_s⁻¹` (the seed's eq. 9
+//! for one set) on every band line, computed once per builder and excitation and then read by
+//! all three users: the per-line test of the sets (screening), the paired finish and the
+//! replicates of the error bars. Before, each of them inverted every `X_s` again.
+
+use std::borrow::Cow;
+
+use faer::c64;
+
+use super::Estimator;
+use super::builder::FrfBuilder;
+use super::paired::{PairedKernel, by_direction};
+use crate::linalg;
+
+/// Per paired set `s` and band line `l` (the builder's plan lines): `cond(X_s)` and
+/// `H_s = F_s X_s⁻¹`, or nothing where `X_s` is singular.
+///
+/// Built by [`FrfBuilder::set_table`]; each value is the one [`PairedKernel`] computes for the
+/// same set and line, bit for bit (the same condition number, the same inversion and product).
+#[derive(Debug, Clone)]
+pub(crate) struct SetTable {
+    /// The excitation (direction per record, push order) the sets were formed from.
+    excitation: Vec<usize>,
+    n: usize,
+    lines: usize,
+    /// Records (push order) of each set, one per direction.
+    pub(crate) records: Vec<Vec<usize>>,
+    /// `[set][line]`: `H_s`, column-major `n × n` (zeros where singular).
+    impedance: Vec<c64>,
+    /// `[set][line]`: whether `X_s` could be inverted.
+    regular: Vec<bool>,
+    /// `[set][line]`: `cond(X_s)`.
+    condition: Vec<f64>,
+}
+
+impl SetTable {
+    /// Number of complete sets (the fewest records over the directions).
+    pub(crate) fn sets(&self) -> usize {
+        self.records.len()
+    }
+
+    /// Number of band lines.
+    pub(crate) fn lines(&self) -> usize {
+        self.lines
+    }
+
+    /// Degrees of freedom.
+    pub(crate) fn dofs(&self) -> usize {
+        self.n
+    }
+
+    /// `H_s` of set `s` at line `l` (column-major), `None` where `X_s` is singular.
+    pub(crate) fn impedance(&self, s: usize, l: usize) -> Option<&[c64]> {
+        let at = s * self.lines + l;
+        let nn = self.n * self.n;
+        self.regular[at].then(|| &self.impedance[at * nn..(at + 1) * nn])
+    }
+
+    /// `cond(X_s)` of set `s` at line `l`.
+    pub(crate) fn condition(&self, s: usize, l: usize) -> f64 {
+        self.condition[s * self.lines + l]
+    }
+}
+
+impl FrfBuilder {
+    /// The [`SetTable`] of the records pushed, their sets formed by `excitation` (as
+    /// [`FrfBuilder::excitations`] resolves it). Computed on the first call and kept until the
+    /// next [`FrfBuilder::push`] or [`FrfBuilder::remove`]; a call with another excitation
+    /// computes a table of its own. Empty (no set) unless paired sets.
+    pub(crate) fn set_table(&self, excitation: &[usize]) -> Cow<'_, SetTable> {
+        if let Some(table) = self.sets.get() {
+            if table.excitation == excitation {
+                return Cow::Borrowed(table);
+            }
+            return Cow::Owned(self.compute_set_table(excitation));
+        }
+        // A racing first call would compute the same table; the first stored is kept.
+        Cow::Borrowed(
+            self.sets
+                .get_or_init(|| self.compute_set_table(excitation)),
+        )
+    }
+
+    fn compute_set_table(&self, excitation: &[usize]) -> SetTable {
+        let (n, lines) = match &self.plan {
+            Some((plan, _)) if self.estimator == Estimator::PairedSets => {
+                (plan.n, plan.lines.len())
+            }
+            _ => (0, 0),
+        };
+        let mut table = SetTable {
+            excitation: excitation.to_vec(),
+            n,
+            lines,
+            records: Vec::new(),
+            impedance: Vec::new(),
+            regular: Vec::new(),
+            condition: Vec::new(),
+        };
+        if n == 0 {
+            return table;
+        }
+        let nn = n * n;
+        let by_direction = by_direction(excitation, n);
+        let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
+        let zero = c64::new(0.0, 0.0);
+        table.impedance = vec![zero; sets * lines * nn];
+        table.regular = vec![false; sets * lines];
+        table.condition = vec![0.0; sets * lines];
+        // One set's displacement matrices on every line side by side: their condition numbers
+        // are computed together.
+        let mut xs = vec![zero; lines * nn];
+        let mut conditioner = linalg::Conditioner::new(n);
+        let mut kernel = PairedKernel::new(n);
+        for s in 0..sets {
+            let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
+            let columns = |l: usize| {
+                records.iter().map(move |&r| {
+                    self.spectra_at(r, l, n)
+                        .expect("paired builders gather spectra")
+                })
+            };
+            for (l, x) in xs.chunks_exact_mut(nn).enumerate() {
+                for (j, (_, xr)) in columns(l).enumerate() {
+                    x[j * n..(j + 1) * n].copy_from_slice(xr);
+                }
+            }
+            let at = s * lines;
+            conditioner.condition_numbers(&xs, &mut table.condition[at..at + lines]);
+            for l in 0..lines {
+                if let Some(h) = kernel.set_impedance(columns(l)) {
+                    table.impedance[(at + l) * nn..(at + l + 1) * nn].copy_from_slice(h);
+                    table.regular[at + l] = true;
+                }
+            }
+            table.records.push(records);
+        }
+        table
+    }
+}
