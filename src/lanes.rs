@@ -115,20 +115,22 @@ fn peak_in(x: &[f64], c: f64) -> (usize, f64) {
         })
 }
 
-/// `f64::total_cmp`'s order as unsigned integers, one key per sample, into `keys` (cleared
-/// first): a negative value has every bit flipped, any other its sign bit.
+/// `f64::total_cmp`'s order as unsigned integers: a negative value has every bit flipped,
+/// any other its sign bit.
+#[inline(always)]
+pub(crate) fn total_order_key(v: f64) -> u64 {
+    let bits = v.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    }
+}
+
+/// [`total_order_key`] of every sample, into `keys` (cleared first).
 pub(crate) fn total_order_keys(x: &[f64], keys: &mut Vec<u64>) {
     keys.clear();
-    simd(|| {
-        keys.extend(x.iter().map(|v| {
-            let bits = v.to_bits();
-            if bits >> 63 == 1 {
-                !bits
-            } else {
-                bits | 1 << 63
-            }
-        }))
-    });
+    simd(|| keys.extend(x.iter().map(|&v| total_order_key(v))));
 }
 
 /// Whether every sample is finite (the lanes keep `|x| ≤ f64::MAX`; a NaN fails it too).

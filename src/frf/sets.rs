@@ -75,10 +75,7 @@ impl FrfBuilder {
             return Cow::Owned(self.compute_set_table(excitation));
         }
         // A racing first call would compute the same table; the first stored is kept.
-        Cow::Borrowed(
-            self.sets
-                .get_or_init(|| self.compute_set_table(excitation)),
-        )
+        Cow::Borrowed(self.sets.get_or_init(|| self.compute_set_table(excitation)))
     }
 
     fn compute_set_table(&self, excitation: &[usize]) -> SetTable {
@@ -136,5 +133,101 @@ impl FrfBuilder {
             table.records.push(records);
         }
         table
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frf::{Assignment, Band};
+    use crate::records::Record;
+    use crate::simulate::{ImpactTest, seed_rig};
+    use crate::spectra::{Segmentation, Window};
+
+    fn builder(records: &[Record]) -> FrfBuilder {
+        let band = Band::new(8.0, 49.0).unwrap();
+        let mut b = FrfBuilder::new(
+            Estimator::PairedSets,
+            band,
+            Segmentation::WholeRecord,
+            Window::Rectangular,
+        );
+        b.push_all(records).unwrap();
+        b
+    }
+
+    fn bits(frf: &super::super::Frf) -> Vec<u64> {
+        let mut out: Vec<u64> = frf
+            .condition_numbers()
+            .iter()
+            .map(|c| c.to_bits())
+            .collect();
+        for k in 0..frf.line_count() {
+            let h = frf.impedance(k);
+            for j in 0..2 {
+                for i in 0..2 {
+                    out.extend([h[(i, j)].re.to_bits(), h[(i, j)].im.to_bits()]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The table holds the kernel's values, is computed once, and is computed again after
+    /// records go out: the finish is then that of a builder that never had them.
+    #[test]
+    fn table_is_the_kernel_kept_until_the_records_change() {
+        let records = ImpactTest {
+            per_direction: 4,
+            noise: 0.05,
+            ..ImpactTest::seed_rig()
+        }
+        .run(&seed_rig())
+        .unwrap();
+        let mut b = builder(&records);
+        let excitation = b.excitations(&Assignment::DominantForce).unwrap();
+        let table = b.set_table(&excitation);
+        assert!(matches!(table, Cow::Borrowed(_)));
+        assert_eq!((table.sets(), table.dofs()), (4, 2));
+        let again = b.set_table(&excitation);
+        assert!(std::ptr::eq(&*table, &*again));
+        // Every value is the kernel's, bit for bit.
+        let mut kernel = PairedKernel::new(2);
+        let mut conditioner = linalg::Conditioner::new(2);
+        let mut x = vec![c64::new(0.0, 0.0); 4];
+        for s in 0..table.sets() {
+            for l in 0..table.lines() {
+                let columns = || {
+                    table.records[s]
+                        .iter()
+                        .map(|&r| b.spectra_at(r, l, 2).unwrap())
+                };
+                for (j, (_, xr)) in columns().enumerate() {
+                    x[j * 2..(j + 1) * 2].copy_from_slice(xr);
+                }
+                let cond = conditioner.condition_number(&x);
+                assert_eq!(table.condition(s, l).to_bits(), cond.to_bits());
+                let h = kernel.set_impedance(columns()).unwrap();
+                assert_eq!(table.impedance(s, l).unwrap(), h);
+            }
+        }
+        // Another excitation: a table of its own, the kept one untouched.
+        let swapped: Vec<usize> = excitation.iter().map(|&e| 1 - e).collect();
+        assert!(matches!(b.set_table(&swapped), Cow::Owned(_)));
+        assert!(std::ptr::eq(&*b.set_table(&excitation), &*table));
+        // Take the second set out: the finish is that of the records without it.
+        let out = table.records[1].clone();
+        drop((table, again));
+        b.remove(&out);
+        let kept: Vec<Record> = records
+            .iter()
+            .enumerate()
+            .filter(|(r, _)| !out.contains(r))
+            .map(|(_, r)| r.clone())
+            .collect();
+        let fresh = builder(&kept).finish(&Assignment::DominantForce).unwrap();
+        let after = b.finish(&Assignment::DominantForce).unwrap();
+        assert_eq!(after.averages(), 3);
+        assert_eq!(bits(&after), bits(&fresh));
     }
 }

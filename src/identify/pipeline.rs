@@ -184,9 +184,7 @@ impl Settings {
         timed(&mut t.spectra, || {
             builder.push_all(&kept_records(records, &kept))
         })?;
-        timed(&mut t.screen, || {
-            self.screen_sets(&mut builder, &checks, reject, &mut warnings)
-        })?;
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings, &mut t)?;
         warnings.extend(pulses);
         self.finish(builder, warnings, t, start)
     }
@@ -244,8 +242,8 @@ impl Settings {
         }
         builder.remove(&out);
         let mut warnings = reported(screener.summaries(), findings, reject);
-        self.screen_sets(&mut builder, &checks, reject, &mut warnings)?;
         t.screen += screen_start.elapsed();
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings, &mut t)?;
         warnings.extend(pulses.and_then(|p| p.warning()));
         self.finish(builder, warnings, t, start)
     }

@@ -3,6 +3,7 @@
 //! against the force pulses ([`ForceGateCheck`]).
 
 use std::borrow::Cow;
+use std::time::Instant;
 
 use crate::error::{Result, Warning};
 use crate::frf::FrfBuilder;
@@ -12,6 +13,7 @@ use crate::screening::{self, Checks, Screener};
 use crate::spectra::Segmentation;
 
 use super::Settings;
+use super::timings::{Timings, timed};
 
 impl Settings {
     /// A check of the force gate against the pulses, when a gate is set on whole records.
@@ -32,16 +34,19 @@ impl Settings {
     }
 
     /// The per-line test of paired sets ([`screening::outlier_sets`]) on what `builder`
-    /// holds; under `reject` the outlying sets' records are taken back out.
+    /// holds; under `reject` the outlying sets' records are taken back out. The sets' own
+    /// impedances are the finish's work, done here first and kept for it: timed as `frf`.
     pub(super) fn screen_sets(
         &self,
         builder: &mut FrfBuilder,
         checks: &Checks,
         reject: bool,
         warnings: &mut Vec<Warning>,
+        t: &mut Timings,
     ) -> Result<()> {
-        let excitation = builder.excitations(&self.assignment)?;
-        let table = builder.set_table(&excitation);
+        let excitation = timed(&mut t.screen, || builder.excitations(&self.assignment))?;
+        let table = timed(&mut t.frf, || builder.set_table(&excitation));
+        let start = Instant::now();
         let outliers = screening::outlier_sets_by(
             table.sets(),
             table.lines(),
@@ -75,6 +80,7 @@ impl Settings {
         }
         drop(table);
         builder.remove(&out);
+        t.screen += start.elapsed();
         Ok(())
     }
 }

@@ -15,14 +15,6 @@ use super::{ImpactChecks, MAD_TO_SIGMA, NOISE_SIGMAS, QUIET_SAMPLES, RETURN_FRAC
 /// has no peak.
 const SQUARES_TO_ZERO: f64 = 1e-150;
 
-/// The key of one value ([`lanes::total_order_keys`] for many).
-#[cfg(test)]
-fn total_order_key(v: f64) -> u64 {
-    let mut key = Vec::with_capacity(1);
-    lanes::total_order_keys(&[v], &mut key);
-    key[0]
-}
-
 /// The value of a key of [`lanes::total_order_keys`].
 fn from_total_order_key(key: u64) -> f64 {
     let flip = if key >> 63 == 1 { 1 << 63 } else { u64::MAX };
@@ -213,7 +205,7 @@ mod tests {
         ];
         for w in v.windows(2) {
             assert!(
-                total_order_key(w[0]) < total_order_key(w[1]),
+                lanes::total_order_key(w[0]) < lanes::total_order_key(w[1]),
                 "{} < {}",
                 w[0],
                 w[1]
@@ -221,7 +213,7 @@ mod tests {
         }
         for &x in &v {
             assert_eq!(
-                from_total_order_key(total_order_key(x)).to_bits(),
+                from_total_order_key(lanes::total_order_key(x)).to_bits(),
                 x.to_bits()
             );
         }

@@ -82,8 +82,8 @@ mod outliers;
 mod screener;
 mod summary;
 
-pub use outliers::{OutlierSet, outlier_sets};
 pub(crate) use outliers::outlier_sets_by;
+pub use outliers::{OutlierSet, outlier_sets};
 pub use screener::Screener;
 pub use summary::Summary;
 
