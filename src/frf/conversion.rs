@@ -41,7 +41,8 @@ pub(super) fn response_at_dc(record: &Record, plan: &Plan, c: usize, l: usize) -
 mod tests {
     use super::*;
     use crate::frf::Estimator;
-    use crate::frf::builder::{Plan, contribute};
+    use crate::frf::builder::Plan;
+    use crate::frf::contribution::contribute;
     use crate::spectra::{Segmentation, SpectralEstimator};
 
     #[test]

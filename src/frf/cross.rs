@@ -8,8 +8,9 @@
 
 use faer::c64;
 
-use super::builder::{Contribution, FrfBuilder, Plan};
+use super::builder::{FrfBuilder, Plan};
 use super::coherence::line_coherence;
+use super::contribution::Contribution;
 use super::h1::H1;
 use super::h2::H2;
 use super::hv::Hv;

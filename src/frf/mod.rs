@@ -31,6 +31,7 @@ mod assignment;
 mod band;
 mod builder;
 mod coherence;
+mod contribution;
 mod conversion;
 mod cross;
 mod h1;

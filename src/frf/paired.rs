@@ -7,8 +7,9 @@
 
 use faer::c64;
 
-use super::builder::{Contribution, FrfBuilder, Plan};
+use super::builder::{FrfBuilder, Plan};
 use super::coherence::SpectraCoherence;
+use super::contribution::Contribution;
 use super::variance::set_scatter;
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Error, Result};

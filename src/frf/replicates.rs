@@ -16,7 +16,8 @@ use std::borrow::Cow;
 
 use faer::c64;
 
-use super::builder::{Contribution, FrfBuilder, Plan};
+use super::builder::{FrfBuilder, Plan};
+use super::contribution::Contribution;
 use super::cross::{LineSums, LineWork, UNEXCITED_RATIO, line_estimator};
 use super::paired::Share;
 use super::sets::SetTable;

@@ -5,7 +5,8 @@
 use faer::{Mat, c64};
 
 use super::Frf;
-use super::builder::{Contribution, FrfBuilder};
+use super::builder::FrfBuilder;
+use super::contribution::Contribution;
 use crate::error::{Error, Result};
 use crate::spectra::Segmentation;
 
