@@ -265,7 +265,11 @@ fn force_matrices(n: usize, count: usize) -> Vec<c64> {
         for j in 0..n {
             let level = 0.5 + rng.random::<f64>();
             for i in 0..n {
-                let modulus = if i == j { 1.0 } else { 0.3 * rng.random::<f64>() };
+                let modulus = if i == j {
+                    1.0
+                } else {
+                    0.3 * rng.random::<f64>()
+                };
                 let phase = std::f64::consts::TAU * rng.random::<f64>();
                 a.push(c64::from_polar(level * modulus, phase));
             }
@@ -296,7 +300,11 @@ fn conditioning(c: &mut Criterion) {
                 black_box(batched[count - 1])
             })
         });
-        assert!(one.iter().zip(&batched).all(|(x, y)| x.to_bits() == y.to_bits()));
+        assert!(
+            one.iter()
+                .zip(&batched)
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        );
     }
     group.finish();
 }
