@@ -326,12 +326,15 @@ impl<const N: usize> Group<N> {
                 }
             }
         }
-        for j in 0..N {
-            for i in 0..N {
-                for l in 0..LANES {
-                    self.re[j][i][l] /= largest[l];
-                    self.im[j][i][l] /= largest[l];
-                }
+        let entries = self
+            .re
+            .iter_mut()
+            .flatten()
+            .zip(self.im.iter_mut().flatten());
+        for (re, im) in entries {
+            for ((r, m), d) in re.iter_mut().zip(im.iter_mut()).zip(&largest) {
+                *r /= d;
+                *m /= d;
             }
         }
         one_by_one
