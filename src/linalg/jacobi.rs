@@ -129,6 +129,16 @@ fn select(mask: [bool; LANES], new: Lanes, old: Lanes) -> Lanes {
     out
 }
 
+/// `x / d` lane by lane.
+#[inline(always)]
+fn divide(x: Lanes, d: Lanes) -> Lanes {
+    let mut out = x;
+    for l in 0..LANES {
+        out[l] = x[l] / d[l];
+    }
+    out
+}
+
 /// Whether any lane's flag is set.
 #[inline(always)]
 fn any(mask: [bool; LANES]) -> bool {
@@ -326,15 +336,10 @@ impl<const N: usize> Group<N> {
                 }
             }
         }
-        let entries = self
-            .re
-            .iter_mut()
-            .flatten()
-            .zip(self.im.iter_mut().flatten());
-        for (re, im) in entries {
-            for ((r, m), d) in re.iter_mut().zip(im.iter_mut()).zip(&largest) {
-                *r /= d;
-                *m /= d;
+        for j in 0..N {
+            for i in 0..N {
+                self.re[j][i] = divide(self.re[j][i], largest);
+                self.im[j][i] = divide(self.im[j][i], largest);
             }
         }
         one_by_one
