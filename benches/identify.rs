@@ -12,10 +12,18 @@
 //!   the FFTs of all its channels alone, the floor;
 //! - `batch`: one record set, and 8 sets through `identify_batch` (compare with and without
 //!   `--features rayon`);
-//! - `csv`: parsing throughput of a record file.
+//! - `csv`: parsing throughput of a record file;
+//! - `conditioning`: condition numbers of 2766 complex n × n matrices (the paired-set force
+//!   matrices of a 3-DOF impact test: 6 sets × 461 lines), one at a time and four per SIMD
+//!   register (`Conditioner::condition_numbers`), n ∈ {3, 4, 6}.
 
 #[path = "../tests/common/mod.rs"]
 mod common;
+
+// The crate's private dense kernels, compiled into the bench (they use only faer).
+#[path = "../src/linalg/mod.rs"]
+#[allow(dead_code, unused_imports)]
+mod linalg;
 
 use std::hint::black_box;
 
@@ -246,6 +254,61 @@ fn csv(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `count` complex `n × n` force matrices as a paired-sets impact test gives them, column
+/// `j` the forces of the set that excites direction `j`: the dominant force on the diagonal,
+/// cross-axis forces of about 30 % with random phase, each set's level varying.
+fn force_matrices(n: usize, count: usize) -> Vec<c64> {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(12);
+    let mut a = Vec::with_capacity(count * n * n);
+    for _ in 0..count {
+        for j in 0..n {
+            let level = 0.5 + rng.random::<f64>();
+            for i in 0..n {
+                let modulus = if i == j {
+                    1.0
+                } else {
+                    0.3 * rng.random::<f64>()
+                };
+                let phase = std::f64::consts::TAU * rng.random::<f64>();
+                a.push(c64::from_polar(level * modulus, phase));
+            }
+        }
+    }
+    a
+}
+
+fn conditioning(c: &mut Criterion) {
+    let count = 2766;
+    let mut group = c.benchmark_group("conditioning");
+    group.throughput(Throughput::Elements(count as u64));
+    for n in [3, 4, 6] {
+        let a = force_matrices(n, count);
+        let mut conditioner = linalg::Conditioner::new(n);
+        let (mut one, mut batched) = (vec![0.0; count], vec![0.0; count]);
+        group.bench_function(format!("n{n}_one_by_one"), |b| {
+            b.iter(|| {
+                for (m, o) in one.iter_mut().enumerate() {
+                    *o = conditioner.condition_number(&a[m * n * n..(m + 1) * n * n]);
+                }
+                black_box(one[count - 1])
+            })
+        });
+        group.bench_function(format!("n{n}_batched"), |b| {
+            b.iter(|| {
+                conditioner.condition_numbers(&a, &mut batched);
+                black_box(batched[count - 1])
+            })
+        });
+        assert!(
+            one.iter()
+                .zip(&batched)
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        );
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     spectra,
@@ -255,6 +318,7 @@ criterion_group!(
     matmul_reference,
     seed_rig_end_to_end,
     batch,
-    csv
+    csv,
+    conditioning
 );
 criterion_main!(benches);
