@@ -284,15 +284,6 @@ impl Conditioner {
         }
     }
 
-    /// [`Conditioner::condition_number`] of each of the `out.len()` column-major `n × n`
-    /// matrices stored back to back in `a`.
-    pub(crate) fn condition_numbers(&mut self, a: &[c64], out: &mut [f64]) {
-        let nn = self.n * self.n;
-        for (o, m) in out.iter_mut().zip(a.chunks_exact(nn)) {
-            *o = self.condition_number(m);
-        }
-    }
-
     /// Condition number `σ_max / σ_min` of the column-major `n × n` complex matrix `a` (`∞`
     /// when `σ_min = 0`, NaN if an entry is not finite or faer's SVD does not converge).
     pub(crate) fn condition_number(&mut self, a: &[c64]) -> f64 {
@@ -354,16 +345,12 @@ impl Conditioner {
     /// Condition numbers `σ_max / σ_min` of the `out.len()` column-major `n × n` complex
     /// matrices stored back to back in `a`, into `out`: each bit for bit what
     /// [`Conditioner::condition_number`] gives for it, faster. For `3 ≤ n < 8` the matrices go
-    /// through one-sided Jacobi four at a time, one per SIMD lane (see [`jacobi`]); matrices
+    /// through one-sided Jacobi eight at a time, one per SIMD lane (see [`jacobi`]); matrices
     /// whose entries are not finite, or whose squared moduli leave the normal range, go one
     /// at a time. Other sizes loop over [`Conditioner::condition_number`]. No allocation.
     ///
     /// # Panics
     /// If `a.len() != out.len() · n²`.
-    #[allow(
-        dead_code,
-        reason = "the FRF stage's callers move to it on their own branch"
-    )]
     pub(crate) fn condition_numbers(&mut self, a: &[c64], out: &mut [f64]) {
         let n = self.n;
         assert_eq!(
