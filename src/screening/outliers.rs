@@ -1,9 +1,11 @@
 //! The per-line test of paired sets: sets whose impedance is far from the others' at most
 //! lines ([`outlier_sets`]).
 
+use faer::traits::pulp::{Arch, Simd, WithSimd};
 use faer::{Mat, MatRef, c64};
 
 use super::{Checks, MAD_TO_SIGMA, median};
+use crate::lanes;
 
 /// A paired set found far from the others by [`outlier_sets`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,16 +76,18 @@ pub(crate) fn outlier_sets_by<'a>(
     }
     let (mut far, mut tested) = (vec![0; sets], vec![0; sets]);
     // Buffers of one line, reused: the sets present and their impedances side by side
-    // (`[set][element]`, column-major elements), the line's median impedance, one element's
-    // values, its squared distances (compared squared: `d > k·σ` exactly when `d² > k²σ²`, for
-    // `d, σ ≥ 0`, and the median of the squares is the square of the median), the sets found
-    // far.
+    // (`[set][element]`, column-major elements; then as real numbers, each real part before
+    // its imaginary part), the line's median impedance, the squared distances to it
+    // (compared squared: `d > k·σ` exactly when `d² > k²σ²`, for `d, σ ≥ 0`, and the median
+    // of the squares is the square of the median), the sets found far.
     let mut present: Vec<usize> = Vec::with_capacity(sets);
     let mut values: Vec<c64> = Vec::new();
     let mut centre: Vec<c64> = Vec::new();
-    let (mut parts, mut squares, mut sorted) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut parts, mut squares, mut sigma2) = (Vec::new(), Vec::new(), Vec::new());
+    let mut medians = ColumnMedians::default();
     let mut far_here = Vec::with_capacity(sets);
     let sigmas2 = checks.set_sigmas * checks.set_sigmas;
+    let nn = n * n;
     for l in 0..lines {
         present.clear();
         values.clear();
@@ -96,30 +100,28 @@ pub(crate) fn outlier_sets_by<'a>(
         if present.len() < 3 {
             continue;
         }
-        let nn = n * n;
-        let element = |e: usize| values.iter().skip(e).step_by(nn);
+        // The median impedance, real and imaginary parts of every element apart.
+        parts.clear();
+        parts.extend(values.iter().flat_map(|z| [z.re, z.im]));
+        let centre_parts = medians.of(&parts, present.len(), 2 * nn);
         centre.clear();
-        for e in 0..nn {
-            parts.clear();
-            parts.extend(element(e).map(|z| z.re));
-            let re = median(&mut parts);
-            parts.clear();
-            parts.extend(element(e).map(|z| z.im));
-            centre.push(c64::new(re, median(&mut parts)));
-        }
+        centre.extend(centre_parts.chunks_exact(2).map(|p| c64::new(p[0], p[1])));
         let floor = checks.set_floor * MatRef::from_column_major_slice(&centre, n, n).norm_l2();
         let floor2 = floor * floor;
-        far_here.clear();
-        far_here.resize(present.len(), false);
-        for (e, &c) in centre.iter().enumerate() {
-            squares.clear();
-            squares.extend(element(e).map(|&z| (z - c).norm_sqr()));
-            sorted.clone_from(&squares);
-            let sigma2 = MAD_TO_SIGMA * MAD_TO_SIGMA * median(&mut sorted);
-            for (f, &d2) in far_here.iter_mut().zip(&squares) {
-                *f |= d2 > sigmas2 * sigma2 && d2 > floor2;
-            }
+        // Squared distances to it, `[set][element]`, and their median per element.
+        squares.clear();
+        for h in values.chunks_exact(nn) {
+            squares.extend(h.iter().zip(&centre).map(|(&z, &c)| (z - c).norm_sqr()));
         }
+        sigma2.clear();
+        let mad2 = medians.of(&squares, present.len(), nn);
+        sigma2.extend(mad2.iter().map(|&m| MAD_TO_SIGMA * MAD_TO_SIGMA * m));
+        far_here.clear();
+        far_here.extend(squares.chunks_exact(nn).map(|d2| {
+            d2.iter()
+                .zip(&sigma2)
+                .any(|(&d2, &s2)| d2 > sigmas2 * s2 && d2 > floor2)
+        }));
         for (&s, &f) in present.iter().zip(&far_here) {
             tested[s] += 1;
             far[s] += usize::from(f);
@@ -133,4 +135,156 @@ pub(crate) fn outlier_sets_by<'a>(
             lines: tested[s],
         })
         .collect()
+}
+
+/// Upper medians, in `total_cmp`'s order, of every column of a row-major `rows × m` table
+/// (the sets of a line by their impedances' parts), with buffers kept across lines.
+///
+/// Up to [`RANK_MAX`] rows, by counting ranks for all columns at once: the value in row `i`
+/// is column `e`'s median when `#{j : x_je < x_ie} ≤ ⌊rows/2⌋ < #{j : x_je ≤ x_ie}` (values
+/// that compare equal have the same bits). The columns sit side by side, so each comparison
+/// of two rows runs over all columns in SIMD lanes, without a branch. More rows: one
+/// [`median`] per column.
+#[derive(Debug, Default)]
+struct ColumnMedians {
+    /// Signed keys in `total_cmp`'s order, `[row][column]`.
+    keys: Vec<i64>,
+    below: Vec<i64>,
+    at_or_below: Vec<i64>,
+    column: Vec<f64>,
+    out: Vec<f64>,
+}
+
+/// Most rows [`ColumnMedians`] ranks rather than sorts per column.
+const RANK_MAX: usize = 16;
+
+impl ColumnMedians {
+    /// The median of every column of the row-major `rows × m` table `x`.
+    fn of(&mut self, x: &[f64], rows: usize, m: usize) -> &[f64] {
+        self.out.clear();
+        self.out.resize(m, 0.0);
+        if rows > RANK_MAX {
+            for e in 0..m {
+                self.column.clear();
+                self.column.extend(x.iter().skip(e).step_by(m));
+                self.out[e] = median(&mut self.column);
+            }
+            return &self.out;
+        }
+        let mid = (rows / 2) as i64;
+        self.keys.clear();
+        self.keys.extend(
+            x.iter()
+                .map(|&v| (lanes::total_order_key(v) ^ (1 << 63)) as i64),
+        );
+        for (i, row) in x.chunks_exact(m).enumerate() {
+            self.below.clear();
+            self.below.resize(m, 0);
+            self.at_or_below.clear();
+            self.at_or_below.resize(m, 0);
+            Arch::new().dispatch(Ranks {
+                keys: &self.keys,
+                of: i,
+                m,
+                mid,
+                row,
+                below: &mut self.below,
+                at_or_below: &mut self.at_or_below,
+                out: &mut self.out,
+            });
+        }
+        &self.out
+    }
+}
+
+/// Per column, how many rows' keys lie below (at or below) row `of`'s, in one pass over the
+/// rows with the columns in lanes; then `row`'s value goes to `out` in the columns where it is
+/// the median (rank `mid`). A named operation, so that the SIMD dispatch compiles it for the
+/// processor's widest instructions.
+struct Ranks<'a> {
+    keys: &'a [i64],
+    of: usize,
+    m: usize,
+    mid: i64,
+    row: &'a [f64],
+    below: &'a mut [i64],
+    at_or_below: &'a mut [i64],
+    out: &'a mut [f64],
+}
+
+impl WithSimd for Ranks<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _: S) {
+        let m = self.m;
+        let pivot = &self.keys[self.of * m..(self.of + 1) * m];
+        for row in self.keys.chunks_exact(m) {
+            for (((b, a), &k), &p) in self
+                .below
+                .iter_mut()
+                .zip(self.at_or_below.iter_mut())
+                .zip(row)
+                .zip(pivot)
+            {
+                *b += i64::from(k < p);
+                *a += i64::from(k <= p);
+            }
+        }
+        let mid = self.mid;
+        for (((o, &v), &b), &a) in self
+            .out
+            .iter_mut()
+            .zip(self.row)
+            .zip(self.below.iter())
+            .zip(self.at_or_below.iter())
+        {
+            let median = (b <= mid) & (mid < a);
+            *o = if median { v } else { *o };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every column's median is the sorted middle bit for bit, on both sides of
+    /// [`RANK_MAX`], with ties, signed zeros, infinities and NaN.
+    #[test]
+    fn column_medians_are_the_sorted_middles() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let pool = [
+            -0.0,
+            0.0,
+            1.0,
+            -2.0,
+            f64::INFINITY,
+            f64::NAN,
+            -f64::NAN,
+            5e-324,
+        ];
+        let mut medians = ColumnMedians::default();
+        for rows in 1..=RANK_MAX + 3 {
+            for trial in 0..60 {
+                let m = 1 + trial % 19;
+                let x: Vec<f64> = (0..rows * m)
+                    .map(|_| {
+                        if trial % 2 == 0 {
+                            pool[rng.random_range(0..pool.len())]
+                        } else {
+                            rng.random_range(-1.0..1.0)
+                        }
+                    })
+                    .collect();
+                let ours = medians.of(&x, rows, m).to_vec();
+                for (e, ours) in ours.iter().enumerate() {
+                    let mut column: Vec<f64> = x.iter().skip(e).step_by(m).copied().collect();
+                    column.sort_unstable_by(f64::total_cmp);
+                    assert_eq!(ours.to_bits(), column[rows / 2].to_bits(), "{rows} × {m}");
+                }
+            }
+        }
+    }
 }
