@@ -91,8 +91,20 @@ impl WithSimd for InstrumentSums<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, simd: S) -> bool {
+        // The kernels are inlined: a constant `n` unrolls their loops for the small sizes.
+        match self.sys.n {
+            2 => self.pass(simd, 2),
+            3 => self.pass(simd, 3),
+            4 => self.pass(simd, 4),
+            n => self.pass(simd, n),
+        }
+    }
+}
+
+impl InstrumentSums<'_> {
+    #[inline(always)]
+    fn pass<S: Simd>(self, simd: S, n: usize) -> bool {
         let Self { sys, work } = self;
-        let n = sys.n;
         let nn = n * n;
         let InstrumentWork {
             blocks,
@@ -144,8 +156,20 @@ impl WithSimd for ResidualNorm<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, simd: S) -> f64 {
+        // As [`InstrumentSums`]: a constant `n` for the small sizes.
+        match self.sys.n {
+            2 => self.pass(simd, 2),
+            3 => self.pass(simd, 3),
+            4 => self.pass(simd, 4),
+            n => self.pass(simd, n),
+        }
+    }
+}
+
+impl ResidualNorm<'_> {
+    #[inline(always)]
+    fn pass<S: Simd>(self, simd: S, n: usize) -> f64 {
         let Self { sys, work } = self;
-        let n = sys.n;
         let nn = n * n;
         let InstrumentWork {
             blocks,
