@@ -82,18 +82,24 @@ pub(crate) fn count_within(x: &[f64], c: f64, t: f64) -> usize {
 
 /// `(m, |x_m − c|)` at the largest `|x − c|`, the first such `m` (`(0, 0)` for none).
 pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
-    simd(|| peak_in(x, c))
+    simd(|| first_max(x, |v| (v - c).abs()))
 }
 
-/// [`peak`]'s pass.
+/// `(m, s·(x_m − c))` at the largest positive `s·(x − c)`, the first such `m` (`(0, 0)` when
+/// none is positive).
+pub(crate) fn peak_signed(x: &[f64], c: f64, s: f64) -> (usize, f64) {
+    simd(|| first_max(x, |v| s * (v - c)))
+}
+
+/// The first `m` with the largest positive `d(x_m)`, and that value (`(0, 0)` for none).
 #[inline(always)]
-fn peak_in(x: &[f64], c: f64) -> (usize, f64) {
+fn first_max(x: &[f64], d: impl Fn(f64) -> f64) -> (usize, f64) {
     let mut best = [(0, 0.0_f64); LANES];
     let chunks = x.chunks_exact(LANES);
     let rest = chunks.remainder();
     for (k, chunk) in chunks.enumerate() {
         for (j, (b, &v)) in best.iter_mut().zip(chunk).enumerate() {
-            let d = (v - c).abs();
+            let d = d(v);
             if d > b.1 {
                 *b = (k * LANES + j, d);
             }
@@ -101,7 +107,7 @@ fn peak_in(x: &[f64], c: f64) -> (usize, f64) {
     }
     let start = x.len() - rest.len();
     for (j, (b, &v)) in best.iter_mut().zip(rest).enumerate() {
-        let d = (v - c).abs();
+        let d = d(v);
         if d > b.1 {
             *b = (start + j, d);
         }
@@ -185,6 +191,27 @@ mod tests {
             }
         }
         assert_eq!(peak(&[1.0, 1.0], 1.0), (0, 0.0));
+        // Signed: the first largest s·(x − c) that is positive, as a left-to-right scan finds.
+        let scan = |x: &[f64], c: f64, s: f64| {
+            let mut best = (0, 0.0);
+            for (m, &v) in x.iter().enumerate() {
+                if s * (v - c) > best.1 {
+                    best = (m, s * (v - c));
+                }
+            }
+            best
+        };
+        for n in 0..12 {
+            for seed in 0..40_u32 {
+                let x: Vec<f64> = (0..n)
+                    .map(|m| f64::from((m as u32 * 7 + seed * 13) % 5) - 2.0)
+                    .collect();
+                for s in [1.0, -1.0] {
+                    assert_eq!(peak_signed(&x, 0.5, s), scan(&x, 0.5, s), "{x:?} {s}");
+                }
+            }
+        }
+        assert_eq!(peak_signed(&[-3.0, -1.0], 0.0, 1.0), (0, 0.0));
         let x: Vec<f64> = (0..11).map(f64::from).collect();
         assert_eq!(count_within(&x, 5.0, 2.0), 5);
         assert_eq!(count_within(&x, 5.0, 1.5), 3);

@@ -118,15 +118,13 @@ pub(super) fn double_hit(
         }
     }
 
+    // The largest excursion the main pulse's way outside it, its first sample on a tie (the
+    // part before the pulse first): a second hit if above the threshold.
     let threshold = (checks.double_hit_ratio * peak).max(floor);
-    let mut best: Option<(usize, f64)> = None;
-    for i in (0..before).chain(after..n) {
-        let e = sign * (f[i] - baseline);
-        if e > threshold && best.is_none_or(|(_, b)| e > b) {
-            best = Some((i, e));
-        }
-    }
-    best.map(|(q, e)| (p, q, e / peak))
+    let (q0, e0) = lanes::peak_signed(&f[..before], baseline, sign);
+    let (q1, e1) = lanes::peak_signed(&f[after..], baseline, sign);
+    let (q, e) = if e1 > e0 { (after + q1, e1) } else { (q0, e0) };
+    (e > threshold).then_some((p, q, e / peak))
 }
 
 #[cfg(test)]
