@@ -412,8 +412,9 @@ pub(crate) fn median(values: &mut [f64]) -> f64 {
     *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
-/// Most values [`median`] ranks rather than selects among.
-const RANK_MAX: usize = 16;
+/// Most values [`median`] ranks rather than selects among (and the per-line test of paired
+/// sets ranks its sets' impedances for).
+pub(crate) const RANK_MAX: usize = 16;
 
 /// The upper median of 1 to [`RANK_MAX`] values in `total_cmp`'s order, by counting ranks: the
 /// value `v` with `#{x < v} ≤ ⌊m/2⌋ < #{x ≤ v}` (values that compare equal have the same
