@@ -34,8 +34,8 @@ pub(crate) struct Replicates<'a> {
     plan: &'a Plan,
     /// `(plan line index, frequency in Hz, condition number)` of every line of the full `Frf`.
     lines: Vec<(usize, f64, f64)>,
-    /// Paired sets: each set's `H_s` per line ([`FrfBuilder::set_table`]); empty otherwise.
-    sets: Cow<'a, SetTable>,
+    /// Paired sets: each set's `H_s` per line ([`FrfBuilder::set_table`]).
+    sets: Option<Cow<'a, SetTable>>,
     count: usize,
 }
 
@@ -58,21 +58,23 @@ impl FrfBuilder {
             .lines_in(full)
             .map(|(l, freq, at)| (l, freq, full.condition_numbers()[at]))
             .collect();
-        let count = self.replicates(assignment)?;
-        let excitation = match self.estimator {
-            Estimator::PairedSets => self.excitations(assignment)?,
-            _ => Vec::new(),
-        };
-        let sets = self.set_table(&excitation);
-        for s in 0..sets.sets() {
-            // The full finish keeps a line only where every set is regular.
-            if let Some(&(_, freq, _)) = lines.iter().find(|l| sets.impedance(s, l.0).is_none()) {
-                return Err(Error::NonFiniteResult {
-                    stage: crate::error::Quantity::Impedance,
-                    freq_hz: freq,
-                });
+        let (count, sets) = match self.estimator {
+            Estimator::PairedSets => {
+                let sets = self.set_table(&self.excitations(assignment)?);
+                for s in 0..sets.sets() {
+                    // The full finish keeps a line only where every set is regular.
+                    let singular = lines.iter().find(|l| sets.impedance(s, l.0).is_none());
+                    if let Some(&(_, freq, _)) = singular {
+                        return Err(Error::NonFiniteResult {
+                            stage: crate::error::Quantity::Impedance,
+                            freq_hz: freq,
+                        });
+                    }
+                }
+                (sets.sets(), Some(sets))
             }
-        }
+            _ => (self.replicates(assignment)?, None),
+        };
         Ok(Replicates {
             builder: self,
             plan,
@@ -97,17 +99,16 @@ impl Replicates<'_> {
         let n = self.plan.n;
         let mut frf = Frf::empty(n, b.estimator);
         frf.spacing_hz = Some(self.plan.resolution_hz);
-        if b.estimator == Estimator::PairedSets {
-            self.paired(weights, &mut frf);
-        } else {
-            self.cross(weights, &mut frf);
+        match &self.sets {
+            Some(sets) => self.paired(sets, weights, &mut frf),
+            None => self.cross(weights, &mut frf),
         }
         frf
     }
 
     /// Paired sets: `H = Σ_s (w_s/Σw) H_s` over the sets with `w_s > 0`, in set order (as
     /// [`PairedKernel::average`] sums), then `G = H⁻¹`.
-    fn paired(&self, weights: &[f64], frf: &mut Frf) {
+    fn paired(&self, sets: &SetTable, weights: &[f64], frf: &mut Frf) {
         let n = self.plan.n;
         let weight = |s: usize| weights.get(s).copied().unwrap_or(0.0);
         let used: Vec<usize> = (0..self.count).filter(|&s| weight(s) > 0.0).collect();
@@ -117,7 +118,7 @@ impl Replicates<'_> {
         for &(l, freq, cond) in &self.lines {
             work.h.fill(c64::new(0.0, 0.0));
             for &s in &used {
-                let hs = self.sets.impedance(s, l).expect("checked by replicates_on");
+                let hs = sets.impedance(s, l).expect("checked by replicates_on");
                 Share::Times(weight(s) / total_weight).add(&mut work.h, hs);
             }
             work.g.copy_from_slice(&work.h);

@@ -37,7 +37,6 @@ use std::fmt;
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 use crate::error::{Channel, Error, Result, Warning};
-use crate::lanes;
 use crate::records::Record;
 
 /// The force has returned to zero after a pulse when `|f − baseline|` falls below this fraction
@@ -406,40 +405,17 @@ pub(crate) fn median(values: &mut [f64]) -> f64 {
         return f64::NAN;
     }
     let mid = values.len() / 2;
-    if values.len() <= RANK_MAX {
-        return median_by_rank(values);
+    if values.len() <= SORT_MAX {
+        // A few values (the siblings of a record): sorting them is faster than the
+        // selection's set-up, and puts the same element in the middle.
+        values.sort_unstable_by(f64::total_cmp);
+        return values[mid];
     }
     *values.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
-/// Most values [`median`] ranks rather than selects among (and the per-line test of paired
-/// sets ranks its sets' impedances for).
-pub(crate) const RANK_MAX: usize = 16;
-
-/// The upper median of 1 to [`RANK_MAX`] values in `total_cmp`'s order, by counting ranks: the
-/// value `v` with `#{x < v} ≤ ⌊m/2⌋ < #{x ≤ v}` (values that compare equal have the same
-/// bits, so which of them is taken does not matter). A few values (the sets of a line, the
-/// siblings of a record) cost `m²` comparisons without a branch, where sorting them
-/// mispredicts about every other comparison.
-fn median_by_rank(values: &[f64]) -> f64 {
-    let mid = values.len() / 2;
-    let mut keys = [0_u64; RANK_MAX];
-    for (k, &v) in keys.iter_mut().zip(values) {
-        *k = lanes::total_order_key(v);
-    }
-    let keys = &keys[..values.len()];
-    for (&ki, &v) in keys.iter().zip(values) {
-        let (mut below, mut at_or_below) = (0, 0);
-        for &kj in keys {
-            below += usize::from(kj < ki);
-            at_or_below += usize::from(kj <= ki);
-        }
-        if below <= mid && mid < at_or_below {
-            return v;
-        }
-    }
-    unreachable!("some value of a non-empty set is its median")
-}
+/// Most values [`median`] sorts rather than selects among.
+const SORT_MAX: usize = 16;
 
 /// Longest run of consecutive samples meeting a condition, tracked one sample at a time.
 #[derive(Debug, Clone, Copy, Default)]
@@ -631,10 +607,10 @@ mod tests {
         assert!((median(&mut [4.0, 1.0, 3.0, 2.0]) - 3.0).abs() < 1e-15);
     }
 
-    /// Counting ranks gives the sorted middle bit for bit, ties, signed zeros, infinities and
-    /// NaN included, at every length it serves.
+    /// The sorted middle bit for bit, ties, signed zeros, infinities and NaN included, on both
+    /// sides of [`SORT_MAX`].
     #[test]
-    fn median_by_rank_is_the_sorted_middle() {
+    fn median_is_the_sorted_middle() {
         use rand::{RngExt, SeedableRng};
         let mut rng = rand::rngs::StdRng::seed_from_u64(17);
         let pool = [
@@ -649,7 +625,7 @@ mod tests {
             -f64::NAN,
             1e-310,
         ];
-        for len in 1..=RANK_MAX {
+        for len in 1..=SORT_MAX + 3 {
             for trial in 0..400 {
                 let values: Vec<f64> = (0..len)
                     .map(|_| {

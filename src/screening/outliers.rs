@@ -6,7 +6,6 @@ use faer::{Mat, MatRef, c64};
 
 use super::{Checks, MAD_TO_SIGMA, median};
 use crate::lanes;
-use crate::quality::RANK_MAX;
 
 /// A paired set found far from the others by [`outlier_sets`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -155,6 +154,9 @@ struct ColumnMedians {
     column: Vec<f64>,
     out: Vec<f64>,
 }
+
+/// Most rows [`ColumnMedians`] ranks rather than sorts per column.
+const RANK_MAX: usize = 16;
 
 impl ColumnMedians {
     /// The median of every column of the row-major `rows × m` table `x`.
