@@ -386,18 +386,22 @@ fn run(
         indicatif::ProgressDrawTarget::stderr(),
     );
     // The first file is read already (a Universal File may hold several records, one per
-    // load case): the workers hand it over empty. The others are taken in order.
-    let rest = (0..paths.len()).flat_map(|i| {
+    // load case); the others are taken in order, each once.
+    bar.inc(1);
+    let rest = std::iter::from_fn(|| {
         let t = Instant::now();
-        bar.set_message(paths[i].display().to_string());
-        let records = match ahead.next(i) {
-            Ok(r) => r.into_iter().map(Ok).collect(),
-            Err(e) => vec![Err(e)],
-        };
+        if let Some(path) = paths.get(ahead.position()) {
+            bar.set_message(path.display().to_string());
+        }
+        let file = ahead.next()?;
         bar.inc(1);
         *reading += t.elapsed();
-        records
-    });
+        Some(match file {
+            Ok(r) => r.into_iter().map(Ok).collect(),
+            Err(e) => vec![Err(e)],
+        })
+    })
+    .flatten();
     let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
         if let Ok(r) = r {
             labels.push(r.label().to_owned());

@@ -17,14 +17,19 @@ pub(crate) struct Layout {
     pub(crate) responses: Vec<Response>,
 }
 
-/// Files parsed ahead of the identification on worker threads: worker `w` of `k` reads files
-/// `w, w + k, …` in turn, each with its own [`io::CsvReader`] (buffers kept across its files),
-/// and hands each file's records over a channel of one slot, so at most two files' records
-/// per worker wait; they are taken in file order ([`ReadAhead::next`]). The first file, which
-/// the caller reads ([`read_file`]), is not read again. Dropping it stops the workers at their
-/// next file.
+/// The files after the first, parsed ahead of the identification on worker threads: worker
+/// `w` of `k` reads files `1 + w, 1 + w + k, …` in turn, each with its own
+/// [`io::CsvReader`] (buffers kept across its files), and hands each file's records over a
+/// channel of one slot, so at most two files' records per worker wait. They are taken in file
+/// order, each exactly once, by iterating ([`ReadAhead::next`]); the first file, which the
+/// caller reads ([`read_file`]), is not read here. Dropping it stops the workers at their next
+/// file.
 pub(crate) struct ReadAhead {
     slots: Vec<std::sync::mpsc::Receiver<bearing_ident::Result<Vec<Record>>>>,
+    /// Index of the next file handed out (from 1).
+    next: usize,
+    /// Files in all, the first included.
+    files: usize,
 }
 
 /// Most worker threads parsing files.
@@ -36,22 +41,18 @@ impl ReadAhead {
         files: &'s [PathBuf],
         layout: &'s Layout,
     ) -> Self {
+        let rest = files.get(1..).unwrap_or_default();
         let k = std::thread::available_parallelism()
             .map_or(1, std::num::NonZero::get)
             .clamp(1, READERS)
-            .min(files.len().max(1));
+            .min(rest.len().max(1));
         let slots = (0..k)
             .map(|w| {
                 let (tx, rx) = std::sync::mpsc::sync_channel(1);
                 let mut reader = io::CsvReader::new(layout.csv.clone());
                 scope.spawn(move || {
-                    for (i, path) in files.iter().enumerate().skip(w).step_by(k) {
-                        let records = if i == 0 {
-                            Ok(Vec::new()) // read by the caller
-                        } else {
-                            read_records(path, layout, &mut reader)
-                        };
-                        if tx.send(records).is_err() {
+                    for path in rest.iter().skip(w).step_by(k) {
+                        if tx.send(read_records(path, layout, &mut reader)).is_err() {
                             return;
                         }
                     }
@@ -59,18 +60,36 @@ impl ReadAhead {
                 rx
             })
             .collect();
-        Self { slots }
+        Self {
+            slots,
+            next: 1,
+            files: files.len(),
+        }
     }
 
-    /// The records of file `i`; files must be asked for in order.
-    pub(crate) fn next(&mut self, i: usize) -> bearing_ident::Result<Vec<Record>> {
+    /// Index (in the file list) of the file the next call of [`ReadAhead::next`] hands out.
+    pub(crate) fn position(&self) -> usize {
+        self.next
+    }
+}
+
+impl Iterator for ReadAhead {
+    type Item = bearing_ident::Result<Vec<Record>>;
+
+    /// The records of the next file after the first, in file order; `None` after the last.
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.next >= self.files {
+            return None;
+        }
+        let i = self.next - 1;
+        self.next += 1;
         let k = self.slots.len();
-        self.slots[i % k].recv().unwrap_or_else(|_| {
+        Some(self.slots[i % k].recv().unwrap_or_else(|_| {
             Err(Error::Io {
                 path: String::new(),
                 message: "a reading thread stopped".into(),
             })
-        })
+        }))
     }
 }
 

@@ -27,14 +27,14 @@ pub fn choose(
 ) -> Result<(Identifier, Option<usize>, Option<WelchChoice>, Files), Failure> {
     // Random records are cut into Welch segments unless paired sets took whole records.
     let needed = excitation == Excitation::Random && args.nperseg.is_none();
-    let (first, mut ahead) = match files {
+    let (first, ahead) = match files {
         Files::Streamed { first, ahead } if needed && segment_len.is_some() => (first, ahead),
         files => return Ok((identifier, segment_len, None, files)),
     };
     let mut records = first;
     let t = Instant::now();
-    for i in 1..args.files.len() {
-        records.extend(ahead.next(i)?);
+    for file in ahead {
+        records.extend(file?);
     }
     *reading += t.elapsed();
     // The first fit is for the modes only: IVF, no resampled error bars.
