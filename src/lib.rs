@@ -119,6 +119,8 @@ pub mod gate;
 pub mod identify;
 #[cfg(feature = "csv")]
 pub mod io;
+#[cfg(feature = "job")]
+pub mod job;
 #[cfg(feature = "json")]
 pub mod json;
 mod lanes;

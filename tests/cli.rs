@@ -1178,3 +1178,136 @@ fn a_closed_stdout_is_a_quiet_success() {
         assert!(out.status.success(), "{args:?}: {:?}", out.status);
     }
 }
+
+/// The record files of `dir` written again as Universal Files (one record, load case 0, per
+/// file: its time histories, force data type 13, displacement 8), in the same order.
+fn as_uff(csv: &[String], dofs: usize) -> Vec<String> {
+    use bearing_ident::uff::{self, Function};
+    let layout = bearing_ident::io::CsvLayout::for_dofs(dofs);
+    csv.iter()
+        .map(|path| {
+            let r = bearing_ident::io::read_record(path, &layout).unwrap();
+            let dt = 1.0 / r.sample_rate();
+            let mut functions = Vec::new();
+            for i in 0..dofs {
+                let dir = i as i64 + 1;
+                functions.push(Function::time_response(
+                    1,
+                    dir,
+                    13,
+                    0.0,
+                    dt,
+                    r.force(i).to_vec(),
+                ));
+                let x = r.displacement(i).to_vec();
+                functions.push(Function::time_response(1, dir, 8, 0.0, dt, x));
+            }
+            let out = path.replace(".csv", ".uff");
+            let mut bytes = Vec::new();
+            uff::write_binary(&mut bytes, &functions, uff::ByteOrder::Little).unwrap();
+            std::fs::write(&out, bytes).unwrap();
+            out
+        })
+        .collect()
+}
+
+/// No path may lose or reorder a record: for every excitation kind, `identify` on 1–8 files
+/// (CSV, then the same records as Universal Files), given in an order that is not sorted,
+/// reports `files` equal to the list given and `n_records` its length. Fewer files than a
+/// kind needs to span its directions or lines are refused (never answered with fewer).
+fn every_file_kept_in_order(
+    kind: &str,
+    simulate_args: &[&str],
+    identify_args: &[&str],
+    least: usize,
+) {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = simulate(dir.path(), &[&["--kind", kind], simulate_args].concat());
+    assert_eq!(csv.len(), 8, "{kind}: {csv:?}");
+    let dofs = if simulate_args.contains(&"--mass") {
+        1
+    } else {
+        2
+    };
+    let uff = as_uff(&csv, dofs);
+    // An order that is neither sorted nor reversed, with both directions in its first two.
+    let order = [7, 0, 5, 2, 3, 4, 1, 6];
+    // CSV files need their columns named for one degree of freedom; Universal Files do not.
+    let csv_only: &[&str] = if dofs == 1 {
+        &["--force", "fx", "--disp", "x"]
+    } else {
+        &[]
+    };
+    for (files, extra) in [(&csv, csv_only), (&uff, &[][..])] {
+        for n in 1..=8 {
+            let given: Vec<String> = order[..n].iter().map(|&i| files[i].clone()).collect();
+            let refs: Vec<&str> = given.iter().map(String::as_str).collect();
+            let head = ["identify", "--json", "--band", "8,49"];
+            let out = run(&[&head[..], identify_args, extra, &refs].concat());
+            let v: Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+            if !out.status.success() {
+                assert!(n < least, "{kind}, {n} files: {v}");
+                continue;
+            }
+            assert_eq!(v["n_records"], n, "{kind}, {n} files: {v}");
+            let reported: Vec<&str> = v["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|f| f.as_str().unwrap())
+                .collect();
+            assert_eq!(reported, refs, "{kind}, {n} files");
+        }
+    }
+}
+
+#[test]
+fn impact_files_are_all_kept_in_order() {
+    every_file_kept_in_order("impact", &["--impacts", "4", "--rate", "1000"], &[], 2);
+}
+
+#[test]
+fn random_files_are_all_kept_in_order() {
+    every_file_kept_in_order(
+        "random",
+        &["--records", "8", "--rate", "256", "--duration", "32"],
+        &[],
+        1,
+    );
+}
+
+#[test]
+fn multisine_files_are_all_kept_in_order() {
+    let sim = [
+        "--records",
+        "4",
+        "--rate",
+        "256",
+        "--period",
+        "1",
+        "--periods",
+        "4",
+    ];
+    let sim = [&sim[..], &["--freqs", "8,49"]].concat();
+    every_file_kept_in_order(
+        "multisine",
+        &sim,
+        &["--excitation", "periodic", "--period", "1"],
+        4,
+    );
+}
+
+#[test]
+fn stepped_sine_files_are_all_kept_in_order() {
+    // One degree of freedom: each file is one line of the fit.
+    let sim = ["--freqs", "8,49,8", "--rate", "256", "--duration", "1"];
+    let one_dof = ["--mass", "4.7", "--damping", "30", "--stiffness", "146e3"];
+    let identify = ["--excitation", "stepped-sine"];
+    every_file_kept_in_order("stepped-sine", &[&sim[..], &one_dof].concat(), &identify, 5);
+}
+
+#[test]
+fn sweep_files_are_all_kept_in_order() {
+    let sim = ["--records", "4", "--rate", "256", "--freqs", "5,60"];
+    every_file_kept_in_order("sweep", &sim, &["--excitation", "sweep"], 2);
+}

@@ -49,7 +49,10 @@ impl Error {
             Error::NotConverged { .. } => "not_converged",
             Error::Io { .. } => "io_error",
             Error::RecordTooShort { .. } | Error::TooFewAverages { .. } => "record_too_short",
+            Error::Baseline { source, .. } => source.kind(),
+            Error::BandText { .. } => "bad_band",
             Error::InvalidParameter { .. }
+            | Error::InvalidOption { .. }
             | Error::UnknownName { .. }
             | Error::LengthMismatch { .. } => "invalid_argument",
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {

@@ -53,6 +53,32 @@ pub enum Error {
         /// The accepted names, in words.
         expected: &'static str,
     },
+    /// An option of an identification from files ([`crate::job::Options`]) does not fit:
+    /// a value that does not parse, or one the records cannot take (a period without periodic
+    /// records, a period longer than the records). The message names the option as the
+    /// command line spells it.
+    #[error("{message}")]
+    InvalidOption {
+        /// The option's long name (`period`, `window`, …).
+        option: &'static str,
+        /// What is wrong, quoting at most 80 characters of the value.
+        message: String,
+    },
+    /// A band given as text is not `LO,HI` in Hz.
+    #[error("--band `{given}`: expected LO,HI in Hz, e.g. 8,49")]
+    BandText {
+        /// The text given (at most 80 characters of it).
+        given: String,
+    },
+    /// A dry-structure baseline could not be had: its folder of records or its JSON file
+    /// failed (the kind is that of the failure inside).
+    #[error("--baseline {path}: {source}")]
+    Baseline {
+        /// The folder or file given.
+        path: String,
+        /// What failed.
+        source: Box<Error>,
+    },
     /// Two inputs of a library function that must have one length do not.
     #[error("{what}: {actual} values, expected {expected}")]
     LengthMismatch {

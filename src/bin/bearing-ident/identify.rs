@@ -1,32 +1,24 @@
-//! `bearing-ident identify`: its arguments, the settings assembled from them and the
-//! excitation ([`Excitation`]), the streamed run over the record files, the dry-structure
-//! baseline, and the report, figures and JSON written at the end.
+//! `bearing-ident identify`: its arguments, turned into the library's [`Job`] (options and
+//! channels), the progress bar while the files are read, and the report, figures, exports and
+//! JSON written from the [`Outcome`]. The run itself (reading, detection, settings, the Welch
+//! choice, the identification, the baseline) is the library's.
 
-use std::borrow::Cow;
 use std::path::PathBuf;
-use std::time::Instant;
 
-use bearing_ident::excitation::{Excitation, crest_factor, deciding_crest_factor};
-use bearing_ident::gate::FitGate;
+use bearing_ident::excitation::Excitation;
 use bearing_ident::io::CsvLayout;
+use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, is_uff, read_first};
 use bearing_ident::quality::ImpactChecks;
-use bearing_ident::spectra::ForceGate;
 use bearing_ident::uff::{UffChannel, UffLayout};
-use bearing_ident::{
-    Assignment, Error, Estimator, Identification, Identifier, Method, NonConvergence, Record,
-    Screening, Segmentation, Uncertainty,
-};
+use bearing_ident::{Estimator, Method, Uncertainty};
 use clap::ValueEnum;
 
 use crate::failure::{Failure, invalid};
 use crate::output::{emit, write_report};
-use crate::parse::{library, parse_band, parse_window, response_columns};
-use crate::read::{Layout, ReadAhead, is_uff, read_file, read_record};
+use crate::parse::{library, response_columns};
 use crate::report;
 
-mod baseline;
 mod nonlinear;
-mod welch;
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum MethodArg {
@@ -211,7 +203,8 @@ pub struct IdentifyArgs {
     files: Vec<PathBuf>,
 }
 
-fn layout(args: &IdentifyArgs) -> Result<Layout, Failure> {
+/// Where the forces and responses are in the files, from `--force`, `--disp`, `--response`.
+fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
     let defaults = CsvLayout::default();
     let pick = |given: &[String], default: Vec<String>| {
         if given.is_empty() {
@@ -265,289 +258,101 @@ fn layout(args: &IdentifyArgs) -> Result<Layout, Failure> {
             csv.displacements.len()
         )));
     }
-    Ok(Layout {
+    Ok(Channels {
         csv,
         uff,
         responses: args.response.clone(),
     })
 }
 
-/// The identifier and its processing for `excitation`, from the first record and the options;
-/// also the Welch segment length, if any. The excitation's defaults are the library's
-/// ([`Excitation::estimator`], [`Excitation::segmentation`], [`Excitation::window`],
-/// [`Excitation::checks`]); `--estimator`, `--nperseg` and `--window` override them.
-fn settings(
-    args: &IdentifyArgs,
-    excitation: Excitation,
-    first: &Record,
-) -> Result<(Identifier, Option<usize>), Failure> {
-    let (lo, hi) = parse_band(&args.band)?;
-    let chosen: Option<Estimator> = args.estimator.map(library).transpose()?;
-    let estimator = excitation.estimator(chosen);
-    let segmentation = match excitation.segmentation(estimator, first, args.period) {
-        Ok(Segmentation::Welch { len }) => Segmentation::Welch {
-            len: args.nperseg.unwrap_or(len),
-        },
-        Ok(segmentation) => segmentation,
-        Err(Error::InvalidParameter { name: "period", .. }) => {
-            return Err(invalid(match args.period {
-                None => "--excitation periodic needs --period SECONDS".to_string(),
-                Some(period) => format!(
-                    "--period {period}: {} samples; expected 8 samples up to the record length",
-                    (period * first.sample_rate()).round()
-                ),
-            }));
-        }
-        Err(e) => return Err(e.into()),
-    };
-    let segment_s = match segmentation {
-        Segmentation::Welch { len } | Segmentation::Periods { len } => {
-            len as f64 / first.sample_rate()
-        }
-        _ => first.duration(),
-    };
-    let window = match args.window.as_deref() {
-        None => excitation.window(),
-        Some(w) => parse_window(w, segment_s)?,
-    };
-    let method: Method = library(args.method)?;
-    let mut identifier = Identifier::new(lo, hi)
-        .method(method)
-        .estimator(estimator)
-        .segmentation(segmentation)
-        .window(window)
-        .tolerance(args.tolerance)
-        .max_iterations(args.max_iterations)
-        .min_coherence(args.min_coherence)
-        .fit_gate(FitGate {
-            min_r2: args.min_r2,
-        })
-        .uncertainty(match library(args.uncertainty)? {
-            Uncertainty::Bootstrap { .. } => Uncertainty::Bootstrap {
-                replicates: args.bootstrap_draws,
-                seed: args.seed,
-            },
-            uncertainty => uncertainty,
-        })
-        .on_non_convergence(if args.allow_unconverged {
-            NonConvergence::Warn
-        } else {
-            NonConvergence::Fail
-        });
-    if let Some(open) = args.force_gate {
-        identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
+/// The library's options from the command line.
+fn options(args: &IdentifyArgs) -> Result<Options, Failure> {
+    let (lo, hi) = bearing_ident::job::parse_band(&args.band)?;
+    let mut o = Options::new(lo, hi);
+    o.method = library::<Method>(args.method)?;
+    o.excitation = args.excitation.kind();
+    o.estimator = args.estimator.map(library::<Estimator>).transpose()?;
+    o.window = args.window.as_deref().map(str::parse).transpose()?;
+    o.uncertainty = library::<Uncertainty>(args.uncertainty)?;
+    o.bootstrap_draws = args.bootstrap_draws;
+    o.seed = args.seed;
+    o.force_gate_s = args.force_gate;
+    o.period_s = args.period;
+    o.step_tolerance_hz = args.step_tolerance;
+    o.reject_bad_records = args.reject_bad_records;
+    o.min_coherence = args.min_coherence;
+    o.min_r2 = args.min_r2;
+    o.nperseg = args.nperseg;
+    o.tolerance = args.tolerance;
+    o.max_iterations = args.max_iterations;
+    o.allow_unconverged = args.allow_unconverged;
+    o.baseline.clone_from(&args.baseline);
+    Ok(o)
+}
+
+/// Reads the record files and identifies them ([`Job::run_files_with`], a progress bar on
+/// stderr while the files stream in); `--nonlinear` takes the reverse path instead.
+pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+    let channels = channels(args)?;
+    crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
+    if let Some(terms) = &args.nonlinear {
+        return nonlinear::run(args, terms, &channels);
     }
-    // Screening on every excitation; the double-hit check only for impacts.
-    let checks = excitation.checks();
-    identifier = identifier.screening(if args.reject_bad_records {
-        Screening::Reject(checks)
-    } else {
-        Screening::Warn(checks)
-    });
-    let segment_len = match segmentation {
-        Segmentation::Welch { len } | Segmentation::Periods { len } => Some(len),
-        _ => None,
-    };
-    Ok((identifier, segment_len))
-}
-
-/// The records to identify: the first file's (read on this thread) followed by the others,
-/// parsed ahead on worker threads; or every file's, read already (for the Welch choice).
-pub(crate) enum Files {
-    Streamed {
-        first: Vec<Record>,
-        ahead: ReadAhead,
-    },
-    Read(Vec<Record>),
-}
-
-/// Identifies the records of `files` (read from `paths`): streamed one at a time (memory holds one record plus
-/// band-line spectra, however many files), or all together for a stepped-sine test.
-/// `reading` gathers the time spent waiting for files.
-fn run(
-    args: &IdentifyArgs,
-    identifier: &Identifier,
-    excitation: Excitation,
-    paths: &[PathBuf],
-    files: Files,
-    reading: &mut std::time::Duration,
-    labels: &mut Vec<String>,
-) -> Result<Identification, Failure> {
-    let (first, mut ahead) = match files {
-        Files::Read(records) => {
-            labels.extend(records.iter().map(|r| r.label().to_owned()));
-            let records = records.into_iter().map(Ok);
-            return identify_records(args, identifier, excitation, records);
-        }
-        Files::Streamed { first, ahead } => (first, ahead),
-    };
+    nonlinear::linear_only(args)?;
+    let job = Job::new(options(args)?, channels);
     let bar = indicatif::ProgressBar::with_draw_target(
-        Some(paths.len() as u64),
+        Some(args.files.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    // The first file is read already (a Universal File may hold several records, one per
-    // load case); the others are taken in order, each once.
-    bar.inc(1);
-    let rest = std::iter::from_fn(|| {
-        let t = Instant::now();
-        if let Some(path) = paths.get(ahead.position()) {
-            bar.set_message(path.display().to_string());
-        }
-        let file = ahead.next()?;
-        bar.inc(1);
-        *reading += t.elapsed();
-        Some(match file {
-            Ok(r) => r.into_iter().map(Ok).collect(),
-            Err(e) => vec![Err(e)],
-        })
-    })
-    .flatten();
-    let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
-        if let Ok(r) = r {
-            labels.push(r.label().to_owned());
-        }
+    let outcome = job.run_files_with(&args.files, |p| match p {
+        Progress::Reading { path, .. } => bar.set_message(path.display().to_string()),
+        Progress::Read { .. } => bar.inc(1),
+        _ => {}
     });
-    identify_records(args, identifier, excitation, records).inspect(|_| bar.finish_and_clear())
-}
-
-/// Identifies `records` as they arrive, or all together for a stepped-sine test.
-fn identify_records(
-    args: &IdentifyArgs,
-    identifier: &Identifier,
-    excitation: Excitation,
-    records: impl Iterator<Item = bearing_ident::Result<Record>>,
-) -> Result<Identification, Failure> {
-    let id = if excitation == Excitation::SteppedSine {
-        let records: Vec<Record> = records.collect::<bearing_ident::Result<_>>()?;
-        let dofs = records[0].dofs();
-        identifier
-            .clone()
-            .dofs(dofs)
-            .assignment(Assignment::DominantForce)
-            .identify_stepped_sine(&records, args.step_tolerance)?
-    } else {
-        identifier.identify_stream(records)?
-    };
-    Ok(id)
-}
-
-/// Reads the record files and identifies them; the excitation kind is decided from the first
-/// record with a force that is not flat (as [`Excitation::detect`] does, reading the files
-/// one at a time).
-pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
-    let layout = layout(args)?;
-    crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
-    let start = Instant::now();
-    std::thread::scope(|scope| {
-        // The files after the first are parsed on worker threads from the start, while this
-        // thread reads the first and settles the settings (`--nonlinear` reads its own).
-        let ahead = args
-            .nonlinear
-            .is_none()
-            .then(|| ReadAhead::spawn(scope, &args.files, &layout));
-        identify_files(args, &layout, start, ahead)
-    })
-}
-
-/// [`identify`] once the workers (if any) are parsing.
-fn identify_files(
-    args: &IdentifyArgs,
-    layout: &Layout,
-    start: Instant,
-    ahead: Option<ReadAhead>,
-) -> Result<(), Failure> {
-    let first_file = read_file(&args.files[0], layout)?;
-    let first = &first_file[0];
-    let crest = if args.excitation == ExcitationArg::Auto {
-        // A flat force (a hammer hit that did not register) says nothing of the excitation:
-        // the library decides from the first record with a force, reading no further.
-        let rest = args.files[1..]
-            .iter()
-            .map(|path| read_record(path, layout).map(Cow::Owned));
-        deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?
-    } else {
-        crest_factor(first)
-    };
-    let mut reading = start.elapsed();
-    let excitation = args
-        .excitation
-        .kind()
-        .unwrap_or_else(|| Excitation::from_crest_factor(crest));
-    let Some(ahead) = ahead else {
-        let terms = args
-            .nonlinear
-            .as_ref()
-            .expect("no workers only for --nonlinear");
-        return nonlinear::run(args, terms, layout, excitation, first_file);
-    };
-    nonlinear::linear_only(args)?;
-    let (identifier, segment_len) = settings(args, excitation, first)?;
-    let sample_rate = first.sample_rate();
-    let files = Files::Streamed {
-        first: first_file,
-        ahead,
-    };
-    let (identifier, segment_len, welch_choice, files) = welch::choose(
-        args,
-        identifier,
-        segment_len,
-        excitation,
-        files,
-        &mut reading,
-    )?;
-    // The labels of the records identified: the files, or a file's load cases for a UFF.
-    let mut labels = Vec::new();
-    let id = run(
-        args,
-        &identifier,
-        excitation,
-        &args.files,
-        files,
-        &mut reading,
-        &mut labels,
-    )?;
-    let compute_ms = (start.elapsed().saturating_sub(reading)).as_secs_f64() * 1e3;
-    let bearing = match &args.baseline {
-        Some(path) => {
-            let dry = baseline::baseline(args, &identifier, excitation, path)?;
-            let (b, std) = id.subtract_baseline(dry)?;
-            Some((b, std, path.display().to_string()))
-        }
-        None => None,
-    };
-    let context = report::Context {
-        excitation: excitation.name(),
-        excitation_auto: args.excitation == ExcitationArg::Auto,
-        crest_factor: crest,
-        segment_len,
-        welch_choice,
-        sample_rate,
-        files: labels,
-        compute_ms,
-        read_ms: reading.as_secs_f64() * 1e3,
-        show_timings: args.timings,
-        axes: if args.disp.is_empty() {
-            CsvLayout::default().displacements
-        } else {
-            args.disp.clone()
-        },
-        bearing,
-        per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
-    };
+    bar.finish_and_clear();
+    let outcome = outcome?;
+    let id = outcome.identification();
+    let context = context(args, &outcome)?;
     if let Some(dir) = &args.plot {
         // The records were streamed; read a few again for the record figure.
         let records = args
             .files
             .iter()
             .take(PLOTTED_FILES)
-            .map(|path| read_record(path, layout))
+            .map(|path| read_first(path, job.channels()))
             .collect::<bearing_ident::Result<Vec<_>>>()?;
-        let checks = (excitation == Excitation::Impact).then(ImpactChecks::default);
-        write_report(dir, &id, &records, &context, None, checks)?;
+        let checks = (outcome.excitation() == Excitation::Impact).then(ImpactChecks::default);
+        write_report(dir, id, &records, &context, None, checks)?;
     }
-    let bearing = context.bearing.as_ref().map(|(b, _, _)| b);
-    crate::export::write(&args.export, &id, bearing, args.per_frequency)?;
-    emit(&id, &context, None, args.json)
+    let bearing = outcome.bearing().map(|b| &b.coefficients);
+    crate::export::write(&args.export, id, bearing, args.per_frequency)?;
+    emit(id, &context, None, args.json)
+}
+
+/// What the report says of the run besides the identification.
+fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Failure> {
+    let id = outcome.identification();
+    Ok(report::Context {
+        excitation: outcome.excitation().name(),
+        excitation_auto: outcome.excitation_detected(),
+        crest_factor: outcome.crest_factor(),
+        segment_len: outcome.segment_len(),
+        welch_choice: outcome.welch_choice().copied(),
+        sample_rate: outcome.sample_rate(),
+        files: outcome.files().to_vec(),
+        compute_ms: outcome.compute_time().as_secs_f64() * 1e3,
+        read_ms: outcome.read_time().as_secs_f64() * 1e3,
+        show_timings: args.timings,
+        axes: if args.disp.is_empty() {
+            CsvLayout::default().displacements
+        } else {
+            args.disp.clone()
+        },
+        bearing: outcome
+            .bearing()
+            .map(|b| (b.coefficients.clone(), b.std_dev.clone(), b.source.clone())),
+        per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
+    })
 }
 
 /// Files read again for the record figure of `identify --plot`.

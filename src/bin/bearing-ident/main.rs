@@ -17,7 +17,6 @@ mod identify;
 mod inspect;
 mod output;
 mod parse;
-mod read;
 mod report;
 mod simulate;
 

@@ -1,47 +1,11 @@
-//! The string parsers of the command line: a band `LO,HI`, a matrix `a,b;c,d` and a window
-//! `rect | hann | exp:END`. Their failures quote at most 80 characters of the input.
+//! The string parsers of the command line: a matrix `a,b;c,d`, library names of options, the
+//! default response column names. Their failures quote at most 80 characters of the input.
+//! (A band `LO,HI` and a window are parsed by the library: `bearing_ident::job`.)
 
-use bearing_ident::Window;
 use bearing_ident::error::excerpt;
 use faer::Mat;
 
 use crate::failure::{Failure, invalid};
-
-pub fn parse_band(s: &str) -> Result<(f64, f64), Failure> {
-    let bad = || Failure {
-        kind: "bad_band",
-        message: format!("--band `{}`: expected LO,HI in Hz, e.g. 8,49", excerpt(s)),
-    };
-    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
-    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
-    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
-    Ok((lo, hi))
-}
-
-/// `rect`, `hann` or `exp:END` with `0 < END < 1`, over segments of `segment_s` seconds.
-pub fn parse_window(s: &str, segment_s: f64) -> Result<Window, Failure> {
-    let bad = || {
-        invalid(format!(
-            "--window `{}`: expected rect, hann or exp:END with 0 < END < 1",
-            excerpt(s)
-        ))
-    };
-    match s {
-        "rect" => Ok(Window::Rectangular),
-        "hann" => Ok(Window::Hann),
-        _ => {
-            let end: f64 = s
-                .strip_prefix("exp:")
-                .and_then(|e| e.parse().ok())
-                .ok_or_else(bad)?;
-            if end > 0.0 && end < 1.0 {
-                Ok(Window::exponential_to(end, segment_s))
-            } else {
-                Err(bad())
-            }
-        }
-    }
-}
 
 pub fn parse_matrix(name: &str, s: &str) -> Result<Mat<f64>, Failure> {
     let rows: Vec<Vec<f64>> = s

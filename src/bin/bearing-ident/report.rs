@@ -2,11 +2,10 @@
 
 use std::fmt::Write as _;
 
-use bearing_ident::model::rows;
+use bearing_ident::job::Facts;
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::plot::{coefficient_rows, significant as sig};
 use bearing_ident::{Coefficients, Identification};
-use faer::MatRef;
 
 /// Facts about the run that the identification itself does not hold.
 pub struct Context {
@@ -39,83 +38,26 @@ pub struct Context {
     pub per_frequency: Option<PerFrequency>,
 }
 
-/// The library's serialization of `id` plus the run's own fields.
+/// The library's JSON of `id` with the run's own fields ([`bearing_ident::job::json`]).
 pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::Value> {
-    let mut v = serde_json::to_value(id)?;
-    if let Some(map) = v.as_object_mut() {
-        map.insert("excitation".into(), c.excitation.into());
-        map.insert("excitation_auto".into(), c.excitation_auto.into());
-        map.insert("crest_factor".into(), c.crest_factor.into());
-        map.insert("nperseg".into(), c.segment_len.into());
-        map.insert("welch_choice".into(), serde_json::to_value(c.welch_choice)?);
-        map.insert("fs".into(), c.sample_rate.into());
-        map.insert("n_records".into(), c.files.len().into());
-        map.insert("files".into(), c.files.clone().into());
-        map.insert("compute_ms".into(), c.compute_ms.into());
-        map.insert("timings_ms".into(), timings_ms(id, c));
-        if let Some((b, std, source)) = &c.bearing {
-            let block = |m: MatRef<'_, f64>| serde_json::Value::from(rows(m));
-            let std_block = |get: Block| std.as_ref().map(|s| block(get(s)));
-            let bearing = serde_json::json!({
-                "baseline": source,
-                "M": block(b.mass()),
-                "C": block(b.damping()),
-                "K": block(b.stiffness()),
-                "M_std": std_block(Coefficients::mass),
-                "C_std": std_block(Coefficients::damping),
-                "K_std": std_block(Coefficients::stiffness),
-            });
-            map.insert("bearing".into(), bearing);
-        }
-        if let Some(pf) = &c.per_frequency {
-            map.insert("per_frequency".into(), per_frequency_json(pf));
-        }
-    }
-    Ok(v)
+    let facts = Facts {
+        excitation: c.excitation,
+        excitation_auto: c.excitation_auto,
+        crest_factor: c.crest_factor,
+        segment_len: c.segment_len,
+        welch_choice: c.welch_choice,
+        sample_rate: c.sample_rate,
+        files: &c.files,
+        compute_ms: c.compute_ms,
+        read_ms: c.read_ms,
+        bearing: c
+            .bearing
+            .as_ref()
+            .map(|(b, std, source)| (b, std.as_ref(), source.as_str())),
+        per_frequency: c.per_frequency.as_ref(),
+    };
+    bearing_ident::job::json(id, &facts)
 }
-
-/// `read`, the library's stages ([`bearing_ident::identify::Timings`]) and `total` (reading
-/// plus compute), in milliseconds.
-fn timings_ms(id: &Identification, c: &Context) -> serde_json::Value {
-    let mut map = serde_json::Map::new();
-    map.insert("read".into(), c.read_ms.into());
-    for (name, d) in id.timings().stages() {
-        map.insert(name.into(), (d.as_secs_f64() * 1e3).into());
-    }
-    map.insert("total".into(), (c.read_ms + c.compute_ms).into());
-    serde_json::Value::Object(map)
-}
-
-/// One object per line: `freq_hz`, `K`, `C` (rows), `K_std`, `C_std` (null without an FRF
-/// variance), and for n = 2 `K_eff`, `C_eff`, `K_eff_std`, `C_eff_std`.
-fn per_frequency_json(pf: &PerFrequency) -> serde_json::Value {
-    let effective = pf.effective();
-    let lines: Vec<serde_json::Value> = pf
-        .freqs_hz()
-        .iter()
-        .enumerate()
-        .map(|(k, &f)| {
-            let mut line = serde_json::json!({
-                "freq_hz": f,
-                "K": rows(pf.stiffness(k)),
-                "C": rows(pf.damping(k)),
-                "K_std": pf.stiffness_std(k).map(rows),
-                "C_std": pf.damping_std(k).map(rows),
-            });
-            if let (Some(e), Some(map)) = (effective.as_ref().map(|e| e[k]), line.as_object_mut()) {
-                map.insert("K_eff".into(), e.stiffness.into());
-                map.insert("C_eff".into(), e.damping.into());
-                map.insert("K_eff_std".into(), e.stiffness_std.into());
-                map.insert("C_eff_std".into(), e.damping_std.into());
-            }
-            line
-        })
-        .collect();
-    lines.into()
-}
-
-/// Picks one block (M, C or K) out of a coefficient set.
-type Block = fn(&Coefficients) -> MatRef<'_, f64>;
 
 /// One line per coefficient: name, value, standard deviation, and truth with error if known.
 fn coefficient_lines(

@@ -11,17 +11,17 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use bearing_ident::excitation::Excitation;
+use bearing_ident::excitation::{Excitation, deciding_crest_factor};
 use bearing_ident::model::rows;
 use bearing_ident::nonlinear::{Differentiation, NonlinearIdentification, Regressor, ReversePath};
 use bearing_ident::plot::{FigureOptions, ReportOptions, coefficient_rows, significant as sig};
-use bearing_ident::{Coefficients, IvfOptions, Method, Record, Warning};
+use bearing_ident::{Coefficients, IvfOptions, Method, Warning};
 use serde_json::json;
 
 use super::IdentifyArgs;
 use crate::failure::{Failure, invalid, print_out};
-use crate::parse::{library, parse_band};
-use crate::read::{Layout, read_file};
+use crate::parse::library;
+use bearing_ident::job::{Channels, read_file, read_first};
 
 /// The regressors of `--nonlinear` (a comma list of names).
 pub(super) fn regressors(terms: &str) -> Result<Vec<Regressor>, Failure> {
@@ -42,15 +42,21 @@ pub(super) fn linear_only(args: &IdentifyArgs) -> Result<(), Failure> {
     }
 }
 
-/// Runs the reverse path on every record of `args.files` (the first file's records already
-/// read) and writes the result.
-pub(super) fn run(
-    args: &IdentifyArgs,
-    terms: &str,
-    layout: &Layout,
-    excitation: Excitation,
-    first: Vec<Record>,
-) -> Result<(), Failure> {
+/// Runs the reverse path on every record of `args.files` and writes the result. The
+/// excitation is the one given, or the one the first record with a force says.
+pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Result<(), Failure> {
+    let start = Instant::now();
+    let first = read_file(&args.files[0], channels)?;
+    let excitation = match args.excitation.kind() {
+        Some(kind) => kind,
+        None => {
+            let rest = args.files[1..]
+                .iter()
+                .map(|path| read_first(path, channels).map(std::borrow::Cow::Owned));
+            let records = std::iter::once(Ok(std::borrow::Cow::Borrowed(&first[0]))).chain(rest);
+            Excitation::from_crest_factor(deciding_crest_factor(records)?)
+        }
+    };
     if !matches!(excitation, Excitation::Random | Excitation::Periodic) {
         return Err(invalid(format!(
             "--nonlinear needs random or multisine records (--excitation random); the records \
@@ -64,11 +70,10 @@ pub(super) fn run(
         ));
     }
     let regressors = regressors(terms)?;
-    let (lo, hi) = parse_band(&args.band)?;
-    let start = Instant::now();
+    let (lo, hi) = bearing_ident::job::parse_band(&args.band)?;
     let mut records = first;
     for path in &args.files[1..] {
-        records.extend(read_file(path, layout)?);
+        records.extend(read_file(path, channels)?);
     }
     let read_ms = start.elapsed().as_secs_f64() * 1e3;
     let method: Method = library(args.method)?;

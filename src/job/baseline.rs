@@ -1,0 +1,121 @@
+//! The dry-structure baseline of a [`Job`]: a folder of its CSV records, identified with the
+//! same settings, or the JSON of an earlier identification read back; subtracted from the
+//! system's coefficients.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use super::{Bearing, Job, Source, identify, read::ReadAhead, read_file};
+use crate::error::{Error, Result};
+use crate::excitation::Excitation;
+use crate::identify::{Baseline, Identification, Identifier};
+
+/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
+pub const MAX_BASELINE_BYTES: u64 = 1 << 24;
+
+impl Job {
+    /// `system` less the baseline at `path`: a folder's CSV records identified with
+    /// `identifier` as `excitation`, or a saved JSON result.
+    pub(super) fn bearing(
+        &self,
+        system: &Identification,
+        identifier: &Identifier,
+        excitation: Excitation,
+        path: &Path,
+    ) -> Result<Bearing> {
+        let dry = self.baseline(identifier, excitation, path)?;
+        let (coefficients, std_dev) = system.subtract_baseline(dry)?;
+        Ok(Bearing {
+            coefficients,
+            std_dev,
+            source: path.display().to_string(),
+        })
+    }
+
+    /// The dry structure's coefficients from `path`.
+    fn baseline(
+        &self,
+        identifier: &Identifier,
+        excitation: Excitation,
+        path: &Path,
+    ) -> Result<Baseline> {
+        let io = |e: std::io::Error| Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        };
+        if path.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(io)?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+                .collect();
+            files.sort();
+            if files.is_empty() {
+                return Err(Error::InvalidOption {
+                    option: "baseline",
+                    message: format!(
+                        "--baseline {}: no .csv records in the directory",
+                        path.display()
+                    ),
+                });
+            }
+            let mut waited = Duration::ZERO;
+            let id = std::thread::scope(|scope| {
+                let ahead = ReadAhead::spawn(scope, &files, &self.channels);
+                let first = read_file(&files[0], &self.channels)?;
+                let source = Source::Streamed {
+                    first,
+                    ahead,
+                    paths: &files,
+                };
+                identify(
+                    identifier,
+                    excitation,
+                    self.options.step_tolerance_hz,
+                    source,
+                    &mut waited,
+                    &mut Vec::new(),
+                    &mut |_| {},
+                )
+            })?;
+            return Ok(Baseline::from(&id));
+        }
+        let within = |e: Error| Error::Baseline {
+            path: path.display().to_string(),
+            source: Box::new(e),
+        };
+        // Read at most the limit (a sparse file or /dev/zero must not fill memory).
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(
+            &mut std::io::Read::take(
+                std::fs::File::open(path).map_err(io)?,
+                MAX_BASELINE_BYTES + 1,
+            ),
+            &mut bytes,
+        )
+        .map_err(io)?;
+        if bytes.len() as u64 > MAX_BASELINE_BYTES {
+            return Err(within(Error::TooLarge {
+                what: "bytes of a JSON result",
+                value: bytes.len() as f64,
+                limit: MAX_BASELINE_BYTES as f64,
+            }));
+        }
+        from_json(&String::from_utf8_lossy(&bytes)).map_err(within)
+    }
+}
+
+/// A baseline read back from the JSON of an identification.
+#[cfg(feature = "json")]
+fn from_json(text: &str) -> Result<Baseline> {
+    Baseline::from_json(text)
+}
+
+/// Without the `json` feature a saved result cannot be read back.
+#[cfg(not(feature = "json"))]
+fn from_json(_: &str) -> Result<Baseline> {
+    Err(Error::InvalidOption {
+        option: "baseline",
+        message: "a JSON baseline needs the `json` feature; give a folder of records".into(),
+    })
+}

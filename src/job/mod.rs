@@ -1,0 +1,556 @@
+//! One path from record files (or records in memory) to a result, as the `identify` command
+//! takes it: the files read (ahead, on worker threads), the kind of excitation detected from
+//! the records when not given, the estimator, segmentation and window that kind implies
+//! (overridable), the Welch segment length chosen from a first fit for random records, the
+//! identification (streamed, or all at once for stepped sine) and a dry-structure baseline
+//! subtracted. The command-line tool, a campaign of test points and bindings to other languages
+//! all call [`Job`], so a record is read and identified the same way whoever asks.
+//!
+//! | file | what lives there |
+//! |---|---|
+//! | `mod.rs` | [`Job`], [`Options`], [`Outcome`], the run |
+//! | `options.rs` | [`Options`] and [`WindowChoice`], their defaults and names |
+//! | `read.rs` | [`Channels`], [`read_file`], the read-ahead workers |
+//! | `baseline.rs` | the baseline: a folder of records or a saved JSON result |
+//! | `json.rs` | the JSON of a run, as `identify --json` prints it (feature `json`) |
+//!
+//! ```
+//! use bearing_ident::job::{Channels, Job, Options};
+//! use bearing_ident::simulate::{ImpactTest, seed_rig};
+//! let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+//! let outcome = Job::new(Options::new(8.0, 49.0), Channels::default()).run_records(records)?;
+//! assert_eq!(outcome.excitation().name(), "impact"); // detected
+//! assert_eq!(outcome.files().len(), 4);
+//! let k = outcome.identification().coefficients().stiffness()[(0, 0)];
+//! assert!((k / 146.3e3 - 1.0).abs() < 1e-6);
+//! # Ok::<(), bearing_ident::Error>(())
+//! ```
+
+mod baseline;
+#[cfg(feature = "json")]
+mod json;
+mod options;
+mod read;
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+#[cfg(feature = "json")]
+pub use json::{Facts, json};
+pub use options::{Options, WindowChoice, parse_band};
+pub use read::{Channels, is_uff, read_file, read_first};
+
+use crate::error::{Error, Result};
+use crate::excitation::{
+    Excitation, WelchChoice, choose_welch, crest_factor, deciding_crest_factor,
+};
+use crate::frf::Assignment;
+use crate::gate::FitGate;
+use crate::identify::{Identification, Identifier, NonConvergence, Screening};
+use crate::model::Coefficients;
+use crate::records::Record;
+use crate::spectra::{ForceGate, Segmentation};
+use crate::{Method, Uncertainty};
+use read::ReadAhead;
+
+/// What a [`Job`] tells its observer while it reads files ([`Job::run_files_with`]).
+#[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
+pub enum Progress<'a> {
+    /// File `index` of `total` is about to be waited for.
+    Reading {
+        /// Index in the file list.
+        index: usize,
+        /// Files in all.
+        total: usize,
+        /// The file.
+        path: &'a Path,
+    },
+    /// File `index` of `total` is in.
+    Read {
+        /// Index in the file list.
+        index: usize,
+        /// Files in all.
+        total: usize,
+    },
+}
+
+/// An identification to run: the options, as the `identify` command takes them, and where the
+/// forces and responses are in the files. Run it on files ([`Job::run_files`]) or on records
+/// in memory ([`Job::run_records`]).
+#[derive(Debug, Clone)]
+pub struct Job {
+    options: Options,
+    channels: Channels,
+}
+
+/// The system minus a dry-structure baseline ([`Options::baseline`]).
+#[derive(Debug, Clone)]
+pub struct Bearing {
+    /// `M`, `C`, `K` of the system less those of the baseline.
+    pub coefficients: Coefficients,
+    /// Their standard deviations (the variances add), when both have error bars.
+    pub std_dev: Option<Coefficients>,
+    /// Where the baseline came from (the path given).
+    pub source: String,
+}
+
+/// What a [`Job`] found: the identification, and the facts about the run that it does not
+/// hold (the records used, the excitation and how it was decided, the Welch choice, times).
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    identification: Identification,
+    identifier: Identifier,
+    files: Vec<String>,
+    excitation: Excitation,
+    detected: bool,
+    crest_factor: f64,
+    segment_len: Option<usize>,
+    welch_choice: Option<WelchChoice>,
+    sample_rate: f64,
+    read: Duration,
+    compute: Duration,
+    bearing: Option<Bearing>,
+}
+
+impl Outcome {
+    /// The identification.
+    pub fn identification(&self) -> &Identification {
+        &self.identification
+    }
+
+    /// The identification, taken out.
+    pub fn into_identification(self) -> Identification {
+        self.identification
+    }
+
+    /// The settings the records were identified with (after the excitation's defaults and the
+    /// Welch choice).
+    pub fn identifier(&self) -> &Identifier {
+        &self.identifier
+    }
+
+    /// The labels of the records identified, in the order given: the file paths, or
+    /// `path#load-case` for a Universal File of several load cases.
+    pub fn files(&self) -> &[String] {
+        &self.files
+    }
+
+    /// The kind of excitation the records were identified as.
+    pub fn excitation(&self) -> Excitation {
+        self.excitation
+    }
+
+    /// Whether the excitation was detected from the records rather than given.
+    pub fn excitation_detected(&self) -> bool {
+        self.detected
+    }
+
+    /// Crest factor of the first record with a force that is not flat
+    /// ([`crate::excitation::crest_factor`]).
+    pub fn crest_factor(&self) -> f64 {
+        self.crest_factor
+    }
+
+    /// Samples per Welch segment or period, if the records were cut.
+    pub fn segment_len(&self) -> Option<usize> {
+        self.segment_len
+    }
+
+    /// How the Welch segment length was chosen from the data, if it was.
+    pub fn welch_choice(&self) -> Option<&WelchChoice> {
+        self.welch_choice.as_ref()
+    }
+
+    /// Sampling rate of the records (Hz).
+    pub fn sample_rate(&self) -> f64 {
+        self.sample_rate
+    }
+
+    /// Wall time spent waiting for files (zero for records in memory).
+    pub fn read_time(&self) -> Duration {
+        self.read
+    }
+
+    /// Wall time of the rest: detection, settings, identification, baseline.
+    pub fn compute_time(&self) -> Duration {
+        self.compute
+    }
+
+    /// The system minus the baseline, when one was given.
+    pub fn bearing(&self) -> Option<&Bearing> {
+        self.bearing.as_ref()
+    }
+}
+
+/// Where the records come from: the first file's (read on the calling thread) followed by the
+/// others, parsed ahead on worker threads; or all of them at hand.
+enum Source<'a> {
+    Streamed {
+        first: Vec<Record>,
+        ahead: ReadAhead,
+        paths: &'a [PathBuf],
+    },
+    Read(Vec<Record>),
+}
+
+impl Job {
+    /// A job with `options`, reading files by `channels`.
+    pub fn new(options: Options, channels: Channels) -> Self {
+        Self { options, channels }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// The channels.
+    pub fn channels(&self) -> &Channels {
+        &self.channels
+    }
+
+    /// Identifies the records of `files` (CSV: one record each; Universal Files: one per load
+    /// case), in the order given: streamed one file at a time (memory holds one record plus
+    /// the band-line spectra, however many files), all together for stepped sine or when the
+    /// Welch length is chosen from a first fit.
+    ///
+    /// # Errors
+    /// [`Error::NoRecords`] for no files; the readers' errors naming the file; those of
+    /// [`Job::run_records`].
+    pub fn run_files(&self, files: &[PathBuf]) -> Result<Outcome> {
+        self.run_files_with(files, |_| {})
+    }
+
+    /// [`Job::run_files`], telling `observe` of each file waited for and read (a progress bar).
+    ///
+    /// # Errors
+    /// As [`Job::run_files`].
+    pub fn run_files_with(
+        &self,
+        files: &[PathBuf],
+        mut observe: impl FnMut(Progress<'_>),
+    ) -> Result<Outcome> {
+        let Some(first_path) = files.first() else {
+            return Err(Error::NoRecords);
+        };
+        let start = Instant::now();
+        std::thread::scope(|scope| {
+            // The files after the first are parsed on worker threads from the start, while
+            // this thread reads the first and settles the settings.
+            let ahead = ReadAhead::spawn(scope, files, &self.channels);
+            let first = read_file(first_path, &self.channels)?;
+            let source = Source::Streamed {
+                first,
+                ahead,
+                paths: files,
+            };
+            self.run(source, start, &mut observe)
+        })
+    }
+
+    /// Identifies `records` (at least one) as [`Job::run_files`] identifies files: the same
+    /// detection, settings, Welch choice and baseline.
+    ///
+    /// # Errors
+    /// [`Error::NoRecords`] for none; [`Error::InvalidOption`] for options that do not fit the
+    /// records (periodic records without a period, a period longer than the records); the
+    /// errors of [`Identifier::identify_stream`], [`Identifier::identify_stepped_sine`] and
+    /// [`crate::excitation::choose_welch`]; a baseline's errors.
+    pub fn run_records(&self, records: Vec<Record>) -> Result<Outcome> {
+        if records.is_empty() {
+            return Err(Error::NoRecords);
+        }
+        self.run(Source::Read(records), Instant::now(), &mut |_| {})
+    }
+
+    /// The kind of excitation of records whose first is `first`, with the crest factor it was
+    /// decided by: the one given, or the one the crest factor of the first record with a
+    /// force says ([`Excitation::from_crest_factor`]), reading `rest` only as far as that
+    /// record. Also whether it was detected.
+    ///
+    /// # Errors
+    /// The errors of `rest`; [`Error::DeadChannel`] if no record has a force.
+    pub fn excitation<'r>(
+        &self,
+        first: &'r Record,
+        rest: impl Iterator<Item = Result<Cow<'r, Record>>>,
+    ) -> Result<(Excitation, f64, bool)> {
+        match self.options.excitation {
+            Some(kind) => Ok((kind, crest_factor(first), false)),
+            None => {
+                let crest =
+                    deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
+                Ok((Excitation::from_crest_factor(crest), crest, true))
+            }
+        }
+    }
+
+    /// The run, from a source of records.
+    fn run(
+        &self,
+        source: Source<'_>,
+        start: Instant,
+        observe: &mut dyn FnMut(Progress<'_>),
+    ) -> Result<Outcome> {
+        let first = match &source {
+            Source::Streamed { first, .. } | Source::Read(first) => &first[0],
+        };
+        let (excitation, crest, detected) = match &source {
+            // A flat force (a hammer hit that did not register) says nothing of the
+            // excitation: the first record with a force decides, reading no further.
+            Source::Streamed { paths, .. } => self.excitation(
+                first,
+                paths[1..]
+                    .iter()
+                    .map(|path| read_first(path, &self.channels).map(Cow::Owned)),
+            )?,
+            Source::Read(records) => {
+                self.excitation(first, records[1..].iter().map(|r| Ok(Cow::Borrowed(r))))?
+            }
+        };
+        let sample_rate = first.sample_rate();
+        let mut reading = match &source {
+            Source::Streamed { .. } => start.elapsed(),
+            Source::Read(_) => Duration::ZERO,
+        };
+        let (identifier, segment_len) = self.identifier(excitation, first)?;
+        let (identifier, segment_len, welch_choice, source) =
+            self.welch(identifier, segment_len, excitation, source, &mut reading)?;
+        let mut files = Vec::new();
+        let identification = identify(
+            &identifier,
+            excitation,
+            self.options.step_tolerance_hz,
+            source,
+            &mut reading,
+            &mut files,
+            observe,
+        )?;
+        let bearing = match &self.options.baseline {
+            Some(path) => Some(self.bearing(&identification, &identifier, excitation, path)?),
+            None => None,
+        };
+        let compute = start.elapsed().saturating_sub(reading);
+        Ok(Outcome {
+            identification,
+            identifier,
+            files,
+            excitation,
+            detected,
+            crest_factor: crest,
+            segment_len,
+            welch_choice,
+            sample_rate,
+            read: reading,
+            compute,
+            bearing,
+        })
+    }
+
+    /// The identifier for `excitation`, from the first record and the options, and the
+    /// segment length, if the records are cut. The excitation's defaults are the library's
+    /// ([`Excitation::estimator`], [`Excitation::segmentation`], [`Excitation::window`],
+    /// [`Excitation::checks`]); the options' estimator, segment length and window override
+    /// them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for periodic records without a period or with one that does
+    /// not fit the records; [`ForceGate::new`]'s errors.
+    pub fn identifier(
+        &self,
+        excitation: Excitation,
+        first: &Record,
+    ) -> Result<(Identifier, Option<usize>)> {
+        let o = &self.options;
+        let estimator = excitation.estimator(o.estimator);
+        let segmentation = match excitation.segmentation(estimator, first, o.period_s) {
+            Ok(Segmentation::Welch { len }) => Segmentation::Welch {
+                len: o.nperseg.unwrap_or(len),
+            },
+            Ok(segmentation) => segmentation,
+            Err(Error::InvalidParameter { name: "period", .. }) => {
+                return Err(Error::InvalidOption {
+                    option: "period",
+                    message: match o.period_s {
+                        None => "--excitation periodic needs --period SECONDS".to_string(),
+                        Some(period) => format!(
+                            "--period {period}: {} samples; expected 8 samples up to the record \
+                             length",
+                            (period * first.sample_rate()).round()
+                        ),
+                    },
+                });
+            }
+            Err(e) => return Err(e),
+        };
+        let segment_s = match segmentation {
+            Segmentation::Welch { len } | Segmentation::Periods { len } => {
+                len as f64 / first.sample_rate()
+            }
+            _ => first.duration(),
+        };
+        let window = match o.window {
+            None => excitation.window(),
+            Some(w) => w.window(segment_s),
+        };
+        let mut identifier = Identifier::new(o.band.0, o.band.1)
+            .method(o.method)
+            .estimator(estimator)
+            .segmentation(segmentation)
+            .window(window)
+            .tolerance(o.tolerance)
+            .max_iterations(o.max_iterations)
+            .min_coherence(o.min_coherence)
+            .fit_gate(FitGate { min_r2: o.min_r2 })
+            .uncertainty(o.uncertainty())
+            .on_non_convergence(if o.allow_unconverged {
+                NonConvergence::Warn
+            } else {
+                NonConvergence::Fail
+            });
+        if let Some(open) = o.force_gate_s {
+            identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
+        }
+        // Screening on every excitation; the double-hit check only for impacts.
+        let checks = excitation.checks();
+        identifier = identifier.screening(if o.reject_bad_records {
+            Screening::Reject(checks)
+        } else {
+            Screening::Warn(checks)
+        });
+        let segment_len = match segmentation {
+            Segmentation::Welch { len } | Segmentation::Periods { len } => Some(len),
+            _ => None,
+        };
+        Ok((identifier, segment_len))
+    }
+
+    /// For random excitation cut into Welch segments with no length given: every record
+    /// gathered (the files still to come taken from the workers, `reading` gathering the
+    /// wait), a first fit ([`choose_welch`]), and the identifier with the chosen length;
+    /// otherwise everything as it was, and no choice.
+    fn welch<'a>(
+        &self,
+        identifier: Identifier,
+        segment_len: Option<usize>,
+        excitation: Excitation,
+        source: Source<'a>,
+        reading: &mut Duration,
+    ) -> Result<(Identifier, Option<usize>, Option<WelchChoice>, Source<'a>)> {
+        // Random records are cut into Welch segments unless paired sets took whole records.
+        let needed = excitation == Excitation::Random
+            && self.options.nperseg.is_none()
+            && segment_len.is_some();
+        if !needed {
+            return Ok((identifier, segment_len, None, source));
+        }
+        let records = match source {
+            Source::Read(records) => records,
+            Source::Streamed {
+                mut first, ahead, ..
+            } => {
+                let t = Instant::now();
+                for file in ahead {
+                    first.extend(file?);
+                }
+                *reading += t.elapsed();
+                first
+            }
+        };
+        // The first fit is for the modes only: IVF, no resampled error bars.
+        let first = identifier
+            .clone()
+            .method(Method::Ivf)
+            .uncertainty(Uncertainty::Sandwich);
+        let choice = choose_welch(&records, &first)?;
+        let identifier = identifier.segmentation(Segmentation::Welch {
+            len: choice.nperseg,
+        });
+        Ok((
+            identifier,
+            Some(choice.nperseg),
+            Some(choice),
+            Source::Read(records),
+        ))
+    }
+}
+
+/// Identifies the records of `source` with `identifier`: streamed as they arrive, or all
+/// together for a stepped-sine test; the labels of the records pushed onto `files`.
+fn identify(
+    identifier: &Identifier,
+    excitation: Excitation,
+    step_tolerance_hz: f64,
+    source: Source<'_>,
+    reading: &mut Duration,
+    files: &mut Vec<String>,
+    observe: &mut dyn FnMut(Progress<'_>),
+) -> Result<Identification> {
+    let (first, mut ahead, paths) = match source {
+        Source::Read(records) => {
+            files.extend(records.iter().map(|r| r.label().to_owned()));
+            return identify_records(
+                identifier,
+                excitation,
+                step_tolerance_hz,
+                records.into_iter().map(Ok),
+            );
+        }
+        Source::Streamed {
+            first,
+            ahead,
+            paths,
+        } => (first, ahead, paths),
+    };
+    let total = paths.len();
+    observe(Progress::Read { index: 0, total });
+    // The first file is read already (a Universal File may hold several records, one per load
+    // case); the others are taken in order, each once.
+    let rest = std::iter::from_fn(|| {
+        let t = Instant::now();
+        let index = ahead.position();
+        if let Some(path) = paths.get(index) {
+            observe(Progress::Reading { index, total, path });
+        }
+        let file = ahead.next()?;
+        observe(Progress::Read { index, total });
+        *reading += t.elapsed();
+        Some(match file {
+            Ok(r) => r.into_iter().map(Ok).collect(),
+            Err(e) => vec![Err(e)],
+        })
+    })
+    .flatten();
+    let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
+        if let Ok(r) = r {
+            files.push(r.label().to_owned());
+        }
+    });
+    identify_records(identifier, excitation, step_tolerance_hz, records)
+}
+
+/// Identifies `records` as they arrive, or all together for a stepped-sine test (each record
+/// assigned to its dominant force).
+fn identify_records(
+    identifier: &Identifier,
+    excitation: Excitation,
+    step_tolerance_hz: f64,
+    records: impl Iterator<Item = Result<Record>>,
+) -> Result<Identification> {
+    if excitation == Excitation::SteppedSine {
+        let records: Vec<Record> = records.collect::<Result<_>>()?;
+        let dofs = records.first().ok_or(Error::NoRecords)?.dofs();
+        identifier
+            .clone()
+            .dofs(dofs)
+            .assignment(Assignment::DominantForce)
+            .identify_stepped_sine(&records, step_tolerance_hz)
+    } else {
+        identifier.identify_stream(records)
+    }
+}
+
+#[cfg(test)]
+mod tests;

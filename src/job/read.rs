@@ -1,0 +1,235 @@
+//! Record files in: which columns or channels hold the forces and responses ([`Channels`]),
+//! one file's records ([`read_file`]), and the files after the first parsed ahead on worker
+//! threads ([`ReadAhead`]).
+
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, sync_channel};
+
+use crate::error::{Error, Result};
+use crate::io::{self, CsvLayout};
+use crate::records::{Record, Response};
+use crate::uff::UffLayout;
+
+/// Where the forces and responses are in the record files, and what the responses measure.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::job::Channels;
+/// let channels = Channels::default();
+/// assert_eq!(channels.csv.forces, ["fx", "fy"]);
+/// assert!(channels.responses.is_empty()); // displacement unless a file says otherwise
+/// ```
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Channels {
+    /// The columns of CSV files.
+    pub csv: CsvLayout,
+    /// The channels of Universal Files (`.uff`, `.unv`).
+    pub uff: UffLayout,
+    /// What the response channels measure: empty for the files' own word (displacement for
+    /// CSV, the data type for Universal Files), one kind for all, or one per degree of
+    /// freedom.
+    pub responses: Vec<Response>,
+}
+
+/// Whether `path` is a Universal File (`.uff`, `.unv`, any case) rather than a CSV record.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::job::is_uff;
+/// assert!(is_uff("rig/hit-3.UNV".as_ref()));
+/// assert!(!is_uff("rig/hit-3.csv".as_ref()));
+/// ```
+pub fn is_uff(path: &Path) -> bool {
+    path.extension()
+        .and_then(|x| x.to_str())
+        .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
+}
+
+/// Every record of a file, at least one: one from a CSV file, one per load case of the time
+/// histories of a Universal File ([`crate::uff::records_with`]), with the response kinds of
+/// `channels`.
+///
+/// # Errors
+/// The reader's errors, naming the file (and line, load case or channel);
+/// [`Error::UffRecord`] for a Universal File without a record.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::job::{Channels, read_file};
+/// use bearing_ident::{io, Record};
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("hit.csv");
+/// let r = Record::new("hit", 100.0, vec![vec![1.0; 16]; 2], vec![vec![0.5; 16]; 2])?;
+/// io::write_record(&path, &r, &Channels::default().csv)?;
+/// let back = read_file(&path, &Channels::default())?;
+/// assert_eq!(back.len(), 1);
+/// assert_eq!(back[0].displacement(1)[3], 0.5);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let records = if is_uff(path) {
+        read_uff(path, channels)?
+    } else {
+        vec![with_kinds(io::read_record(path, &channels.csv)?, channels)?]
+    };
+    if records.is_empty() {
+        return Err(Error::UffRecord {
+            path: path.display().to_string(),
+            load_case: 0,
+            message: "no record".into(),
+        });
+    }
+    Ok(records)
+}
+
+/// The first record of a file ([`read_file`]).
+///
+/// # Errors
+/// As [`read_file`].
+pub fn read_first(path: &Path, channels: &Channels) -> Result<Record> {
+    Ok(read_file(path, channels)?.swap_remove(0))
+}
+
+/// The records of a file read by `reader` (its buffers kept across files).
+fn read_records(
+    path: &Path,
+    channels: &Channels,
+    reader: &mut io::CsvReader,
+) -> Result<Vec<Record>> {
+    if is_uff(path) {
+        read_uff(path, channels)
+    } else {
+        with_kinds(reader.read(path)?, channels).map(|r| vec![r])
+    }
+}
+
+/// The records of a Universal File, one per load case.
+fn read_uff(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let functions = crate::uff::read(path)?;
+    crate::uff::records_with(&functions, &path.display().to_string(), &channels.uff)
+}
+
+/// `record` with the response kinds of `channels`, if any were given.
+fn with_kinds(record: Record, channels: &Channels) -> Result<Record> {
+    if channels.responses.is_empty() {
+        return Ok(record);
+    }
+    let kinds = Response::per_channel(&channels.responses, record.dofs())?;
+    record.with_responses(kinds)
+}
+
+/// The files after the first, parsed ahead on worker threads: worker `w` of `k` reads files
+/// `1 + w, 1 + w + k, …` in turn, each with its own [`io::CsvReader`], and hands each file's
+/// records over a channel of one slot, so at most two files' records per worker wait. The
+/// iterator hands them out in file order, each exactly once; the first file, which the caller
+/// reads, is not read here. Dropping it stops the workers at their next file.
+pub(crate) struct ReadAhead {
+    slots: Vec<Receiver<Result<Vec<Record>>>>,
+    /// Index (in the file list) of the next file handed out, from 1.
+    next: usize,
+    /// Files in all, the first included.
+    files: usize,
+}
+
+/// Most worker threads parsing files.
+const READERS: usize = 4;
+
+impl ReadAhead {
+    pub(crate) fn spawn<'s>(
+        scope: &'s std::thread::Scope<'s, '_>,
+        files: &'s [PathBuf],
+        channels: &'s Channels,
+    ) -> Self {
+        let rest = files.get(1..).unwrap_or_default();
+        let k = std::thread::available_parallelism()
+            .map_or(1, std::num::NonZero::get)
+            .clamp(1, READERS)
+            .min(rest.len().max(1));
+        let slots = (0..k)
+            .map(|w| {
+                let (tx, rx) = sync_channel(1);
+                let mut reader = io::CsvReader::new(channels.csv.clone());
+                scope.spawn(move || {
+                    for path in rest.iter().skip(w).step_by(k) {
+                        if tx.send(read_records(path, channels, &mut reader)).is_err() {
+                            return;
+                        }
+                    }
+                });
+                rx
+            })
+            .collect();
+        Self {
+            slots,
+            next: 1,
+            files: files.len(),
+        }
+    }
+
+    /// Index (in the file list) of the file the next call of [`Iterator::next`] hands out.
+    pub(crate) fn position(&self) -> usize {
+        self.next
+    }
+}
+
+impl Iterator for ReadAhead {
+    type Item = Result<Vec<Record>>;
+
+    /// The records of the next file after the first, in file order; `None` after the last.
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.next >= self.files {
+            return None;
+        }
+        let i = self.next - 1;
+        self.next += 1;
+        let k = self.slots.len();
+        Some(self.slots[i % k].recv().unwrap_or_else(|_| {
+            Err(Error::Io {
+                path: String::new(),
+                message: "a reading thread stopped".into(),
+            })
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The read-ahead hands out every file after the first once, in order, for any count of
+    /// files and workers.
+    #[test]
+    fn read_ahead_hands_out_every_file_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let channels = Channels::default();
+        let paths: Vec<PathBuf> = (0..9)
+            .map(|i| {
+                let path = dir.path().join(format!("r{i}.csv"));
+                let r = Record::new(
+                    format!("r{i}"),
+                    10.0,
+                    vec![vec![i as f64; 8]; 2],
+                    vec![vec![1.0; 8]; 2],
+                )
+                .unwrap();
+                io::write_record(&path, &r, &channels.csv).unwrap();
+                path
+            })
+            .collect();
+        for n in 0..=paths.len() {
+            let files = &paths[..n];
+            let labels: Vec<String> = std::thread::scope(|scope| {
+                ReadAhead::spawn(scope, files, &channels)
+                    .flat_map(|f| f.unwrap())
+                    .map(|r| r.label().to_owned())
+                    .collect()
+            });
+            let expected: Vec<String> = files
+                .iter()
+                .skip(1)
+                .map(|p| p.display().to_string())
+                .collect();
+            assert_eq!(labels, expected, "{n} files");
+        }
+    }
+}

@@ -1,0 +1,147 @@
+use super::*;
+use crate::io;
+use crate::simulate::{AntiAlias, ImpactTest, Simulator, seed_rig};
+
+/// `records` written as CSV files into `dir`, their paths in order.
+fn write(dir: &Path, records: &[Record]) -> Vec<PathBuf> {
+    records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let path = dir.join(format!("r{i}.csv"));
+            io::write_record(&path, r, &Channels::default().csv).unwrap();
+            path
+        })
+        .collect()
+}
+
+fn impacts() -> Vec<Record> {
+    let test = ImpactTest {
+        per_direction: 2,
+        noise: 0.02,
+        ..ImpactTest::seed_rig()
+    };
+    test.run(&seed_rig()).unwrap()
+}
+
+/// From files, the result is bit for bit that of the records read back and identified with
+/// the settings the job reports; the files are named in the order given.
+#[test]
+fn files_are_identified_as_records_in_the_order_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut paths = write(dir.path(), &impacts());
+    paths.reverse();
+    let job = Job::new(Options::new(8.0, 49.0), Channels::default());
+    let outcome = job.run_files(&paths).unwrap();
+    let labels: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    assert_eq!(outcome.files(), labels);
+    assert_eq!(outcome.excitation(), Excitation::Impact);
+    assert!(outcome.excitation_detected());
+    let read: Vec<Record> = paths
+        .iter()
+        .map(|p| read_first(p, &Channels::default()).unwrap())
+        .collect();
+    let direct = outcome.identifier().identify(&read).unwrap();
+    assert_eq!(
+        outcome.identification().coefficients(),
+        direct.coefficients()
+    );
+    let in_memory = job.run_records(read).unwrap();
+    assert_eq!(
+        in_memory.identification().coefficients(),
+        direct.coefficients()
+    );
+    assert_eq!(in_memory.read_time(), Duration::ZERO);
+}
+
+/// Random records: the Welch length is chosen from a first fit and every file is kept, in
+/// order, from files as from memory.
+#[test]
+fn random_files_choose_the_welch_length_and_keep_every_record() {
+    let mut sim = Simulator::new(&seed_rig(), 256.0, 8192, AntiAlias::default()).unwrap();
+    let records: Vec<Record> = (0..5)
+        .map(|s| sim.random_record(format!("r{s}"), 50.0, s).unwrap())
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let paths = write(dir.path(), &records);
+    let job = Job::new(Options::new(8.0, 49.0), Channels::default());
+    let outcome = job.run_files(&paths).unwrap();
+    assert_eq!(outcome.files().len(), 5);
+    assert_eq!(outcome.files()[3], paths[3].display().to_string());
+    assert_eq!(outcome.excitation(), Excitation::Random);
+    let choice = outcome.welch_choice().expect("chosen from a first fit");
+    assert_eq!(outcome.segment_len(), Some(choice.nperseg));
+    let from_memory = job.run_records(records).unwrap();
+    assert_eq!(from_memory.segment_len(), outcome.segment_len());
+    let k = outcome.identification().coefficients().stiffness()[(0, 0)];
+    let k_mem = from_memory.identification().coefficients().stiffness()[(0, 0)];
+    assert!((k / k_mem - 1.0).abs() < 1e-9, "{k} vs {k_mem}");
+    assert!((k / 146.3e3 - 1.0).abs() < 0.02, "{k}");
+}
+
+/// A periodic test without its period is refused, naming the option; a band that does not
+/// parse is `bad_band`.
+#[test]
+fn options_that_do_not_fit_are_named() {
+    let mut options = Options::new(8.0, 49.0);
+    options.excitation = Some(Excitation::Periodic);
+    let e = Job::new(options.clone(), Channels::default())
+        .run_records(impacts())
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::InvalidOption {
+                option: "period",
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "--excitation periodic needs --period SECONDS"
+    );
+    options.period_s = Some(1e3);
+    let e = Job::new(options, Channels::default())
+        .run_records(impacts())
+        .unwrap_err();
+    assert!(e.to_string().starts_with("--period 1000: "), "{e}");
+    assert!(matches!(
+        Job::new(Options::new(8.0, 49.0), Channels::default()).run_files(&[]),
+        Err(Error::NoRecords)
+    ));
+}
+
+/// A baseline folder holding the system's own records leaves zero, with variances that add;
+/// a baseline file that is not JSON is `bad_baseline` naming the file.
+#[test]
+fn baseline_folder_subtracts_and_a_bad_file_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let records = impacts();
+    write(dir.path(), &records);
+    let mut options = Options::new(8.0, 49.0);
+    options.baseline = Some(dir.path().to_owned());
+    let outcome = Job::new(options.clone(), Channels::default())
+        .run_records(records.clone())
+        .unwrap();
+    let bearing = outcome.bearing().expect("a baseline");
+    let k = outcome.identification().coefficients().stiffness()[(0, 0)];
+    assert!(bearing.coefficients.stiffness()[(0, 0)].abs() < 1e-9 * k);
+    let std = outcome.identification().std_dev().unwrap().stiffness()[(0, 0)];
+    let both = bearing.std_dev.as_ref().unwrap().stiffness()[(0, 0)];
+    assert!((both / (std * 2f64.sqrt()) - 1.0).abs() < 1e-9);
+    if cfg!(not(feature = "json")) {
+        return;
+    }
+    let bad = dir.path().join("r0.csv");
+    options.baseline = Some(bad.clone());
+    let e = Job::new(options, Channels::default())
+        .run_records(records)
+        .unwrap_err();
+    assert_eq!(e.kind(), "bad_baseline");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("--baseline {}: ", bad.display()))
+    );
+}
