@@ -3,6 +3,34 @@
 use super::Error;
 
 impl Error {
+    /// Every name [`Error::kind`] returns, each once (bindings to other languages make an
+    /// exception class of each).
+    pub const KINDS: &'static [&'static str] = &[
+        "malformed_csv",
+        "missing_column",
+        "non_finite",
+        "nonuniform_time",
+        "inconsistent_records",
+        "bad_band",
+        "rank_deficient",
+        "not_converged",
+        "io_error",
+        "record_too_short",
+        "invalid_argument",
+        "singular",
+        "bad_coefficients",
+        "baseline_mismatch",
+        "ml_needs_repeats",
+        "plot_error",
+        "dead_channel",
+        "too_large",
+        "bad_baseline",
+        "malformed_uff",
+        "invalid_input",
+        "missing_response",
+        "underdetermined",
+    ];
+
     /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
     /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
     /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
@@ -107,6 +135,13 @@ mod tests {
         let body = &body[..body.find("\n}\n").expect("end of impl")];
         let mut kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
         assert!(kinds.len() >= 17, "found only {kinds:?}");
+        // `KINDS` lists each of them once, and nothing else.
+        let mut listed: Vec<&str> = super::Error::KINDS.to_vec();
+        let mut found = kinds.clone();
+        listed.sort_unstable();
+        found.sort_unstable();
+        found.dedup();
+        assert_eq!(listed, found, "Error::KINDS and the arms of Error::kind differ");
         // The CLI's own kinds for failures outside the library.
         kinds.extend(quoted_after(
             include_str!("../bin/bearing-ident/main.rs"),

@@ -1,0 +1,348 @@
+"""Bearing, seal and squeeze-film damper force coefficients from test records, on numpy arrays.
+
+The Rust crate ``bearing-ident`` identifies the stiffness ``K``, damping ``C`` and added mass
+``M`` of a bearing element from measured force and response records: impedances from
+independent excitations, least squares, Fritzen's instrumental-variable filter, maximum
+likelihood, with error bars and diagnostics. This package calls it on numpy arrays, with the
+same options, the same results and the same errors as the ``bearing-ident identify`` command.
+
+>>> import bearing_ident as bi
+>>> records = bi.simulate("impact", count=2, noise=0.0)
+>>> result = bi.identify(records, band=(8.0, 49.0))
+>>> print(round(result.K[0, 0] / 146.3e3, 6))
+1.0
+>>> result.to_dict()["n_records"]
+4
+"""
+
+from __future__ import annotations
+
+import json as _json
+import math as _math
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from . import _native
+
+__all__ = [
+    "BearingIdentError",
+    "Identification",
+    "Record",
+    "identify",
+    "read_csv",
+    "read_uff",
+    "simulate",
+]
+
+
+class BearingIdentError(Exception):
+    """An error of ``bearing-ident``: ``kind`` is the CLI's JSON ``error`` string.
+
+    Each kind has its own subclass (``BadBandError`` for ``bad_band``, …), so a caller may
+    catch one kind or all of them.
+
+    >>> import bearing_ident as bi
+    >>> try:
+    ...     bi.identify(bi.simulate("impact", count=1), band=(8.0, 4000.0))
+    ... except bi.BearingIdentError as e:
+    ...     print(e.kind)
+    bad_band
+    """
+
+    kind = "error"
+
+    def __init__(self, kind: str, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+
+
+def _class_name(kind: str) -> str:
+    return "".join(part.capitalize() for part in kind.split("_")) + "Error"
+
+
+_ERRORS: dict[str, type[BearingIdentError]] = {}
+for _kind in _native.ERROR_KINDS:
+    _cls = type(
+        _class_name(_kind),
+        (BearingIdentError,),
+        {"kind": _kind, "__doc__": f"An error of kind ``{_kind}``.", "__module__": __name__},
+    )
+    globals()[_cls.__name__] = _cls
+    __all__.append(_cls.__name__)
+    _ERRORS[_kind] = _cls
+
+
+def _error(kind: str, message: str) -> BearingIdentError:
+    return _ERRORS.get(kind, BearingIdentError)(kind, message)
+
+
+def _call(function, *args, **kwargs):
+    """Calls into the crate, turning its errors into the exception class of their kind."""
+    try:
+        return function(*args, **kwargs)
+    except _native.NativeError as e:
+        kind, message = e.args
+        raise _error(kind, message) from None
+
+
+def _float_2d(values: Any, what: str) -> np.ndarray:
+    """A 2-D float array of ``values``: float64 and float32 as they are (any strides, no copy),
+    other numbers converted once to float64."""
+    try:
+        array = np.asarray(values)
+    except Exception as e:  # ragged lists and the like
+        raise _error("invalid_argument", f"{what}: not an array ({e})") from None
+    if array.dtype not in (np.float64, np.float32):
+        if array.dtype.kind not in "fiu":
+            raise _error("invalid_argument", f"{what}: dtype {array.dtype} is not numeric")
+        array = array.astype(np.float64)
+    if array.ndim != 2:
+        raise _error(
+            "invalid_argument",
+            f"{what}: expected a 2-D array shaped (n_dof, n_samples), got {array.ndim}-D "
+            f"shape {array.shape}",
+        )
+    return array
+
+
+class Record:
+    """One test record: forces and responses shaped ``(n_dof, n_samples)``.
+
+    ``fs`` is the sampling rate (Hz), or ``t`` the sample times (s, evenly spaced within 1 %
+    of a step). ``response_kind`` says what the responses measure: ``"displacement"``,
+    ``"velocity"`` or ``"acceleration"``, one for all or one per degree of freedom. Arrays of
+    any float dtype and any strides are taken as they are and read once by the crate.
+
+    >>> import numpy as np
+    >>> r = Record(np.ones((2, 8)), np.zeros((2, 8)), fs=100.0, label="hit")
+    >>> r.n_dof, r.n_samples
+    (2, 8)
+    """
+
+    def __init__(
+        self,
+        force: Any,
+        response: Any,
+        fs: float | None = None,
+        t: Any = None,
+        response_kind: str | Sequence[str] = "displacement",
+        label: str | None = None,
+    ) -> None:
+        self.force = _float_2d(force, "force")
+        self.response = _float_2d(response, "response")
+        if self.force.shape != self.response.shape:
+            raise _error(
+                "invalid_argument",
+                f"force shaped {self.force.shape} and response {self.response.shape}: one row of "
+                "each per degree of freedom, of one length",
+            )
+        if fs is None:
+            if t is None:
+                raise _error("invalid_argument", "give fs (Hz) or t (s)")
+            fs = _rate_from_times(np.asarray(t, dtype=np.float64), self.force.shape[1])
+        self.fs = float(fs)
+        kinds = [response_kind] if isinstance(response_kind, str) else list(response_kind)
+        self.response_kind = kinds
+        self.label = label if label is not None else "record"
+
+    @property
+    def n_dof(self) -> int:
+        """Degrees of freedom (rows)."""
+        return self.force.shape[0]
+
+    @property
+    def n_samples(self) -> int:
+        """Samples per channel (columns)."""
+        return self.force.shape[1]
+
+    def _native(self):
+        kinds = [] if self.response_kind == ["displacement"] else self.response_kind
+        return (self.force, self.response, self.fs, self.label, kinds)
+
+    def __repr__(self) -> str:
+        return f"Record({self.label!r}, n_dof={self.n_dof}, n_samples={self.n_samples}, fs={self.fs})"
+
+
+def _rate_from_times(t: np.ndarray, n: int) -> float:
+    if t.ndim != 1 or t.shape[0] != n or n < 2:
+        raise _error("invalid_argument", f"t: expected {n} sample times, got shape {t.shape}")
+    steps = np.diff(t)
+    step = (t[-1] - t[0]) / (n - 1)
+    if not (_math.isfinite(step) and step > 0.0) or np.max(np.abs(steps - step)) > 0.01 * step:
+        raise _error("nonuniform_time", "t: sample times are not evenly spaced within 1 % of a step")
+    return 1.0 / step
+
+
+def _from_native(items) -> list[Record]:
+    return [
+        Record(np.asarray(f), np.asarray(x), fs=fs, label=label, response_kind=kinds or "displacement")
+        for (f, x, fs, label, kinds) in items
+    ]
+
+
+class Identification:
+    """The result of :func:`identify`: coefficients, error bars, modes, diagnostics.
+
+    ``M``, ``C``, ``K`` (kg, N·s/m, N/m) are ``(n, n)`` arrays with the force's direction as
+    row and the displacement's as column; ``M_std``, ``C_std``, ``K_std`` their standard
+    deviations (``None`` without error bars). :meth:`to_dict` is the CLI's ``--json`` object.
+    """
+
+    def __init__(self, native) -> None:
+        self._native = native
+        self._dict = _json.loads(_call(native.json))
+        d = self._dict
+        self.M, self.C, self.K = (np.array(d[k], dtype=float) for k in ("M", "C", "K"))
+        self.M_std, self.C_std, self.K_std = (
+            None if d.get(k) is None else np.array(d[k], dtype=float)
+            for k in ("M_std", "C_std", "K_std")
+        )
+        self.natural_frequencies_hz = np.array(d["natural_frequencies_hz"], dtype=float)
+        self.damping_ratios = np.array(d["damping_ratios"], dtype=float)
+        self.warnings = list(zip(d["warning_kinds"], d["warnings"]))
+        self.timings_ms = dict(d["timings_ms"])
+
+    def to_dict(self) -> dict:
+        """The result as the CLI's ``identify --json`` prints it (a fresh copy)."""
+        return _json.loads(_json.dumps(self._dict))
+
+    def to_ross_toml(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False) -> str:
+        """The identified bearing as a ROSS 3.x ``BearingElement`` TOML table at node ``n``
+        (2 degrees of freedom): the fitted coefficients at 5 frequencies over the band, or
+        ``K(ω)``, ``C(ω)`` at every line with ``per_frequency``."""
+        return _call(self._native.ross_toml, n, tag, per_frequency)
+
+    def to_ross(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False):
+        """The identified bearing as a ``ross.BearingElement`` (needs ROSS 3.x importable)."""
+        try:
+            import ross
+        except ImportError as e:
+            raise ImportError(
+                "to_ross needs ROSS (pip install ross-rotordynamics, Python >= 3.13); "
+                "to_ross_toml() gives the same bearing as TOML without it"
+            ) from e
+        import os
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, f"{tag}.toml")
+            with open(path, "w") as f:
+                f.write(self.to_ross_toml(n, tag, per_frequency))
+            return ross.BearingElement.load(path)
+
+    def __repr__(self) -> str:
+        d = self._dict
+        return (
+            f"Identification(n={d['n']}, method={d['method']!r}, records={d['n_records']}, "
+            f"band={tuple(d['band_hz'])}, warnings={len(self.warnings)})"
+        )
+
+
+def _text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (tuple, list)):
+        return ",".join(_text(v) for v in value)
+    return str(value)
+
+
+def identify(
+    records: Iterable[Record],
+    band: tuple[float, float],
+    method: str = "ivf",
+    estimator: str | None = None,
+    excitation: str = "auto",
+    uncertainty: str = "auto",
+    window: str | None = None,
+    nperseg: int | None = None,
+    per_frequency: bool = False,
+    **options: Any,
+) -> Identification:
+    """Identifies ``M``, ``C``, ``K`` from ``records`` over ``band`` (Hz, edges inclusive).
+
+    Every option of ``bearing-ident identify`` is a keyword of the same long name (``_`` for
+    ``-``): ``method`` (``direct``, ``ls``, ``ivf``, ``ml``), ``estimator`` (``paired``,
+    ``h1``, ``h2``, ``hv``), ``excitation`` (``auto``, ``impact``, ``random``, ``periodic``,
+    ``stepped-sine``, ``sweep``), ``uncertainty`` (``auto``, ``none``, ``sandwich``,
+    ``jackknife``, ``bootstrap``), ``window`` (``rect``, ``hann``, ``exp:END``), ``nperseg``,
+    ``period``, ``force_gate``, ``min_coherence``, ``min_r2``, ``reject_bad_records``,
+    ``bootstrap_draws``, ``seed``, ``tolerance``, ``max_iterations``, ``allow_unconverged``,
+    ``step_tolerance``, ``baseline``. The records are identified exactly as the command
+    identifies the same records read from files. The GIL is released while the crate works.
+
+    >>> import bearing_ident as bi
+    >>> r = bi.identify(bi.simulate("impact", count=2), band=(8, 49), method="ls")
+    >>> r.to_dict()["method"]
+    'ls'
+    """
+    items = list(records)
+    for r in items:
+        if not isinstance(r, Record):
+            raise _error("invalid_argument", f"records: expected Record, got {type(r).__name__}")
+    given = {
+        "band": band,
+        "method": method,
+        "estimator": estimator,
+        "excitation": excitation,
+        "uncertainty": uncertainty,
+        "window": window,
+        "nperseg": nperseg,
+        **options,
+    }
+    pairs = [(name, _text(value)) for name, value in given.items() if value is not None]
+    native = _call(_native.identify, [r._native() for r in items], pairs, per_frequency)
+    return Identification(native)
+
+
+def read_csv(
+    paths: str | Sequence[str],
+    force: Sequence[str] = ("fx", "fy"),
+    disp: Sequence[str] = ("x", "y"),
+    time: str = "t",
+    response: str | Sequence[str] = (),
+) -> list[Record]:
+    """Records of CSV files, one per file, read as ``bearing-ident identify`` reads them.
+
+    ``force`` and ``disp`` name the columns (one per degree of freedom), ``time`` the time
+    column; ``response`` says what the response columns measure when not displacement.
+    """
+    paths = [paths] if isinstance(paths, str) else list(paths)
+    response = [response] if isinstance(response, str) else list(response)
+    return _from_native(_call(_native.read_files, paths, list(force), list(disp), time, response))
+
+
+def read_uff(
+    path: str,
+    force: Sequence[str] = (),
+    disp: Sequence[str] = (),
+    response: str | Sequence[str] = (),
+) -> list[Record]:
+    """Records of a Universal File (dataset 58/58b time histories), one per load case.
+
+    ``force`` and ``disp`` name channels as ``NODE+DIR`` or ``id:TEXT`` (default: every force
+    time history, data type 13, and every response, data types 8, 11, 12).
+    """
+    response = [response] if isinstance(response, str) else list(response)
+    return _from_native(_call(_native.read_files, [path], list(force), list(disp), "t", response))
+
+
+def simulate(
+    kind: str = "impact",
+    count: int = 8,
+    noise: float = 0.0,
+    seed: int = 1,
+    rate: float = 6700.0,
+    duration: float | None = None,
+) -> list[Record]:
+    """Records of the seed's test rig (Diaz & San Andrés 1999: 4.7/4.8 kg, 146.3/169.1 kN/m),
+    simulated exactly: ``impact`` (``count`` hammer hits per direction) or ``random``
+    (``count`` records of ``duration`` s, 30 by default, of simultaneous random forces), with a
+    ``noise`` floor as a fraction of each signal's RMS.
+
+    >>> records = simulate("impact", count=1)
+    >>> len(records), records[0].n_dof
+    (2, 2)
+    """
+    return _from_native(_call(_native.simulate, kind, count, noise, seed, rate, duration))

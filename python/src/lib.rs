@@ -1,0 +1,281 @@
+//! `bearing_ident._native`: the crate's `job` path from numpy arrays to a result, for the
+//! Python package `bearing_ident` (whose `__init__.py` is the public face: records, options
+//! by keyword, exceptions by kind). Arrays are read once into the crate's records (float64 or
+//! float32, any strides); the identification runs with the GIL released.
+
+use bearing_ident::export::ross::{BearingElement, Table};
+use bearing_ident::job::{Channels, Job, Options, Outcome};
+use bearing_ident::{Error, Record, Response};
+use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    _native,
+    NativeError,
+    PyException,
+    "An error of the crate: args are (kind, message)."
+);
+
+/// The crate's error as `NativeError(kind, message)`, which the package turns into the
+/// exception class of that kind.
+fn raise(e: &Error) -> PyErr {
+    NativeError::new_err((e.kind(), e.to_string()))
+}
+
+/// An invalid argument of the binding itself (shapes, types).
+fn invalid(message: String) -> PyErr {
+    NativeError::new_err(("invalid_argument", message))
+}
+
+/// Rows of a 2-D float array (float64 or float32, any strides), copied once.
+fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
+    if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
+        return Ok(a.as_array().rows().into_iter().map(|r| r.to_vec()).collect());
+    }
+    if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
+        return Ok(a
+            .as_array()
+            .rows()
+            .into_iter()
+            .map(|r| r.iter().map(|&v| f64::from(v)).collect())
+            .collect());
+    }
+    let shape = array
+        .cast::<numpy::PyUntypedArray>()
+        .map(|a| format!("{:?}", a.shape()))
+        .unwrap_or_else(|_| "not an array".into());
+    Err(invalid(format!(
+        "{what}: expected a 2-D float array shaped (n_dof, n_samples), got {shape}"
+    )))
+}
+
+/// One record from Python: force and response arrays, sampling rate, label, response kinds.
+fn record(
+    force: &Bound<'_, PyAny>,
+    response: &Bound<'_, PyAny>,
+    fs: f64,
+    label: String,
+    kinds: Vec<String>,
+) -> PyResult<Record> {
+    let forces = rows(force, "force")?;
+    let responses = rows(response, "response")?;
+    if forces.len() != responses.len() {
+        return Err(invalid(format!(
+            "record `{label}`: force has {} rows and response {}: one of each per degree of freedom",
+            forces.len(),
+            responses.len()
+        )));
+    }
+    let r = Record::new(label, fs, forces, responses).map_err(|e| raise(&e))?;
+    if kinds.is_empty() {
+        return Ok(r);
+    }
+    let kinds = kinds
+        .iter()
+        .map(|k| k.parse::<Response>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| raise(&e))?;
+    let kinds = Response::per_channel(&kinds, r.dofs()).map_err(|e| raise(&e))?;
+    r.with_responses(kinds).map_err(|e| raise(&e))
+}
+
+/// A finished run: the crate's [`Outcome`] behind the package's `Identification`.
+#[pyclass(frozen, module = "bearing_ident._native")]
+struct NativeResult {
+    outcome: Outcome,
+    per_frequency: bool,
+}
+
+#[pymethods]
+impl NativeResult {
+    /// The JSON of the run, as `bearing-ident identify --json` prints it.
+    fn json(&self) -> PyResult<String> {
+        self.outcome
+            .to_json(self.per_frequency)
+            .map(|v| v.to_string())
+            .map_err(|e| raise(&e))
+    }
+
+    /// The identified bearing as a ROSS 3.x `BearingElement` TOML table at node `n`.
+    #[pyo3(signature = (n, tag, per_frequency=false))]
+    fn ross_toml(&self, n: usize, tag: &str, per_frequency: bool) -> PyResult<String> {
+        let table = if per_frequency {
+            Table::PerFrequency
+        } else {
+            Table::Constant
+        };
+        BearingElement::new(self.outcome.identification(), n, tag, table)
+            .map(|b| b.to_toml())
+            .map_err(|e| raise(&e))
+    }
+}
+
+/// Identifies `records` (tuples `(force, response, fs, label, response_kinds)`) with the
+/// options given by long name, the GIL released while the crate works.
+#[pyfunction]
+#[pyo3(signature = (records, options, per_frequency=false))]
+fn identify(
+    py: Python<'_>,
+    records: Vec<(Bound<'_, PyAny>, Bound<'_, PyAny>, f64, String, Vec<String>)>,
+    options: Vec<(String, String)>,
+    per_frequency: bool,
+) -> PyResult<NativeResult> {
+    let records = records
+        .iter()
+        .map(|(f, x, fs, label, kinds)| record(f, x, *fs, label.clone(), kinds.clone()))
+        .collect::<PyResult<Vec<_>>>()?;
+    let mut o = Options::new(f64::NAN, f64::NAN);
+    for (name, value) in &options {
+        o.set(name, value).map_err(|e| raise(&e))?;
+    }
+    let job = Job::new(o, Channels::default());
+    let outcome = py
+        .detach(|| {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job.run_records(records)))
+        })
+        .map_err(|_| NativeError::new_err(("internal", "the identification panicked")))?
+        .map_err(|e| raise(&e))?;
+    Ok(NativeResult {
+        outcome,
+        per_frequency,
+    })
+}
+
+/// The records of CSV files (one each) or Universal Files (one per load case), as tuples
+/// `(force, response, fs, label, response_kinds)` of nested lists.
+#[pyfunction]
+#[pyo3(signature = (paths, force, disp, time, response))]
+fn read_files(
+    paths: Vec<String>,
+    force: Vec<String>,
+    disp: Vec<String>,
+    time: String,
+    response: Vec<String>,
+) -> PyResult<Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>)>> {
+    let mut channels = Channels::default();
+    channels.csv.time = time;
+    if !force.is_empty() {
+        channels.csv.forces = force.clone();
+    }
+    if !disp.is_empty() {
+        channels.csv.displacements = disp.clone();
+    }
+    let uff_channel = |c: &String| c.parse().map_err(|e: Error| raise(&e));
+    if paths.iter().any(|p| bearing_ident::job::is_uff(p.as_ref())) {
+        channels.uff.forces = force.iter().map(uff_channel).collect::<PyResult<_>>()?;
+        channels.uff.responses = disp.iter().map(uff_channel).collect::<PyResult<_>>()?;
+    }
+    channels.responses = response
+        .iter()
+        .map(|k| k.parse::<Response>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| raise(&e))?;
+    channels.uff.kinds = channels.responses.clone();
+    let mut out = Vec::new();
+    for path in &paths {
+        for r in bearing_ident::job::read_file(path.as_ref(), &channels).map_err(|e| raise(&e))? {
+            let n = r.dofs();
+            let kinds = r.responses().iter().map(|k| k.name().to_owned()).collect();
+            out.push((
+                (0..n).map(|i| r.force(i).to_vec()).collect(),
+                (0..n).map(|i| r.displacement(i).to_vec()).collect(),
+                r.sample_rate(),
+                r.label().to_owned(),
+                kinds,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Records of the seed's rig (or a given system) simulated by the crate: `kind` `impact` (hits
+/// per direction `count`) or `random` (`count` records of `duration` s).
+#[pyfunction]
+#[pyo3(signature = (kind, count, noise, seed, rate, duration=None))]
+fn simulate(
+    py: Python<'_>,
+    kind: &str,
+    count: usize,
+    noise: f64,
+    seed: u64,
+    rate: f64,
+    duration: Option<f64>,
+) -> PyResult<Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>)>> {
+    use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, seed_rig};
+    let truth = seed_rig();
+    let records: Vec<Record> = py
+        .detach(|| match kind {
+            "impact" => {
+                let mut test = ImpactTest {
+                    per_direction: count,
+                    noise,
+                    seed,
+                    sample_rate: rate,
+                    ..ImpactTest::seed_rig()
+                };
+                if let Some(d) = duration {
+                    test.duration_s = d;
+                }
+                test.run(&truth)
+            }
+            "random" => {
+                use rand::SeedableRng;
+                let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+                let n = (duration.unwrap_or(30.0) * rate).round() as usize;
+                let mut sim = Simulator::new(&truth, rate, n, AntiAlias::default())?;
+                (0..count)
+                    .map(|r| {
+                        let rec = sim.random_record(format!("random-{r}"), 50.0, seed + r as u64)?;
+                        if noise > 0.0 {
+                            bearing_ident::simulate::add_noise(&rec, noise, &mut rng)
+                        } else {
+                            Ok(rec)
+                        }
+                    })
+                    .collect()
+            }
+            other => Err(Error::UnknownName {
+                what: "simulated test",
+                given: other.to_owned(),
+                expected: "impact or random",
+            }),
+        })
+        .map_err(|e| raise(&e))?;
+    Ok(records
+        .iter()
+        .map(|r| {
+            let n = r.dofs();
+            (
+                (0..n).map(|i| r.force(i).to_vec()).collect(),
+                (0..n).map(|i| r.displacement(i).to_vec()).collect(),
+                r.sample_rate(),
+                r.label().to_owned(),
+                Vec::new(),
+            )
+        })
+        .collect())
+}
+
+/// Panics inside the crate's call, to show that a panic becomes an exception.
+#[pyfunction]
+fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
+    py.detach(|| std::panic::catch_unwind(|| panic!("a test panic")))
+        .map_err(|_| NativeError::new_err(("internal", "the call panicked")))
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("NativeError", m.py().get_type::<NativeError>())?;
+    // Every kind the crate names, and `internal` for a panic caught at the boundary.
+    let mut kinds = Error::KINDS.to_vec();
+    kinds.push("internal");
+    m.add("ERROR_KINDS", kinds)?;
+    m.add("OPTION_NAMES", Options::NAMES.to_vec())?;
+    m.add_class::<NativeResult>()?;
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add_function(wrap_pyfunction!(read_files, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    Ok(())
+}

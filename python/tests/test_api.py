@@ -1,0 +1,246 @@
+"""The Python package against the command-line tool, its errors, its inputs and the GIL."""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+
+import bearing_ident as bi
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def _cli() -> str | None:
+    """The `bearing-ident` binary: $BEARING_IDENT_CLI, or one built under target/."""
+    given = os.environ.get("BEARING_IDENT_CLI")
+    if given:
+        return given
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    for profile in ("release", "debug"):
+        path = target / profile / "bearing-ident"
+        if path.exists():
+            return str(path)
+    return shutil.which("bearing-ident")
+
+
+CLI = _cli()
+needs_cli = pytest.mark.skipif(
+    CLI is None, reason="no bearing-ident binary (cargo build --features cli, or set BEARING_IDENT_CLI)"
+)
+
+
+def _run(*args: str) -> dict:
+    out = subprocess.run([CLI, *args], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def _without_times(d: dict) -> dict:
+    d = dict(d)
+    d.pop("compute_ms")
+    d.pop("timings_ms")
+    return d
+
+
+def _assert_close(a, b, path=""):
+    """Equal structure; numbers equal within 1e-12 relative."""
+    if isinstance(a, dict):
+        assert sorted(a) == sorted(b), path
+        for k in a:
+            _assert_close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            _assert_close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and isinstance(b, (int, float)):
+        assert abs(a - b) <= 1e-12 * max(abs(a), abs(b)), f"{path}: {a} vs {b}"
+    else:
+        assert a == b, f"{path}: {a!r} vs {b!r}"
+
+
+@needs_cli
+@pytest.mark.parametrize(
+    "simulate_args, identify_args, options",
+    [
+        (["--impacts", "3", "--noise", "0.05"], [], {}),
+        (["--impacts", "3", "--noise", "0.05"], ["--method", "ml", "--per-frequency"], {"method": "ml", "per_frequency": True}),
+        (
+            ["--kind", "random", "--records", "3", "--rate", "512", "--duration", "20", "--noise", "0.05"],
+            ["--uncertainty", "bootstrap", "--bootstrap-draws", "40", "--seed", "3"],
+            {"uncertainty": "bootstrap", "bootstrap_draws": 40, "seed": 3},
+        ),
+    ],
+)
+def test_identify_equals_the_cli_json(tmp_path, simulate_args, identify_args, options):
+    subprocess.run([CLI, "simulate", "--out", str(tmp_path), *simulate_args], check=True, capture_output=True)
+    files = sorted(str(p) for p in tmp_path.glob("*.csv"))
+    cli = _run("identify", "--json", "--band", "8,49", *identify_args, *files)
+    # Records read by the package's reader, and the same records from numpy arrays.
+    from_files = bi.identify(bi.read_csv(files), band=(8, 49), **options)
+    _assert_close(_without_times(from_files.to_dict()), _without_times(cli))
+    arrays = []
+    for path in files:
+        table = np.genfromtxt(path, delimiter=",", names=True)
+        t = table["t"]
+        arrays.append(
+            bi.Record(
+                np.vstack([table["fx"], table["fy"]]),
+                np.vstack([table["x"], table["y"]]),
+                fs=(len(t) - 1) / (t[-1] - t[0]),
+                label=path,
+            )
+        )
+    from_arrays = bi.identify(arrays, band=(8, 49), **options)
+    np.testing.assert_allclose(from_arrays.K, np.array(cli["K"]), rtol=1e-9)
+    np.testing.assert_allclose(from_arrays.C, np.array(cli["C"]), rtol=1e-9)
+    assert from_arrays.to_dict()["files"] == files
+
+
+def test_result_arrays_and_truth():
+    result = bi.identify(bi.simulate("impact", count=3, noise=0.02, seed=4), band=(8, 49))
+    assert result.K.shape == (2, 2) and result.K_std.shape == (2, 2)
+    np.testing.assert_allclose(np.diag(result.K), [146.3e3, 169.1e3], rtol=0.02)
+    np.testing.assert_allclose(np.diag(result.M), [4.7, 4.8], rtol=0.02)
+    assert result.natural_frequencies_hz.shape == (2,)
+    assert all(isinstance(k, str) and isinstance(m, str) for k, m in result.warnings)
+    assert result.timings_ms["total"] >= result.timings_ms["read"]
+
+
+def test_float32_and_strided_inputs_are_read_as_they_are():
+    records = bi.simulate("impact", count=2, noise=0.01)
+    base = bi.identify(records, band=(8, 49))
+    # Non-contiguous views of the same float64 values: the same result, bit for bit.
+    strided = []
+    for r in records:
+        wide_f = np.zeros((r.n_dof, 2 * r.n_samples))
+        wide_x = np.zeros((r.n_dof, 2 * r.n_samples))
+        wide_f[:, ::2] = r.force
+        wide_x[:, ::2] = r.response
+        view = bi.Record(wide_f[:, ::2], wide_x[:, ::2], fs=r.fs, label=r.label)
+        assert not view.force.flags["C_CONTIGUOUS"]
+        strided.append(view)
+    assert np.array_equal(bi.identify(strided, band=(8, 49)).K, base.K)
+    # Fortran order, too.
+    fortran = [bi.Record(np.asfortranarray(r.force), np.asfortranarray(r.response), fs=r.fs) for r in records]
+    assert np.array_equal(bi.identify(fortran, band=(8, 49)).K, base.K)
+    # float32 is widened once by the crate: as the same values given as float64.
+    single = [bi.Record(r.force.astype(np.float32), r.response.astype(np.float32), fs=r.fs) for r in records]
+    widened = [bi.Record(r.force.astype(np.float64), r.response.astype(np.float64), fs=r.fs) for r in single]
+    assert single[0].force.dtype == np.float32
+    assert np.array_equal(bi.identify(single, band=(8, 49)).K, bi.identify(widened, band=(8, 49)).K)
+    # Integers are converted once to float64.
+    ints = bi.Record(np.ones((2, 8), dtype=np.int32), np.ones((2, 8), dtype=np.int64), fs=10.0)
+    assert ints.force.dtype == np.float64
+
+
+def test_every_error_kind_has_its_class():
+    for kind in bi._native.ERROR_KINDS:
+        cls = getattr(bi, bi._class_name(kind))
+        assert issubclass(cls, bi.BearingIdentError)
+        assert cls.kind == kind
+
+
+@pytest.mark.parametrize(
+    "make, kind",
+    [
+        (lambda rs: bi.identify(rs, band=(8, 4000)), "bad_band"),
+        (lambda rs: bi.identify(rs, band=(8, 49), method="newton"), "invalid_argument"),
+        (lambda rs: bi.identify(rs, band=(8, 49), no_such_option=1), "invalid_argument"),
+        (lambda rs: bi.identify(rs, band=(8, 49), window="exp:3"), "invalid_argument"),
+        (lambda rs: bi.identify([], band=(8, 49)), "inconsistent_records"),
+        (lambda rs: bi.identify(rs[:1], band=(8, 49)), "rank_deficient"),
+        (lambda rs: bi.identify(rs, band=(8, 49), excitation="periodic"), "invalid_argument"),
+        (lambda rs: bi.identify(rs, band=(8, 49), uncertainty="bootstrap", bootstrap_draws=10**9), "too_large"),
+        (lambda rs: bi.identify([bi.Record(np.full((2, 64), np.nan), np.ones((2, 64)), fs=100.0)], band=(1, 40)), "non_finite"),
+        (lambda rs: bi.Record(np.ones(8), np.ones(8), fs=1.0), "invalid_argument"),
+        (lambda rs: bi.Record(np.ones((2, 8)), np.ones((1, 8)), fs=1.0), "invalid_argument"),
+        (lambda rs: bi.Record(np.ones((2, 8)), np.ones((2, 9)), fs=1.0), "invalid_argument"),
+        (lambda rs: bi.Record([["a", "b"]], [["c", "d"]], fs=1.0), "invalid_argument"),
+        (lambda rs: bi.Record(np.ones((1, 4)), np.ones((1, 4)), t=[0.0, 1.0, 2.5, 3.0]), "nonuniform_time"),
+        (lambda rs: bi.Record(np.ones((1, 4)), np.ones((1, 4))), "invalid_argument"),
+        (lambda rs: bi.read_csv(["/no/such/file.csv"]), "io_error"),
+        (lambda rs: bi.simulate("hammer"), "invalid_argument"),
+    ],
+)
+def test_errors_carry_the_cli_kind(make, kind):
+    records = bi.simulate("impact", count=1)
+    with pytest.raises(bi.BearingIdentError) as info:
+        make(records)
+    assert info.value.kind == kind, str(info.value)
+    assert type(info.value).__name__ == bi._class_name(kind)
+    assert str(info.value)
+
+
+def test_file_errors_name_the_file(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,fx,fy,x,y\n0,1,2,3\n")
+    with pytest.raises(bi.MalformedCsvError) as info:
+        bi.read_csv([str(bad)])
+    assert str(bad) in str(info.value)
+    missing = tmp_path / "missing.csv"
+    missing.write_text("t,fx,x\n0,1,2\n")
+    with pytest.raises(bi.MissingColumnError):
+        bi.read_csv([str(missing)])
+    uff = tmp_path / "bad.uff"
+    uff.write_text("    -1\n    58\nnonsense\n")
+    with pytest.raises(bi.BearingIdentError) as info:
+        bi.read_uff(str(uff))
+    assert info.value.kind in ("malformed_uff", "inconsistent_records")
+
+
+def test_a_panic_becomes_an_exception():
+    with pytest.raises(bi.InternalError) as info:
+        bi._call(bi._native._panic_for_test)
+    assert info.value.kind == "internal"
+
+
+def test_identify_releases_the_gil():
+    """With a switch interval far longer than the test, a thread gives up the GIL only when it
+    blocks or when native code releases it. The second thread is woken while the first waits
+    for the GIL back: if `identify` held the GIL throughout, the first thread would finish
+    (and set `done`) before the second could run a line."""
+    records = bi.simulate("random", count=2, rate=512.0, duration=60.0)
+    started, done = threading.Event(), threading.Event()
+    inside = []
+
+    def worker():
+        started.set()
+        bi.identify(records, band=(8, 49))
+        done.set()
+
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(100.0)
+    try:
+        t = threading.Thread(target=worker)
+        t.start()
+        started.wait()
+        inside.append(not done.is_set())
+        t.join()
+    finally:
+        sys.setswitchinterval(old)
+    assert inside == [True]
+    assert done.is_set()
+
+
+def test_ross_hand_off():
+    result = bi.identify(bi.simulate("impact", count=2), band=(8, 49))
+    toml = result.to_ross_toml(n=3, tag="brg")
+    assert "[BearingElement_brg]" in toml and "n = 3" in toml
+    try:
+        import ross  # noqa: F401
+    except ImportError:
+        print("ROSS not importable (it needs Python >= 3.13): skipping the hand-off to ross.BearingElement")
+        with pytest.raises(ImportError, match="ROSS"):
+            result.to_ross()
+        return
+    element = result.to_ross(n=3, tag="brg")
+    k = element.K(np.array(result.to_dict()["band_hz"]).mean() * 2 * np.pi)
+    np.testing.assert_allclose(k, result.K, rtol=1e-9)
