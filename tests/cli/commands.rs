@@ -184,7 +184,7 @@ fn round_trip_three_dof_with_noise_is_within_error_bars() {
                 err / t[i][i],
                 err / std[i][i]
             );
-            // 6 σ̂: see tests/properties.rs for the derivation.
+            // 6 σ̂: see tests/estimation/properties.rs for the derivation.
             assert!(err < 6.0 * std[i][i], "{key}{i}{i}");
         }
     }

@@ -4,7 +4,7 @@
 //!
 //! Noise-free results are held to `common::EXACT` (measured floors below). With noise, each
 //! diagonal coefficient must lie within 6 sandwich standard deviations of the truth (the bound
-//! of `tests/seed_rig.rs`), and every element within 1 % (2 % for the single, unaveraged sweep
+//! of `tests/estimation/seed_rig.rs`), and every element within 1 % (2 % for the single, unaveraged sweep
 //! records) of its block's norm. Measured errors (max element error / block norm, one seed):
 //!
 //! | excitation   | noise-free M / C / K        | 5 % noise M / C / K        | worst  |
@@ -25,7 +25,7 @@ use rand::SeedableRng;
 use rand::rngs::StdRng;
 
 /// Largest `|error| / σ̂` over the diagonal coefficients, with the fit's sandwich standard
-/// deviations `σ̂` (see `tests/seed_rig.rs` for the 6σ̂ bound).
+/// deviations `σ̂` (see `tests/estimation/seed_rig.rs` for the 6σ̂ bound).
 fn worst_in_sigmas(got: &Coefficients, truth: &Coefficients, std: &Coefficients) -> f64 {
     let mut worst: f64 = 0.0;
     for (g, (t, s)) in common::blocks(got)

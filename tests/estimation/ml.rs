@@ -130,7 +130,7 @@ fn noise_free_falls_back_and_faint_noise_recovers() {
 
 /// ML is refused with a typed error on a ready-made FRF (no records for a noise model) and on
 /// periodic segmentation with fewer than 3 periods; cut as whole records, the records' own
-/// residuals give the noise model (`tests/ml_records.rs`).
+/// residuals give the noise model (`tests/estimation/ml_records.rs`).
 #[test]
 fn ml_needs_records_or_periods() {
     let clean = clean_records();

@@ -250,7 +250,7 @@ fn without_a_filter_acceleration_aliases() {
 }
 
 /// Records cut off at 0.6 s with the response still at a third of its amplitude, under the
-/// exponential window (as `tests/windows.rs`): the windowed spectra belong to `s = σ + iω`,
+/// exponential window (as `tests/estimation/windows.rs`): the windowed spectra belong to `s = σ + iω`,
 /// `V_w = s X_w − (x(0) − e^{−σT} x(T))`; the records start from rest and the window has
 /// fallen to `10⁻⁴` at the end, so the boundary term is `10⁻⁴ x(T)`, while the displacement
 /// path itself is only right to `~2·10⁻⁴` here (its own boundary terms).

@@ -2,7 +2,7 @@
 //! reported naming the record and channel and, under `Screening::Reject`, left out so the
 //! truth comes back; clean records at 5 % noise raise nothing.
 //!
-//! Coefficient bounds follow `tests/seed_rig.rs`: each diagonal coefficient within 6 sandwich
+//! Coefficient bounds follow `tests/estimation/seed_rig.rs`: each diagonal coefficient within 6 sandwich
 //! standard deviations of the truth.
 
 use crate::common;
@@ -292,7 +292,7 @@ fn dead_displacement_channels_in_a_random_test() {
     );
 }
 
-/// Multisine records (see `tests/excitations.rs`): one direction per record, one steady
+/// Multisine records (see `tests/estimation/excitations.rs`): one direction per record, one steady
 /// period kept, 1 Hz lines 8–49 Hz, 50 N RMS.
 fn multisine_records(per_direction: usize) -> Vec<Record> {
     let (period, fs) = (6700, 6700.0);
@@ -462,7 +462,7 @@ fn a_paired_set_far_from_the_others_is_found_per_line() {
     }
 }
 
-/// Swept sines (see `tests/excitations.rs`), three per direction at 80, 100 and 120 N.
+/// Swept sines (see `tests/estimation/excitations.rs`), three per direction at 80, 100 and 120 N.
 fn sweep_records() -> Vec<Record> {
     let (fs, len) = (2000.0, 5000);
     let mut sim = Simulator::new(&seed_rig(), fs, len, AntiAlias::default()).unwrap();
@@ -477,7 +477,7 @@ fn sweep_records() -> Vec<Record> {
     records
 }
 
-/// Stepped sines (see `tests/excitations.rs`): 15 frequencies 10–48 Hz, 50 N, one record per
+/// Stepped sines (see `tests/estimation/excitations.rs`): 15 frequencies 10–48 Hz, 50 N, one record per
 /// direction each, 1 s settled then about 1 s kept.
 fn stepped_records() -> Vec<Record> {
     let (fs, settle, len) = (2000.0, 2000, 4000);

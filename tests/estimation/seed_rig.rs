@@ -35,7 +35,7 @@ fn seed_rig_with_noise_is_recovered_within_its_error_bars() {
     // Orthogonal impacts: the displacement matrix is well conditioned over the band.
     assert!(id.conditioning().worst() < 10.0);
 
-    // Each diagonal coefficient within 6 sandwich standard deviations (see tests/properties.rs
+    // Each diagonal coefficient within 6 sandwich standard deviations (see tests/estimation/properties.rs
     // for why 6σ̂), and the standard deviations small: the test is informative.
     let std = id.std_dev().unwrap();
     for (b, (got, (t, s))) in common::blocks(id.coefficients())

@@ -7,7 +7,7 @@ use bearing_ident::simulate::{ImpactTest, seed_rig};
 use bearing_ident::{Baseline, Coefficients, Error, Identifier};
 use faer::Mat;
 
-/// Longest error message accepted from a reader (as in `tests/fuzz_readers.rs`).
+/// Longest error message accepted from a reader (as in `tests/readers/fuzz.rs`).
 const MAX_MESSAGE: usize = 300;
 
 fn small_identification() -> bearing_ident::Identification {
