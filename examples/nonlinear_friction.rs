@@ -1,5 +1,5 @@
 //! A squeeze film damper with a dry-friction end seal: identified linearly, then with the
-//! friction as a nonlinear term (reverse path, METHOD.md §7).
+//! friction as a nonlinear term (the reverse path, `docs/method.md` section 4).
 //!
 //! Run: `cargo run --release --example nonlinear_friction`
 //!

@@ -175,7 +175,7 @@ pub const REVERSE_PATH_JACKKNIFE_BLOCKS: usize = 8;
 /// shows ratios of 0.06 (noise-free), 0.10–0.14 (2 % noise) and 0.17 (a velocity cut off just
 /// above the band), with its coefficient still within 2.5 %. Wrong regressors give 7–530
 /// (`cubic` on friction, `coulomb` on cubic stiffness, `quadratic-damping` on cubic
-/// stiffness, `cubic` on quadratic damping; `tests/nonlinear_end_to_end.rs`). 0.25 leaves the
+/// stiffness, `cubic` on quadratic damping; `tests/nonlinear/end_to_end.rs`). 0.25 leaves the
 /// right term a margin of 1.5 and the wrong ones a factor 30.
 pub const NONLINEAR_IMAGINARY_RATIO: f64 = 0.25;
 
@@ -204,7 +204,7 @@ pub const MOMENT_RANK: f64 = 1e-13;
 /// ([`noise`](crate::solve::ml::noise)): neighbouring lines are averaged until about this
 /// many. Maximum likelihood with a noise covariance estimated from `ν` degrees of freedom
 /// spreads more than with the exact one and its intervals cover less: on random records
-/// (Monte-Carlo, `tests/ml_records.rs`) 96 left the spread 1.01–1.07 × the bound and one
+/// (Monte-Carlo, `tests/estimation/ml_records.rs`) 96 left the spread 1.01–1.07 × the bound and one
 /// coefficient's 95 % coverage at 0.927; 288 gives 0.99–1.04 × and 0.93–0.95. The price is
 /// the assumption that the noise spectrum is smooth over the lines pooled (9 for 16 impacts,
 /// about 21 for 15 Hann segments).

@@ -33,7 +33,7 @@
 //!    deviation `σ` on each of `Re`, `Im` of every response, `Re δZ_ij` and `Im δZ_ij` both have
 //!    variance `Σ_k σ_k² |a_k|²` over the responses (baseline and tests, the baseline's noise
 //!    entering both differences). In 400 simulated tests at 1 % noise the ±1.96σ intervals
-//!    covered the truth in 95.1 % of the cases with probes at the bearings (`tests/field.rs`);
+//!    covered the truth in 95.1 % of the cases with probes at the bearings (`tests/estimation/field.rs`);
 //!    where the noise gain is large (probes one node inboard, gains 16–290) first order no
 //!    longer holds at 1 % noise (coverage 90 %), and holds again at 0.1 % (95.0 %).
 //! 5. **Warnings.** Proportional added forces (masses in one plane: a rank-1 pair whatever
@@ -55,7 +55,7 @@
 //! The rotor model is read from JSON ([`RotorModel::from_json`], feature `json`): ROSS 3.x
 //! users write it in a few lines (6 degrees of freedom per node, `x, y, z, alpha, beta, theta`;
 //! `M0`, `K0`, `C0`, `G0` are ROSS 3.1's matrices without bearings, and a rotor built with ROSS
-//! and ROSS's own unbalance responses give back the bearings to 5e-10 in `tests/field.rs`):
+//! and ROSS's own unbalance responses give back the bearings to 5e-10 in `tests/estimation/field.rs`):
 //!
 //! ```python
 //! import json, ross as rs

@@ -399,7 +399,7 @@ impl Frf {
     ///
     /// - Paired sets: the scatter of the per-set impedances, $\sum_s |H_s - \bar H|^2 / (S(S-1))$
     ///   (needs 2 sets).
-    /// - Cross-spectral estimators: the MIMO H1 random error (METHOD.md §2). Row `a` of `G` has
+    /// - Cross-spectral estimators: the MIMO H1 random error (Bendat & Piersol). Row `a` of `G` has
     ///   covariance $\sigma_a^2 S_{ff}^{-1}$ with
     ///   $\sigma_a^2 = S_{x_a x_a}(1 - \gamma^2_{a:f}) / (n_d - n)$, and $\delta H = -H\,\delta G\,H$
     ///   gives $E|\delta H_{ij}|^2 = \sum_a |H_{ia}|^2 \sigma_a^2 \; h_j^H S_{ff}^{-1} h_j$

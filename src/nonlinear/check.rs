@@ -1,9 +1,9 @@
 //! The model check of a nonlinear term ([`TermCheck`]): a right regressor has a coefficient
 //! spectrum $\hat A_j(\omega)$ that is real and flat over the band; a wrong one still returns a
-//! plausible number, and only this check shows it (METHOD.md §7).
+//! plausible number, and only this check shows it.
 //!
-//! With the weights $w_k = 1/\operatorname{Var}[\hat A_j(\omega_k)]$ of the band average
-//! (METHOD.md §7), each part of $\hat A_j$ carrying half the variance:
+//! With the weights $w_k = 1/\operatorname{Var}[\hat A_j(\omega_k)]$ of the band average,
+//! each part of $\hat A_j$ carrying half the variance:
 //!
 //! - imaginary ratio $\rho = \overline{\operatorname{Im}\hat A}/\overline{\operatorname{Re}\hat A}$
 //!   (weighted means), with $\sigma(\overline{\operatorname{Im}\hat A}) = (2\sum_k w_k)^{-1/2}$;

@@ -4,12 +4,12 @@
 //! With the Welch sums of the forces $f$ ($n$) and the inputs $z = [x;\,u]$ ($q = n + p$), per
 //! line
 //! $$[\hat H\;\hat A] = S_{fz}\,S_{zz}^{-1},$$
-//! the force treated as the noisy output (METHOD.md §7: the direct form, not the H1-type
-//! variant on conditioned spectra). The multiple coherence of force $i$ on the inputs is
+//! the force treated as the noisy output (the direct form, not the H1-type variant on
+//! conditioned spectra, which leaks more at the resonances with short segments). The multiple coherence of force $i$ on the inputs is
 //! $\gamma^2_{i:z} = (S_{fz} S_{zz}^{-1} S_{zf})_{ii} / S_{f_if_i}$, and the random error of row
 //! $i$ of the estimate, from $n_d$ averages,
 //! $$\operatorname{Var}[\hat T_{ic}] = \frac{S_{f_if_i}(1-\gamma^2_{i:z})\,(S_{zz}^{-1})_{cc}}{n_d - q}$$
-//! (Bendat & Piersol, the MIMO H1 error of METHOD.md §2 with the roles of input and output as
+//! (Bendat & Piersol's MIMO H1 random error, with the roles of input and output as
 //! here). The multiple coherence of input $c$ on the other inputs,
 //! $1 - 1/\big((S_{zz})_{cc}(S_{zz}^{-1})_{cc}\big)$, says how collinear it is with them.
 //!

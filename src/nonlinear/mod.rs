@@ -1,5 +1,6 @@
 //! Nonlinear elements: linear M, C, K together with known nonlinear force terms (dry friction,
-//! cubic stiffness, quadratic damping), by the reverse path (METHOD.md §7).
+//! cubic stiffness, quadratic damping), by the reverse path (Bendat 1990; Richards & Singh 1998; the repository's
+//! `docs/method.md`, section 4).
 //!
 //! The model is
 //! $$M\ddot x + C\dot x + Kx + \sum_j a_j\,y_j(x,\dot x) = f,$$

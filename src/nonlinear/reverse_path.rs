@@ -22,19 +22,19 @@ use super::result::{NonlinearIdentification, TermEstimate};
 use super::velocity::Differentiation;
 use super::{Regressor, Term};
 
-/// Settings of a nonlinear identification by the reverse path (METHOD.md §7): linear
+/// Settings of a nonlinear identification by the reverse path (Bendat 1990; Richards & Singh 1998): linear
 /// $M, C, K$ together with the coefficients of known nonlinear terms, from records of random
 /// or multisine forcing (any number of simultaneous forces).
 ///
 /// Per line the forces are the outputs and the displacements and regressors the inputs,
-/// $[\hat H\;\hat A] = S_{fz}S_{zz}^{-1}$ with $z = [x;\,y]$ (METHOD.md §7); `M`, `C`,
+/// $[\hat H\;\hat A] = S_{fz}S_{zz}^{-1}$ with $z = [x;\,y]$ (the direct form); `M`, `C`,
 /// `K` are fitted to $\hat H(\omega)$ by least squares or IVF; each coefficient is the weighted
 /// band average of $\operatorname{Re}\hat A_j(\omega)$ and is checked for being real and flat
 /// ([`TermCheck`]). Error bars: the jackknife over at most 8 contiguous blocks of the Welch
 /// segments of all records, for every coefficient.
 ///
 /// This form treats the forces as the noisy channels: displacement noise biases it (about
-/// 3 % low `M`, `K` at 20 % displacement noise, 0.03 % at 2 %; METHOD.md §7).
+/// 3 % low `M`, `K` at 20 % displacement noise, 0.03 % at 2 %, in simulation).
 ///
 /// # Examples
 /// A one-DOF element with dry friction, its displacement prescribed (a Schroeder-phased

@@ -4,7 +4,7 @@
 //! The friction and quadratic-damping regressors $\operatorname{sign}(\dot x)$,
 //! $\lvert\dot x\rvert\dot x$ are nonlinear in the velocity, so how the velocity is derived
 //! from sampled records moves their coefficients: a low-pass just below the forcing band, none
-//! at all, or a Savitzky–Golay derivative each bias them by several percent (METHOD.md §7).
+//! at all, or a Savitzky–Golay derivative each bias them by several percent in simulation.
 //! Here the whole record is transformed once, multiplied at every line by
 //! $g_k\,(i\omega_k)^{1-p}$ for the velocity and $g_k\,(i\omega_k)^{-p}$ for the displacement
 //! ($p$ the channel's [`Response::order`]), and transformed back; the gain $g_k$ is the choice:

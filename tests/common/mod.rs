@@ -11,6 +11,9 @@
 //!   fixed percentage; each test says how its bound is derived.
 #![allow(dead_code)]
 
+pub mod field_rig;
+pub mod nonlinear_records;
+
 use bearing_ident::Coefficients;
 use faer::MatRef;
 
@@ -49,19 +52,67 @@ pub fn diagonal(c: &Coefficients) -> [f64; 6] {
     ]
 }
 
-/// Largest error of `got` against `truth`, each element relative to the Frobenius norm of its
-/// block in `truth` (cross terms may be zero, so element-wise relative error is undefined).
+/// Largest error of `got` against `truth`, each element relative to the Frobenius norm of
+/// `truth` (`max |gᵢ − tᵢ| / ‖t‖₂`): the one relative-error measure of the tests. Cross terms may
+/// be zero, so element-wise relative error is undefined; the norm of the whole block is not.
+pub fn relative_error(
+    got: impl IntoIterator<Item = f64>,
+    truth: impl IntoIterator<Item = f64> + Clone,
+) -> f64 {
+    let norm = truth.clone().into_iter().map(|t| t * t).sum::<f64>().sqrt();
+    got.into_iter()
+        .zip(truth)
+        .map(|(g, t)| (g - t).abs() / norm)
+        .fold(0.0, f64::max)
+}
+
+/// The elements of a matrix, column by column.
+pub fn elements(m: MatRef<'_, f64>) -> impl Iterator<Item = f64> + Clone + '_ {
+    (0..m.ncols()).flat_map(move |j| (0..m.nrows()).map(move |i| m[(i, j)]))
+}
+
+/// [`relative_error`] of one matrix.
+pub fn matrix_relative_error(got: MatRef<'_, f64>, truth: MatRef<'_, f64>) -> f64 {
+    relative_error(elements(got), elements(truth))
+}
+
+/// [`relative_error`] of each block, M, C, K.
+pub fn block_errors(got: &Coefficients, truth: &Coefficients) -> [f64; 3] {
+    let (g, t) = (blocks(got), blocks(truth));
+    [0, 1, 2].map(|b| matrix_relative_error(g[b], t[b]))
+}
+
+/// The worst of [`block_errors`].
 pub fn block_relative_error(got: &Coefficients, truth: &Coefficients) -> f64 {
-    let mut worst: f64 = 0.0;
-    for (g, t) in blocks(got).iter().zip(blocks(truth)) {
-        let norm = t.norm_l2();
-        for j in 0..t.ncols() {
-            for i in 0..t.nrows() {
-                worst = worst.max((g[(i, j)] - t[(i, j)]).abs() / norm);
-            }
-        }
-    }
-    worst
+    block_errors(got, truth).into_iter().fold(0.0, f64::max)
+}
+
+/// [`relative_error`] of a matrix given as JSON rows (`[[xx, xy], [yx, yy]]`, as the CLI writes
+/// it) against rows of numbers.
+#[cfg(feature = "json")]
+pub fn json_relative_error<R: AsRef<[f64]>>(got: &serde_json::Value, truth: &[R]) -> f64 {
+    let value = |i: usize, j: usize| {
+        got[i][j]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no number at [{i}][{j}] of {got}"))
+    };
+    let shape = |i: usize| truth[i].as_ref().len();
+    relative_error(
+        (0..truth.len()).flat_map(|i| (0..shape(i)).map(move |j| value(i, j))),
+        truth.iter().flat_map(|r| r.as_ref().iter().copied()),
+    )
+}
+
+/// The `bearing-ident` binary of this build.
+#[cfg(feature = "cli")]
+pub fn bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_bearing-ident"))
+}
+
+/// Runs `bearing-ident ARGS` to the end; its status, stdout and stderr.
+#[cfg(feature = "cli")]
+pub fn run<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    bin().args(args).output().expect("the binary runs")
 }
 
 /// An n-DOF system (modes spread over 10–40 Hz, cross-coupled) and its exact flexibility on
@@ -264,4 +315,24 @@ pub fn truncated_hits(sim: &mut bearing_ident::simulate::Simulator) -> Vec<beari
         }
     }
     out
+}
+
+/// The folder of third-party test files of one kind (`uff`, …): `../shared/fixtures/KIND/`
+/// beside the crate root. They are not in the repository (other projects' files under their
+/// own licences); when the folder is missing, `test` writes one line saying why it skips (to
+/// the real stderr, so that it shows without `--nocapture`) and gets `None`.
+pub fn fixtures(kind: &str, test: &str) -> Option<std::path::PathBuf> {
+    use std::io::Write;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/fixtures")
+        .join(kind);
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    let _ = writeln!(
+        std::io::stderr(),
+        "{test}: skipped, no third-party {kind} files in {} (see tests/{kind}/FIXTURES.md)",
+        dir.display()
+    );
+    None
 }

@@ -156,23 +156,3 @@ impl NonlinearTest {
         ]
     }
 }
-
-/// The largest error of `got` against `truth`, each element relative to the Frobenius norm of
-/// its block (M, C or K) in `truth`.
-pub fn block_error(got: &Coefficients, truth: &Coefficients) -> [f64; 3] {
-    let pairs = [
-        (got.mass(), truth.mass()),
-        (got.damping(), truth.damping()),
-        (got.stiffness(), truth.stiffness()),
-    ];
-    pairs.map(|(g, t)| {
-        let norm = t.norm_l2();
-        let mut worst: f64 = 0.0;
-        for j in 0..t.ncols() {
-            for i in 0..t.nrows() {
-                worst = worst.max((g[(i, j)] - t[(i, j)]).abs() / norm);
-            }
-        }
-        worst
-    })
-}

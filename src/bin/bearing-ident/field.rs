@@ -173,9 +173,10 @@ pub fn table(id: &FieldIdentification) -> String {
             );
             match &b.coefficients[s] {
                 None => {
-                    let _ = write!(out, "  singular pair: K, C not given");
+                    let _ = write!(out, " {:>9}  singular pair: K, C not given", "—");
                 }
                 Some(c) => {
+                    let _ = write!(out, " {:>9}", sig(c.noise_gain, 3));
                     for cell in field_cells(c, "±") {
                         let _ = write!(out, " {cell:>20}");
                     }

@@ -93,7 +93,8 @@ fn dof(node: i64, dir: i64) -> String {
 fn table(all: &[(String, Vec<Function>)]) -> String {
     let mut s = String::new();
     for (file, fs) in all {
-        let _ = writeln!(s, "{file}: {} dataset 58 functions", fs.len());
+        let plural = if fs.len() == 1 { "" } else { "s" };
+        let _ = writeln!(s, "{file}: {} dataset 58 function{plural}", fs.len());
         if fs.is_empty() {
             continue;
         }

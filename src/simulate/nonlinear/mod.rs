@@ -49,7 +49,7 @@ pub const MAX_OVERSAMPLING: usize = 4096;
 /// [`NonlinearSimulator::oversampling`]); the steps elsewhere stay long. What remains is the
 /// smoothing's own effect, in proportion to $v_s$: a free decay over four cycles departs from
 /// the exact Coulomb decay by `5·10⁻⁶` of its amplitude at the default, `5·10⁻⁷` at
-/// `v_s = 10⁻⁶ m/s` (`tests/simulate_nonlinear.rs`), whatever the oversampling.
+/// `v_s = 10⁻⁶ m/s` (`tests/nonlinear/simulate.rs`), whatever the oversampling.
 ///
 /// # Acquisition
 /// Every channel passes through the same analogue anti-alias filter as in the linear

@@ -37,13 +37,13 @@
 //! covariance `F⁻¹` is multiplied by `κ`. Whole records with the rectangular window have
 //! `κ = 1`; under an exponential window the neighbouring lines of a whole record correlate
 //! too, which is not accounted for: on lightly damped impacts windowed to 1 % the estimate
-//! was unbiased but its error bars 1.3–2.3 × too narrow (`tests/ml_records.rs`).
+//! was unbiased but its error bars 1.3–2.3 × too narrow (`tests/estimation/ml_records.rs`).
 //!
 //! When the assumptions fail: records that have not decayed (leakage) or a model that does
 //! not fit leave a residual that is not noise; it is counted as noise, which widens the error
 //! bars and weights the afflicted lines down, but the bias it causes stays (impacts on a rig
 //! with ζ ≈ 0.8 % cut at 1.2 s, rectangular window: C +7.5 % and +12.5 % against a spread of
-//! 0.7 % and error bars of 6.3 %; `tests/ml_records.rs`). Force noise breaks the
+//! 0.7 % and error bars of 6.3 %; `tests/estimation/ml_records.rs`). Force noise breaks the
 //! output-noise assumption too: the model then attributes it to the displacements.
 
 use faer::{Mat, c64};

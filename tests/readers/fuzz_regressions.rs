@@ -1,0 +1,117 @@
+//! Inputs found by fuzzing (`fuzz/`, `cargo +nightly fuzz`) or by reviewing what the fuzz
+//! targets check, kept as ordinary tests. Each failed (panicked or broke an invariant) before
+//! its fix.
+
+use bearing_ident::io::{CsvLayout, read_record_from};
+use bearing_ident::simulate::{ImpactTest, seed_rig};
+use bearing_ident::{Baseline, Coefficients, Error, Identifier};
+use faer::Mat;
+
+/// Longest error message accepted from a reader (as in `tests/readers/fuzz.rs`).
+const MAX_MESSAGE: usize = 300;
+
+fn small_identification() -> bearing_ident::Identification {
+    let test = ImpactTest {
+        per_direction: 1,
+        ..ImpactTest::seed_rig()
+    };
+    Identifier::new(8.0, 49.0)
+        .identify(&test.run(&seed_rig()).unwrap())
+        .unwrap()
+}
+
+/// A baseline whose standard deviations are of another size than its coefficients made
+/// `subtract_baseline` index out of bounds (a panic); it is now a `baseline_mismatch`.
+#[test]
+fn baseline_with_standard_deviations_of_another_size_is_refused() {
+    let id = small_identification();
+    let one = || Mat::from_fn(1, 1, |_, _| 1.0);
+    let std = Coefficients::new(one(), one(), one()).unwrap();
+    let dry = Baseline::new(
+        id.coefficients().clone(),
+        Some(std),
+        id.band(),
+        id.freqs_hz().to_vec(),
+        id.estimator(),
+        id.window(),
+    );
+    let e = id.subtract_baseline(dry).unwrap_err();
+    assert_eq!(e.kind(), "baseline_mismatch", "{e}");
+}
+
+/// Coefficients subtracted from ±1e308 overflowed to infinity and were returned as a result.
+#[test]
+fn coefficient_subtraction_that_overflows_is_an_error() {
+    let big = |v: f64| Mat::from_fn(1, 1, |_, _| v);
+    let a = Coefficients::new(big(1.0), big(1.0), big(1e308)).unwrap();
+    let b = Coefficients::new(big(1.0), big(1.0), big(-1e308)).unwrap();
+    let e = a.subtract(&b).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NonFiniteCoefficient {
+                matrix: bearing_ident::Block::Stiffness,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+}
+
+/// The CSV reader quoted a whole unparsable field and the whole header in its messages: a file
+/// of one long line came back whole in the error.
+#[test]
+fn csv_errors_quote_little_of_the_input() {
+    let layout = CsvLayout::for_dofs(1);
+    let long = "9".repeat(5000) + "x";
+    let field = format!("t,fx,x\n0,{long},0\n");
+    let header = format!("t,{},x\n0,0,0\n", "h".repeat(5000));
+    for text in [field, header] {
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout).unwrap_err();
+        let message = e.to_string();
+        assert!(message.chars().count() <= MAX_MESSAGE, "{e:?}");
+    }
+}
+
+/// `Baseline::from_json` quoted whole strings (serde_json's "invalid type: string …").
+#[cfg(feature = "json")]
+#[test]
+fn baseline_json_errors_quote_little_of_the_input() {
+    let long = "q".repeat(5000);
+    for text in [
+        format!(r#"{{"M": [["{long}"]]}}"#),
+        format!(
+            r#"{{"M": [[1]], "C": [[1]], "K": [[1]], "band_hz": [1, 2], "freqs_hz": [1], "estimator": "{long}"}}"#
+        ),
+        format!("\"{long}"),
+    ] {
+        let e = Baseline::from_json(&text).unwrap_err();
+        assert_eq!(e.kind(), "bad_baseline");
+        assert!(e.to_string().chars().count() <= MAX_MESSAGE, "{e:?}");
+    }
+}
+
+/// A force gate longer than any record (`open_s = 1e300`): the index of its first closed
+/// sample overflowed `usize` (a panic with overflow checks); the gate is now simply open over
+/// the whole record.
+#[test]
+fn force_gate_longer_than_the_record_is_open_throughout() {
+    use bearing_ident::spectra::ForceGate;
+    let test = ImpactTest {
+        per_direction: 1,
+        ..ImpactTest::seed_rig()
+    };
+    let records = test.run(&seed_rig()).unwrap();
+    let plain = Identifier::new(8.0, 49.0).identify(&records).unwrap();
+    for open in [1e300, f64::MAX] {
+        let gated = Identifier::new(8.0, 49.0)
+            .force_gate(ForceGate::new(open, open).unwrap())
+            .identify(&records)
+            .unwrap();
+        let (k, k0) = (
+            gated.coefficients().stiffness()[(0, 0)],
+            plain.coefficients().stiffness()[(0, 0)],
+        );
+        assert!((k / k0 - 1.0).abs() < 1e-9, "{k} vs {k0}");
+    }
+}

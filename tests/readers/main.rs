@@ -1,0 +1,9 @@
+//! The record readers under attack: the CSV reader against a reference, bounded byte-fuzzing of
+//! every reader, and the inputs fuzzing found. One test binary.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod csv_reader;
+mod fuzz;
+mod fuzz_regressions;
