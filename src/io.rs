@@ -126,17 +126,9 @@ pub fn read_record_from(
     CsvReader::new(layout.clone()).read_from(reader, label)
 }
 
-/// Longest line the reader accepts, in bytes (1 MiB). A longer line, or an input with no
-/// newline at all (`/dev/zero`), stops with [`Error::CsvLimit`] as soon as the limit is passed.
-pub const MAX_LINE_BYTES: u64 = 1 << 20;
-
-/// Most columns a record file may have (header fields).
-pub const MAX_COLUMNS: usize = 4096;
-
-/// Most values one record may hold: samples × columns read (time, forces and displacements),
-/// `2²⁸` (2 GiB of `f64`), e.g. 53 million samples of a 2-DOF record. An endless stream of
-/// valid rows stops with [`Error::CsvLimit`] there.
-pub const MAX_VALUES: u64 = 1 << 28;
+// The one size rule of every reader (`crate::limits`), under the names this module has always
+// given it.
+pub use crate::limits::{MAX_COLUMNS, MAX_LINE_BYTES, MAX_VALUES};
 
 /// One input read with `limits` (tests use small ones).
 #[cfg(test)]

@@ -47,6 +47,8 @@ impl Baseline {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn from_json(text: &str) -> Result<Baseline> {
+        // A UTF-8 byte order mark, as some editors write, is skipped as the CSV reader skips it.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let v: Value = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         if !v.is_object() {
             return Err(bad(

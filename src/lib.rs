@@ -122,6 +122,7 @@ pub mod io;
 #[cfg(feature = "json")]
 pub mod json;
 mod lanes;
+pub mod limits;
 mod linalg;
 pub mod model;
 pub mod nonlinear;

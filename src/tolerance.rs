@@ -254,3 +254,22 @@ pub const FIELD_RESIDUAL_ROUNDING: f64 = 1e-20;
 /// few as 2 real degrees of freedom, noise alone passes 10 with probability `e⁻¹⁰ ≈ 5·10⁻⁵`
 /// per speed, and a model error three times the noise's residual already gives 10.
 pub const FIELD_RESIDUAL_RATIO: f64 = 10.0;
+
+/// A rotor model's `M` and `K` are symmetric ([`RotorModel::new`](crate::field::RotorModel::new))
+/// when every `|A_ij − A_ji|` is at most this fraction of the matrix's largest `|A_ij|`: a
+/// finite-element model is symmetric up to rounding (1e-16) or to the digits a writer printed
+/// (7 significant digits give 5e-8); a transposed block or a typed entry is far above, and a
+/// field fit of an asymmetric model gave K off by 22 % and more.
+pub const FIELD_SYMMETRY: f64 = 1e-6;
+
+/// A rotor model's mass matrix is positive definite
+/// ([`RotorModel::new`](crate::field::RotorModel::new)) when the smallest eigenvalue of its
+/// symmetric part exceeds this fraction of the largest: every degree of freedom of a beam or
+/// lumped model carries mass or inertia, while the eigenvalues of an indefinite or
+/// negative-diagonal `M` are negative, and a massless DOF gives rounding (1e-16) only.
+pub const FIELD_MASS_DEFINITE: f64 = 1e-12;
+
+/// Largest magnitude accepted for an entry of `M`, `C` or `K` read from a file (a baseline,
+/// in SI units): no machine's coefficient comes near it, and it keeps the products and squares
+/// that error bars and `H(ω) = K − ω²M + iωC` form finite (`1e150² = 1e300`).
+pub const COEFFICIENT_MAGNITUDE: f64 = 1e150;

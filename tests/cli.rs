@@ -1178,3 +1178,83 @@ fn a_closed_stdout_is_a_quiet_success() {
         assert!(out.status.success(), "{args:?}: {:?}", out.status);
     }
 }
+
+/// A stderr that cannot be written (`2>/dev/full`) changes nothing but what stderr shows: an
+/// error still exits 2 (never the 101 of a panic) and, under `--json`, still prints its object
+/// on stdout; `--plot`'s "wrote N figures" line and argument errors alike.
+#[test]
+fn a_full_stderr_neither_panics_nor_loses_the_json() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        println!("skipped: /dev/full is absent on this system");
+        return;
+    };
+    let with_full_stderr = |args: &[&str]| -> Output {
+        bin()
+            .args(args)
+            .stderr(full.try_clone().unwrap())
+            .output()
+            .expect("the binary runs")
+    };
+    let missing = "/nonexistent/bearing-ident/r.csv";
+    let out = with_full_stderr(&["identify", missing]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let out = with_full_stderr(&["identify", "--json", missing]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let v: Value = serde_json::from_slice(&out.stdout).expect("the error object on stdout");
+    assert_eq!(v["error"], "io_error", "{v}");
+    for args in [
+        &["identify", "--no-such-flag"][..],
+        &["identify", "--json"][..],
+    ] {
+        let out = with_full_stderr(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {out:?}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("plot");
+    let out = with_full_stderr(&["demo", "--plot", plot.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(plot.join("index.html").is_file());
+}
+
+/// An output pointed at an input (`--uff`, `--ross`, `--plot`, also through another spelling
+/// of its path) is refused before anything is written: before, `--uff` overwrote the record.
+/// `--plot` into a path that is a file says so, not "File exists (os error 17)".
+#[test]
+fn outputs_never_overwrite_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "2"]);
+    let before = std::fs::read(&files[1]).unwrap();
+    let other_spelling = format!(
+        "{}/./{}",
+        dir.path().display(),
+        Path::new(&files[1]).file_name().unwrap().to_str().unwrap()
+    );
+    for (flag, out) in [
+        ("--uff", files[1].as_str()),
+        ("--ross", other_spelling.as_str()),
+        ("--plot", files[0].as_str()),
+    ] {
+        let o = run(&["identify", "--json", flag, out, &files[0], &files[1]]);
+        assert_eq!(o.status.code(), Some(2), "{flag}");
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["error"], "invalid_argument", "{flag}: {v}");
+        let m = v["message"].as_str().unwrap();
+        let says = if flag == "--plot" {
+            "is a file, not a folder"
+        } else {
+            "is one of the input files"
+        };
+        assert!(m.starts_with(flag) && m.contains(says), "{m}");
+    }
+    assert_eq!(std::fs::read(&files[1]).unwrap(), before);
+    // A file where `demo --plot` wants its folder: named as such.
+    let o = run(&["demo", "--json", "--plot", &files[0]]);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        v["message"]
+            .as_str()
+            .unwrap()
+            .contains("is a file, not a folder"),
+        "{v}"
+    );
+}

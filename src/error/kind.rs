@@ -58,6 +58,7 @@ impl Error {
             #[cfg(feature = "csv")]
             Error::CsvLimit { .. } => "too_large",
             Error::TooLarge { .. } => "too_large",
+            Error::FileLimit { .. } => "too_large",
             Error::BaselineMismatch { .. } => "baseline_mismatch",
             #[cfg(feature = "json")]
             Error::BadBaseline { .. } => "bad_baseline",

@@ -74,6 +74,18 @@ pub enum Error {
         /// The limit.
         limit: f64,
     },
+    /// A file is past a reader's documented size rule (`crate::limits`): a line longer than
+    /// a mebibyte, more values than a record may hold, a JSON text longer than 16 MiB. Reading
+    /// stops there, before the input can exhaust memory.
+    #[error("{path}: {what} past the limit of {limit}")]
+    FileLimit {
+        /// The file.
+        path: String,
+        /// What was counted, and where (`line 12: bytes of a line`).
+        what: String,
+        /// The limit.
+        limit: u64,
+    },
     // ---- Records and their excitations (`crate::records`, `crate::frf::assignment`, `crate::stepped`) ----
     /// A record's sampling rate is not a finite positive number.
     #[error("record `{record}`: sampling rate {sample_rate} Hz is not a finite positive number")]

@@ -42,6 +42,14 @@ impl Failure {
     }
 }
 
+/// Writes one line to stderr and ignores a stderr that cannot take it (`2>/dev/full`, a closed
+/// terminal): what stderr says is a courtesy, never a reason to fail or to lose the JSON on
+/// stdout and the exit status.
+pub fn print_err(text: std::fmt::Arguments<'_>) {
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_fmt(text).and_then(|()| err.write_all(b"\n"));
+}
+
 /// Writes `text` to stdout (locked) and flushes it. A reader that went away is the quiet
 /// [`Failure::is_broken_pipe`]; any other error of stdout is an `io_error`.
 pub fn print_out(text: std::fmt::Arguments<'_>) -> Result<(), Failure> {

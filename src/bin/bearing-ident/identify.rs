@@ -436,7 +436,19 @@ fn identify_records(
 /// one at a time).
 pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let layout = layout(args)?;
-    crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
+    let inputs: Vec<&std::path::Path> = args
+        .files
+        .iter()
+        .chain(&args.baseline)
+        .map(PathBuf::as_path)
+        .collect();
+    crate::export::check(
+        &args.export,
+        args.baseline.is_some(),
+        args.per_frequency,
+        &inputs,
+        args.plot.as_deref(),
+    )?;
     let start = Instant::now();
     std::thread::scope(|scope| {
         // The files after the first are parsed on worker threads from the start, while this

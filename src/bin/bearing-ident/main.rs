@@ -27,7 +27,7 @@ use bearing_ident::error::excerpt;
 use clap::{Parser, Subcommand};
 
 use crate::demo::{DemoArgs, demo};
-use crate::failure::print_out;
+use crate::failure::{print_err, print_out};
 use crate::field::{FieldArgs, field};
 use crate::identify::{IdentifyArgs, identify};
 use crate::inspect::{InspectArgs, inspect};
@@ -84,7 +84,7 @@ fn main() -> ExitCode {
         // The reader of stdout went away: nothing more to say, to anyone.
         Err(f) if f.is_broken_pipe() => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("bearing-ident: error: {}", f.message);
+            print_err(format_args!("bearing-ident: error: {}", f.message));
             if json {
                 let v = serde_json::json!({ "error": f.kind, "message": f.message });
                 // A closed stdout cannot take the JSON; stderr has the message.
@@ -130,6 +130,6 @@ fn argument_error(e: &clap::Error, json: bool) -> ExitCode {
         // Short enough to print as clap does, with its usage and tips.
         e.exit();
     }
-    eprintln!("bearing-ident: error: {message}");
+    print_err(format_args!("bearing-ident: error: {message}"));
     ExitCode::from(2)
 }
