@@ -351,6 +351,24 @@ mod tests {
         assert!(matches!(&e, Error::MissingColumn { column, .. } if column == "fy"));
     }
 
+    /// A column the layout reads given twice in the header (before: the first was read
+    /// silently) is refused naming it; a repeated column nobody reads is harmless.
+    #[test]
+    fn a_repeated_column_name_is_refused() {
+        let body = |extra: &str| -> String {
+            rows(10).lines().skip(1).map(|l| format!("{l}{extra}\n")).collect()
+        };
+        let text = format!("t,fx,x,fx\n{}", body(",9"));
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+        assert!(
+            matches!(&e, Error::Csv { line: 1, message, .. }
+                if message.starts_with("column `fx` appears twice in the header (fields 2 and 4)")),
+            "{e:?}"
+        );
+        let text = format!("t,fx,x,q,q\n{}", body(",9,9"));
+        assert_eq!(read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap().len(), 10);
+    }
+
     #[test]
     fn non_finite_value_is_named() {
         let text = rows(10).replace("0.02,2,4\n", "0.02,2,NaN\n");

@@ -1196,9 +1196,9 @@ fn a_full_stderr_neither_panics_nor_loses_the_json() {
             .expect("the binary runs")
     };
     let missing = "/nonexistent/bearing-ident/r.csv";
-    let out = with_full_stderr(&["identify", missing]);
+    let out = with_full_stderr(&["identify", "--band", "8,49", missing]);
     assert_eq!(out.status.code(), Some(2), "{out:?}");
-    let out = with_full_stderr(&["identify", "--json", missing]);
+    let out = with_full_stderr(&["identify", "--json", "--band", "8,49", missing]);
     assert_eq!(out.status.code(), Some(2), "{out:?}");
     let v: Value = serde_json::from_slice(&out.stdout).expect("the error object on stdout");
     assert_eq!(v["error"], "io_error", "{v}");
@@ -1234,7 +1234,9 @@ fn outputs_never_overwrite_inputs() {
         ("--ross", other_spelling.as_str()),
         ("--plot", files[0].as_str()),
     ] {
-        let o = run(&["identify", "--json", flag, out, &files[0], &files[1]]);
+        let o = run(&[
+            "identify", "--json", "--band", "8,49", flag, out, &files[0], &files[1],
+        ]);
         assert_eq!(o.status.code(), Some(2), "{flag}");
         let v: Value = serde_json::from_slice(&o.stdout).unwrap();
         assert_eq!(v["error"], "invalid_argument", "{flag}: {v}");
@@ -1257,4 +1259,55 @@ fn outputs_never_overwrite_inputs() {
             .contains("is a file, not a folder"),
         "{v}"
     );
+}
+
+/// Messages name their cause and quote safely: a missing required argument is named in the
+/// JSON message (before, cut at "were not provided:"); counts of 0 and a NaN rate are refused
+/// naming the flag (before: exit 0 with nothing written, or `too_large`); a negative Coulomb
+/// force is refused; a 309-digit number, a 4000-character path and an ESC byte of a CSV header
+/// are never echoed raw.
+#[test]
+fn messages_name_the_cause_and_quote_safely() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let json_error = |args: &[&str]| -> (String, String) {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+        assert!(!o.stderr.contains(&0x1b), "{args:?}");
+        (
+            v["error"].as_str().unwrap().to_owned(),
+            v["message"].as_str().unwrap().to_owned(),
+        )
+    };
+    let (kind, m) = json_error(&["simulate", "--json"]);
+    assert_eq!(kind, "invalid_argument");
+    assert!(m.contains("--out"), "{m}");
+    for (extra, says) in [
+        (&["--rate", "nan"][..], "--rate NaN"),
+        (&["--impacts", "0"][..], "--impacts 0"),
+        (&["--kind", "random", "--records", "0"][..], "--records 0"),
+        (&["--kind", "multisine", "--periods", "0"][..], "--periods 0"),
+        (&["--kind", "random", "--coulomb=-5"][..], "--coulomb -5"),
+    ] {
+        let (kind, m) = json_error(&[&["simulate", "--json", "--out", out], extra].concat());
+        assert_eq!(kind, "invalid_argument", "{extra:?}: {m}");
+        assert!(m.starts_with(says), "{extra:?}: {m}");
+    }
+    assert!(!Path::new(out).exists(), "nothing is written");
+    let huge = format!("{}", 1e308);
+    let band = format!("8,{huge}");
+    let long_path = format!("{}/{}.csv", dir.path().display(), "p".repeat(4000));
+    let header = write(dir.path(), "esc.csv", "t,f\u{1b}[31mx,x\n0,0,0\n0.1,1,1\n");
+    for args in [
+        vec!["identify", "--json", "--band", &band, &header],
+        vec!["identify", "--json", &long_path],
+        vec!["identify", "--json", "--force", "fx", "--disp", "x", &header],
+    ] {
+        let (_, m) = json_error(&args);
+        let longest = m.split(' ').map(|w| w.chars().count()).max().unwrap_or(0);
+        assert!(longest <= 100 && !m.contains(&huge), "{m}");
+        assert!(!m.contains('\u{1b}'), "{m}");
+    }
 }

@@ -59,6 +59,7 @@ impl Error {
             Error::CsvLimit { .. } => "too_large",
             Error::TooLarge { .. } => "too_large",
             Error::FileLimit { .. } => "too_large",
+            Error::BadRecord { .. } => "bad_record",
             Error::BaselineMismatch { .. } => "baseline_mismatch",
             #[cfg(feature = "json")]
             Error::BadBaseline { .. } => "bad_baseline",

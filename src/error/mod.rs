@@ -21,7 +21,7 @@ mod warning;
 mod warning_text;
 
 use message::{rank_deficient_advice, size, spacing};
-pub use quote::{QUOTE_CHARS, excerpt, excerpt_bytes};
+pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
 pub use subject::{BaselineField, Block, Channel, Factorization, Quantity, SpectrumKind};
@@ -170,6 +170,22 @@ pub enum Error {
         channel: Channel,
         /// The constant value it holds (N or m).
         value: f64,
+    },
+    /// The fit failed, and the screening had found a record far out of scale with its siblings
+    /// (a channel dead or its level an outlier: a record scaled by 1e-12 or 1e20, a glitch
+    /// sample): that record, not the excitations, is the cause. Leaving records with findings
+    /// out ([`Screening::Reject`](crate::Screening::Reject)) rescues the run.
+    #[error(
+        "record `{record}`: {finding}; the fit failed ({failure}) because of it: leave it out \
+         (reject the records the screening finds)"
+    )]
+    BadRecord {
+        /// Label of the record.
+        record: String,
+        /// What the screening found, in words.
+        finding: String,
+        /// The error the fit gave.
+        failure: String,
     },
     /// No records were given.
     #[error("no records were given")]

@@ -16,6 +16,9 @@ impl From<bearing_ident::Error> for Failure {
         if matches!(e, bearing_ident::Error::MlNeedsRepeats) {
             message.push_str(" (on the command line: `--excitation periodic --period S`)");
         }
+        if matches!(e, bearing_ident::Error::BadRecord { .. }) {
+            message.push_str(" (on the command line: `--reject-bad-records`)");
+        }
         Failure {
             kind: e.kind(),
             message,

@@ -23,7 +23,7 @@ mod simulate;
 
 use std::process::ExitCode;
 
-use bearing_ident::error::excerpt;
+use bearing_ident::error::{bounded, excerpt};
 use clap::{Parser, Subcommand};
 
 use crate::demo::{DemoArgs, demo};
@@ -84,9 +84,11 @@ fn main() -> ExitCode {
         // The reader of stdout went away: nothing more to say, to anyone.
         Err(f) if f.is_broken_pipe() => ExitCode::SUCCESS,
         Err(f) => {
-            print_err(format_args!("bearing-ident: error: {}", f.message));
+            // Whatever the message quotes: control bytes escaped, no run past 80 characters.
+            let message = bounded(&f.message);
+            print_err(format_args!("bearing-ident: error: {message}"));
             if json {
-                let v = serde_json::json!({ "error": f.kind, "message": f.message });
+                let v = serde_json::json!({ "error": f.kind, "message": message });
                 // A closed stdout cannot take the JSON; stderr has the message.
                 let _ = print_out(format_args!("{v}\n"));
             }
@@ -119,6 +121,13 @@ fn argument_error(e: &clap::Error, json: bool) -> ExitCode {
             message = message.replace(v.as_str(), &excerpt(v));
         }
     }
+    // clap lists what is missing on the lines after its first: the message names it.
+    if e.kind() == ErrorKind::MissingRequiredArgument
+        && let Some(ContextValue::Strings(missing)) = e.get(ContextKind::InvalidArg)
+    {
+        message = format!("{} {}", message.trim_end(), missing.join(", "));
+    }
+    let mut message = bounded(&message);
     if let Some((cut, _)) = message.char_indices().nth(MESSAGE_CHARS) {
         message.truncate(cut);
         message.push('…');
