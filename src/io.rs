@@ -126,17 +126,9 @@ pub fn read_record_from(
     CsvReader::new(layout.clone()).read_from(reader, label)
 }
 
-/// Longest line the reader accepts, in bytes (1 MiB). A longer line, or an input with no
-/// newline at all (`/dev/zero`), stops with [`Error::CsvLimit`] as soon as the limit is passed.
-pub const MAX_LINE_BYTES: u64 = 1 << 20;
-
-/// Most columns a record file may have (header fields).
-pub const MAX_COLUMNS: usize = 4096;
-
-/// Most values one record may hold: samples × columns read (time, forces and displacements),
-/// `2²⁸` (2 GiB of `f64`), e.g. 53 million samples of a 2-DOF record. An endless stream of
-/// valid rows stops with [`Error::CsvLimit`] there.
-pub const MAX_VALUES: u64 = 1 << 28;
+// The one size rule of every reader (`crate::limits`), under the names this module has always
+// given it.
+pub use crate::limits::{MAX_COLUMNS, MAX_LINE_BYTES, MAX_VALUES};
 
 /// One input read with `limits` (tests use small ones).
 #[cfg(test)]
@@ -357,6 +349,33 @@ mod tests {
         };
         let e = read_record_from(rows(10).as_bytes(), "f.csv", &layout).unwrap_err();
         assert!(matches!(&e, Error::MissingColumn { column, .. } if column == "fy"));
+    }
+
+    /// A column the layout reads given twice in the header (before: the first was read
+    /// silently) is refused naming it; a repeated column nobody reads is harmless.
+    #[test]
+    fn a_repeated_column_name_is_refused() {
+        let body = |extra: &str| -> String {
+            rows(10)
+                .lines()
+                .skip(1)
+                .map(|l| format!("{l}{extra}\n"))
+                .collect()
+        };
+        let text = format!("t,fx,x,fx\n{}", body(",9"));
+        let e = read_record_from(text.as_bytes(), "f.csv", &layout1()).unwrap_err();
+        assert!(
+            matches!(&e, Error::Csv { line: 1, message, .. }
+                if message.starts_with("column `fx` appears twice in the header (fields 2 and 4)")),
+            "{e:?}"
+        );
+        let text = format!("t,fx,x,q,q\n{}", body(",9,9"));
+        assert_eq!(
+            read_record_from(text.as_bytes(), "f.csv", &layout1())
+                .unwrap()
+                .len(),
+            10
+        );
     }
 
     #[test]

@@ -47,6 +47,8 @@ impl Baseline {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn from_json(text: &str) -> Result<Baseline> {
+        // A UTF-8 byte order mark, as some editors write, is skipped as the CSV reader skips it.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let v: Value = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         if !v.is_object() {
             return Err(bad(
@@ -67,7 +69,23 @@ impl Baseline {
             }
             Ok(Some(Mat::from_fn(n, n, |i, j| rows[i][j])))
         };
-        let need = |key: &str| matrix(key)?.ok_or_else(|| bad(format!("no `{key}`")));
+        let need = |key: &str| {
+            let m = matrix(key)?.ok_or_else(|| bad(format!("no `{key}`")))?;
+            // Finite is not enough: 1e308 overflows the first square or product it meets.
+            let limit = crate::tolerance::COEFFICIENT_MAGNITUDE;
+            for i in 0..m.nrows() {
+                for j in 0..m.ncols() {
+                    if !(m[(i, j)].abs() <= limit) {
+                        return Err(bad(format!(
+                            "`{key}`[{i}][{j}] = {:e} is past the largest coefficient \
+                             magnitude accepted, {limit:e}",
+                            m[(i, j)]
+                        )));
+                    }
+                }
+            }
+            Ok(m)
+        };
         let coefficients = Coefficients::new(need("M")?, need("C")?, need("K")?)
             .map_err(|e| bad(e.to_string()))?;
         let std = match (matrix("M_std")?, matrix("C_std")?, matrix("K_std")?) {
@@ -152,6 +170,13 @@ mod tests {
         assert!((b.coefficients().mass()[(0, 0)] - 2.0).abs() < 1e-15);
     }
 
+    /// A UTF-8 byte order mark (as some editors write) is skipped, as the CSV reader skips it.
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let b = Baseline::from_json(&format!("\u{feff}{GOOD}")).unwrap();
+        assert!((b.coefficients().stiffness()[(0, 0)] - 4e4).abs() < 1e-9);
+    }
+
     #[test]
     fn every_fault_is_bad_baseline() {
         let cases = [
@@ -169,6 +194,9 @@ mod tests {
             GOOD.replace(r#""h1""#, r#""h9""#),
             GOOD.replace("2.5", "-2.5"),
             GOOD.replace(r#""exp""#, r#""kaiser""#),
+            GOOD.replace("[[4e4]]", "[[1e308]]"),
+            GOOD.replace("[[4e4]]", "[[-1e308]]"),
+            GOOD.replace("[[2.0]]", "[[1e200]]"),
         ];
         for text in &cases {
             let e = Baseline::from_json(text).unwrap_err();

@@ -124,6 +124,7 @@ pub mod job;
 #[cfg(feature = "json")]
 pub mod json;
 mod lanes;
+pub mod limits;
 mod linalg;
 pub mod model;
 pub mod nonlinear;

@@ -254,3 +254,46 @@ pub const FIELD_RESIDUAL_ROUNDING: f64 = 1e-20;
 /// few as 2 real degrees of freedom, noise alone passes 10 with probability `e⁻¹⁰ ≈ 5·10⁻⁵`
 /// per speed, and a model error three times the noise's residual already gives 10.
 pub const FIELD_RESIDUAL_RATIO: f64 = 10.0;
+
+/// A rotor model's `M` and `K` are symmetric ([`RotorModel::new`](crate::field::RotorModel::new))
+/// when every `|A_ij − A_ji|` is at most this fraction of the matrix's largest `|A_ij|`: a
+/// finite-element model is symmetric up to rounding (1e-16) or to the digits a writer printed
+/// (7 significant digits give 5e-8); a transposed block or a typed entry is far above, and a
+/// field fit of an asymmetric model gave K off by 22 % and more.
+pub const FIELD_SYMMETRY: f64 = 1e-6;
+
+/// A rotor model's mass matrix is positive definite
+/// ([`RotorModel::new`](crate::field::RotorModel::new)) when the smallest eigenvalue of its
+/// symmetric part exceeds this fraction of the largest: every degree of freedom of a beam or
+/// lumped model carries mass or inertia, while the eigenvalues of an indefinite or
+/// negative-diagonal `M` are negative, and a massless DOF gives rounding (1e-16) only.
+pub const FIELD_MASS_DEFINITE: f64 = 1e-12;
+
+/// Largest magnitude accepted for an entry of `M`, `C` or `K` read from a file (a baseline,
+/// in SI units): no machine's coefficient comes near it, and it keeps the products and squares
+/// that error bars and `H(ω) = K − ω²M + iωC` form finite (`1e150² = 1e300`).
+pub const COEFFICIENT_MAGNITUDE: f64 = 1e150;
+
+/// Two records are copies up to rounding ([`DuplicateRecord`](crate::Warning::DuplicateRecord))
+/// when every value of their fingerprints (a few samples, extremes, mean, RMS per channel)
+/// agrees within this fraction of the channel's peak: a copy written with 8 significant
+/// digits differs by at most `5·10⁻⁹`, with 7 by `5·10⁻⁸`; independent records of one test
+/// differ by their noise, `10⁻⁴` of the peak and far more.
+pub const NEAR_DUPLICATE: f64 = 1e-6;
+
+/// A force line is interference ([`crate::frf::interference`]) when its auto-spectrum is at
+/// least this many times the median of its neighbours': a random force's line over the median
+/// of 16 neighbours follows `χ²(2n_d)/2n_d` and passes 10 with probability below 1e-7 for
+/// `n_d ≥ 2` averages; a real force peak passes it too, but the responses follow it.
+pub const INTERFERENCE_RATIO: f64 = 10.0;
+
+/// ... and the smallest multiple coherence of the responses there is below this fraction of its
+/// neighbours' median: hum of `R` times a line's force power leaves a coherence near `1/R`
+/// where the structure felt none of it; a force the structure feels leaves the coherence as it
+/// was.
+pub const INTERFERENCE_COHERENCE_DIP: f64 = 0.5;
+
+/// Lines next to an interference line whose force auto-spectrum is still this many times its
+/// neighbours' median are the window's spread of the same sine (a Hann window puts a sine
+/// between two lines into four) and are left out with it.
+pub const INTERFERENCE_SPREAD: f64 = 2.0;

@@ -35,6 +35,7 @@ class MalformedUffError(BearingIdentError): ...  # kind 'malformed_uff'
 class InvalidInputError(BearingIdentError): ...  # kind 'invalid_input'
 class MissingResponseError(BearingIdentError): ...  # kind 'missing_response'
 class UnderdeterminedError(BearingIdentError): ...  # kind 'underdetermined'
+class BadRecordError(BearingIdentError): ...  # kind "bad_record"
 class InternalError(BearingIdentError): ...  # kind 'internal'
 
 class Record:

@@ -21,7 +21,7 @@ mod warning;
 mod warning_text;
 
 use message::{rank_deficient_advice, size, spacing};
-pub use quote::{QUOTE_CHARS, excerpt, excerpt_bytes};
+pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
 pub use subject::{BaselineField, Block, Channel, Factorization, Quantity, SpectrumKind};
@@ -99,6 +99,18 @@ pub enum Error {
         value: f64,
         /// The limit.
         limit: f64,
+    },
+    /// A file is past a reader's documented size rule (`crate::limits`): a line longer than
+    /// a mebibyte, more values than a record may hold, a JSON text longer than 16 MiB. Reading
+    /// stops there, before the input can exhaust memory.
+    #[error("{path}: {what} past the limit of {limit}")]
+    FileLimit {
+        /// The file.
+        path: String,
+        /// What was counted, and where (`line 12: bytes of a line`).
+        what: String,
+        /// The limit.
+        limit: u64,
     },
     // ---- Records and their excitations (`crate::records`, `crate::frf::assignment`, `crate::stepped`) ----
     /// A record's sampling rate is not a finite positive number.
@@ -184,6 +196,22 @@ pub enum Error {
         channel: Channel,
         /// The constant value it holds (N or m).
         value: f64,
+    },
+    /// The fit failed, and the screening had found a record far out of scale with its siblings
+    /// (a channel dead or its level an outlier: a record scaled by 1e-12 or 1e20, a glitch
+    /// sample): that record, not the excitations, is the cause. Leaving records with findings
+    /// out ([`Screening::Reject`](crate::Screening::Reject)) rescues the run.
+    #[error(
+        "record `{record}`: {finding}; the fit failed ({failure}) because of it: leave it out \
+         (reject the records the screening finds)"
+    )]
+    BadRecord {
+        /// Label of the record.
+        record: String,
+        /// What the screening found, in words.
+        finding: String,
+        /// The error the fit gave.
+        failure: String,
     },
     /// No records were given.
     #[error("no records were given")]

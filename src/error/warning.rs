@@ -31,6 +31,19 @@ pub enum Warning {
         /// The threshold.
         threshold: f64,
     },
+    /// A force channel's line stands far above its neighbours with no response to match (the
+    /// coherence drops there): interference such as mains hum in the force measurement. The
+    /// line and the window's spread of it were left out of the fit.
+    InterferenceLine {
+        /// Frequency of the line (Hz).
+        freq_hz: f64,
+        /// The force channel.
+        channel: Channel,
+        /// Its auto-spectrum there over the median of its neighbours.
+        ratio: f64,
+        /// Lines left out (the line and its spread).
+        lines: usize,
+    },
     /// The jackknife had fewer than 3 replicates; the sandwich standard deviations are
     /// reported instead.
     FewReplicates {
@@ -344,6 +357,7 @@ impl Warning {
         match self {
             Warning::IllConditioned { .. } => "ill_conditioned",
             Warning::LowCoherence { .. } => "low_coherence",
+            Warning::InterferenceLine { .. } => "interference_line",
             Warning::FewReplicates { .. } => "few_replicates",
             Warning::DroppedLines { .. } => "dropped_lines",
             Warning::UnpairedRecords { .. } => "unpaired_records",

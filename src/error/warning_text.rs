@@ -22,6 +22,16 @@ impl fmt::Display for Warning {
                 f,
                 "{lines} lines dropped with a multiple coherence below {threshold}"
             ),
+            Warning::InterferenceLine {
+                freq_hz,
+                channel,
+                ratio,
+                lines,
+            } => write!(
+                f,
+                "{channel} has a line at {freq_hz} Hz {ratio:.0} times its neighbours with no \
+                 response to match (interference such as mains hum): {lines} lines left out"
+            ),
             Warning::FewReplicates { replicates } => write!(
                 f,
                 "only {replicates} replicates for the jackknife (3 needed): sandwich standard deviations reported"

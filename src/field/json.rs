@@ -17,6 +17,8 @@ fn bad(message: impl AsRef<str>) -> Error {
 /// Parses `text`, telling NaN and infinite literals (`NaN`, `Infinity`, numbers past f64), which
 /// JSON does not have but some writers produce, from other syntax errors.
 fn parse(text: &str, what: &str) -> Result<Value> {
+    // A UTF-8 byte order mark, as some editors write, is skipped as the CSV reader skips it.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     serde_json::from_str(text).map_err(|e| {
         let line = text.lines().nth(e.line().saturating_sub(1)).unwrap_or("");
         let at = e.column().saturating_sub(1);

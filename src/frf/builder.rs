@@ -405,6 +405,22 @@ impl FrfBuilder {
         Ok(())
     }
 
+    /// Per line of `frf` (one of this builder's finished estimates), the auto-spectra
+    /// `S_{f_c f_c}` of the force channels from the accumulated cross-spectra; `None` unless a
+    /// cross-spectral estimator gathered them.
+    pub(crate) fn force_auto_spectra(&self, frf: &Frf) -> Option<Vec<Vec<f64>>> {
+        let (plan, _) = self.plan.as_ref()?;
+        let n = plan.n;
+        if self.sff.len() != plan.lines.len() * n * n {
+            return None;
+        }
+        let mut out = vec![Vec::new(); frf.line_count()];
+        for (l, _, at) in plan.lines_in(frf) {
+            out[at] = (0..n).map(|i| self.sff[(l * n + i) * n + i].re).collect();
+        }
+        out.iter().all(|v| v.len() == n).then_some(out)
+    }
+
     /// The first record pushed whose force channels, or whose displacement channels, are all
     /// flat (constant over the whole record), as [`Error::DeadChannel`]: the true cause when
     /// an identification cannot go on (rank-deficient excitations or a singular fit).

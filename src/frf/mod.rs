@@ -37,6 +37,7 @@ mod cross;
 mod h1;
 mod h2;
 mod hv;
+pub mod interference;
 mod moments;
 mod paired;
 mod replicates;

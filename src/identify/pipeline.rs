@@ -319,17 +319,29 @@ impl Settings {
             };
             Ok((frf, excitations))
         });
+        // Kept for the error: a record far out of scale that the screening found (and kept).
+        let suspect = screened.iter().find_map(out_of_scale);
         let outcome = frf.and_then(|(frf, excitations)| {
             self.conclude(frf, Some(&builder), excitations, screened, t, start)
         });
-        // A record without force or without response shows up later as missing rank or a
-        // singular fit: name the record instead. (A band with too few lines stays `bad_band`.)
+        // A record without force or without response, or one far out of scale with its
+        // siblings, shows up later as missing rank, a singular fit or a fit that cannot
+        // converge: name the record instead. (A band with too few lines stays `bad_band`.)
         match outcome {
             Err(
-                Error::RankDeficient { .. } | Error::Singular { .. } | Error::SingularFit { .. },
-            ) => Err(builder
-                .dead_channel()
-                .unwrap_or_else(|| outcome.expect_err("matched"))),
+                e @ (Error::RankDeficient { .. }
+                | Error::Singular { .. }
+                | Error::SingularFit { .. }
+                | Error::NotConverged { .. }
+                | Error::NonFiniteResult { .. }),
+            ) => Err(builder.dead_channel().unwrap_or_else(|| match suspect {
+                Some((record, finding)) => Error::BadRecord {
+                    record,
+                    finding,
+                    failure: e.to_string(),
+                },
+                None => e,
+            })),
             outcome => outcome,
         }
     }
@@ -347,6 +359,11 @@ impl Settings {
         start: Instant,
     ) -> Result<Identification> {
         let (frf, low_coherence) = timed(&mut t.frf, || self.select_coherent(frf));
+        let (frf, interference) = match builder {
+            Some(b) => timed(&mut t.frf, || without_interference(frf, b)),
+            None => (frf, Vec::new()),
+        };
+        warnings.extend(interference);
         require_lines(&frf)?;
         let conditioning = timed(&mut t.conditioning, || {
             Conditioning::assess(&frf, self.limits)
@@ -479,4 +496,63 @@ fn require_lines(frf: &Frf) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// The record and, in words, the finding of a screening warning that puts a record far out of
+/// scale with its siblings (a dead channel, a level outlier), if `w` is one.
+fn out_of_scale(w: &crate::Warning) -> Option<(String, String)> {
+    match w {
+        crate::Warning::DeadChannel {
+            record,
+            channel,
+            rms,
+            median_rms,
+        }
+        | crate::Warning::LevelOutlier {
+            record,
+            channel,
+            rms,
+            median_rms,
+            ..
+        } => Some((
+            record.clone(),
+            format!(
+                "{channel} has RMS {rms:.3e}, {:.1e} times the median {median_rms:.3e} of its \
+                 sibling records",
+                rms / median_rms
+            ),
+        )),
+        _ => None,
+    }
+}
+
+/// `frf` without its interference lines (a force line far above its neighbours that the
+/// responses do not follow: [`crate::frf::interference`]), and a
+/// [`Warning::InterferenceLine`] for each run of them.
+fn without_interference(frf: Frf, builder: &FrfBuilder) -> (Frf, Vec<Warning>) {
+    let Some(force) = builder.force_auto_spectra(&frf) else {
+        return (frf, Vec::new());
+    };
+    let coherence: Vec<f64> = (0..frf.line_count())
+        .map(|k| {
+            frf.multiple_coherence(k)
+                .map_or(1.0, |c| c.iter().copied().fold(f64::INFINITY, f64::min))
+        })
+        .collect();
+    let found = crate::frf::interference::interference_lines(&force, &coherence);
+    if found.is_empty() {
+        return (frf, Vec::new());
+    }
+    let out: Vec<usize> = found.iter().flat_map(|i| i.lines.iter().copied()).collect();
+    let warnings = found
+        .iter()
+        .map(|i| Warning::InterferenceLine {
+            freq_hz: frf.freqs_hz()[i.peak],
+            channel: crate::Channel::Force(i.channel),
+            ratio: i.ratio,
+            lines: i.lines.len(),
+        })
+        .collect();
+    let kept = frf.retain_lines(|k| !out.contains(&k));
+    (kept, warnings)
 }

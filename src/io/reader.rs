@@ -361,6 +361,22 @@ impl<'a> Rows<'a> {
                     })
             })
             .collect::<Result<_>>()?;
+        // A name the layout reads that the header gives twice: which column is meant is unknown.
+        for &i in &index {
+            if let Some(again) = header.iter().skip(i + 1).position(|h| h == &header[i]) {
+                return Err(Error::Csv {
+                    path: label.to_owned(),
+                    line: 1,
+                    message: format!(
+                        "column `{}` appears twice in the header (fields {} and {}): which \
+                         one to read is not known",
+                        crate::error::excerpt_bytes(&header[i]),
+                        i + 1,
+                        i + 2 + again
+                    ),
+                });
+            }
+        }
         let mut slot = vec![UNREAD; header.len()];
         for (k, &i) in index.iter().enumerate() {
             if slot[i] != UNREAD {

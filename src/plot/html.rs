@@ -203,8 +203,16 @@ pub(super) fn page_tail(h: &mut String, options: &ReportOptions) {
 
 /// Creates the report's folder (and its parents).
 pub(super) fn create_dir(dir: &Path) -> Result<()> {
+    let path = || crate::error::excerpt(&dir.display().to_string());
+    // Said in words: the system's "File exists" does not tell which is wrong.
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::Io {
+            path: path(),
+            message: "is a file, not a folder for the report".to_owned(),
+        });
+    }
     std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: dir.display().to_string(),
+        path: path(),
         message: e.to_string(),
     })
 }

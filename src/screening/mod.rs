@@ -23,7 +23,10 @@
 //! - **double hit** ([`Warning::DoubleHit`]), with [`Checks::impact`] set, on impulsive
 //!   records only (crest factor ≥ [`ImpactChecks::min_crest_factor`]);
 //! - **identical records** ([`Warning::DuplicateRecord`]): a 64-bit hash of the bits of every
-//!   sample of every channel (not the label) equal to an earlier record's.
+//!   sample of every channel (not the label) equal to an earlier record's, or a copy up to
+//!   rounding (written again with 8 or fewer digits): a fingerprint of samples, extremes, mean
+//!   and RMS per channel within [`NEAR_DUPLICATE`](crate::tolerance::NEAR_DUPLICATE) of the
+//!   channel's peak.
 //!
 //! Across records, once all have arrived ([`Screener::across`]), each record against its
 //! **siblings**, the records excited the same way: a record whose dominant force

@@ -105,8 +105,16 @@ impl Screener {
                 _ => None,
             })
             .collect();
-        match self.first_with.get(&summary.hash) {
-            Some(&first) => found.push(Warning::DuplicateRecord {
+        // The same bits, or (a copy written with fewer digits) the same values up to rounding.
+        let first = self.first_with.get(&summary.hash).copied().or_else(|| {
+            self.first_with
+                .values()
+                .copied()
+                .filter(|&f| summary.copies(&self.summaries[f]))
+                .min()
+        });
+        match first {
+            Some(first) => found.push(Warning::DuplicateRecord {
                 record: label.to_owned(),
                 of: self.summaries[first].label.clone(),
             }),

@@ -8,6 +8,11 @@ use crate::quality::Scan;
 use crate::records::{Record, Response};
 
 use super::{DOMINANCE, FLAT_TOLERANCE};
+use crate::tolerance::NEAR_DUPLICATE;
+
+/// Samples per channel in a record's fingerprint ([`Summary::copies`]), at even spacing from
+/// the first to the last.
+const FINGERPRINT_SAMPLES: usize = 16;
 
 /// What the screening keeps of one record: RMS per channel (mean removed), a hash of its
 /// samples, its dominant force.
@@ -21,6 +26,13 @@ pub struct Summary {
     /// channel measures the same quantity (m, m/s and m/s² differ by orders of magnitude).
     pub(super) responses: Vec<Response>,
     pub(super) hash: u64,
+    /// Number of samples, and per channel (forces, then displacements) its peak `max |x|`
+    /// and [`FINGERPRINT_SAMPLES`] samples at even spacing with its extremes, mean and RMS:
+    /// what tells a copy rounded to a few digits from an independent record
+    /// ([`Summary::copies`]).
+    pub(super) len: usize,
+    pub(super) peaks: Vec<f64>,
+    pub(super) fingerprint: Vec<f64>,
     /// Channels reported flat on arrival.
     pub(super) flat: Vec<Channel>,
 }
@@ -52,7 +64,20 @@ impl Summary {
             scans[c].digest.hash(&mut hasher);
             scans[n + c].digest.hash(&mut hasher);
         }
+        let len = record.len();
+        let channels = (0..n)
+            .map(|c| record.force(c))
+            .chain((0..n).map(|c| record.displacement(c)));
+        let mut fingerprint = Vec::with_capacity(2 * n * (FINGERPRINT_SAMPLES + 4));
+        for (x, scan) in channels.zip(scans) {
+            let at = |k: usize| x[k * (len - 1) / (FINGERPRINT_SAMPLES - 1)];
+            fingerprint.extend((0..FINGERPRINT_SAMPLES).filter(|_| len > 0).map(at));
+            fingerprint.extend([scan.lo, scan.hi, scan.mean, scan.rms]);
+        }
         Self {
+            len,
+            peaks: scans.iter().map(|s| s.lo.abs().max(s.hi.abs())).collect(),
+            fingerprint,
             label: record.label().to_owned(),
             dominant,
             force_rms: scans[..n].iter().map(|s| s.rms).collect(),
@@ -61,6 +86,28 @@ impl Summary {
             hash: hasher.finish(),
             flat: Vec::new(),
         }
+    }
+
+    /// Whether `self` is a copy of `earlier` up to rounding: the same length and every value
+    /// of the fingerprint within [`NEAR_DUPLICATE`] of its channel's peak in `earlier`, some
+    /// channel not zero. Rounding every sample to 8 significant digits moves each value by
+    /// at most `5·10⁻⁹` of its channel's peak; records of a test with their own noise differ
+    /// by the noise (10⁻⁴ of the peak and more) in every sample.
+    pub(super) fn copies(&self, earlier: &Summary) -> bool {
+        let per = FINGERPRINT_SAMPLES + 4;
+        self.len == earlier.len
+            && self.fingerprint.len() == earlier.fingerprint.len()
+            && earlier.peaks.iter().any(|&p| p > 0.0)
+            && self
+                .fingerprint
+                .chunks(per)
+                .zip(earlier.fingerprint.chunks(per))
+                .zip(&earlier.peaks)
+                .all(|((a, b), &peak)| {
+                    a.iter()
+                        .zip(b)
+                        .all(|(x, y)| (x - y).abs() <= NEAR_DUPLICATE * peak)
+                })
     }
 
     /// How the record was excited: the dominant force channel when its RMS is at least

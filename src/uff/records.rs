@@ -371,8 +371,8 @@ fn record_of_case(
         Response::per_channel(&layout.kinds, displacements.len())?
     };
     let mut dx_common: Option<f64> = None;
-    let mut channel = |f: &Function| -> Result<Vec<f64>> {
-        let Abscissa::Even { dx, .. } = f.abscissa else {
+    let mut channel = |f: &Function| -> Result<(f64, Vec<f64>)> {
+        let Abscissa::Even { dx, x0, .. } = f.abscissa else {
             return Err(fail(format!(
                 "the time history at node {} direction {} has an uneven abscissa",
                 f.response.node, f.response.direction
@@ -394,11 +394,14 @@ fn record_of_case(
                 f.response.node, f.response.direction
             )));
         };
-        Ok(if f.response.direction < 0 {
-            values.iter().map(|v| -v).collect()
-        } else {
-            values.clone()
-        })
+        Ok((
+            x0,
+            if f.response.direction < 0 {
+                values.iter().map(|v| -v).collect()
+            } else {
+                values.clone()
+            },
+        ))
     };
     let force_channels = forces
         .iter()
@@ -409,7 +412,80 @@ fn record_of_case(
         .map(|&f| channel(f))
         .collect::<Result<Vec<_>>>()?;
     let dx = dx_common.unwrap_or(f64::NAN);
+    let (force_channels, displacement_channels) =
+        aligned(force_channels, displacement_channels, dx, |k| {
+            let f = if k < forces.len() {
+                forces[k]
+            } else {
+                displacements[k - forces.len()]
+            };
+            (f.response.node, f.response.direction)
+        })
+        .map_err(fail)?;
     Record::new(name, 1.0 / dx, force_channels, displacement_channels)?.with_responses(kinds)
+}
+
+/// The channels of a load case on one time grid: each channel's start time `x0` (record 7)
+/// must lie a whole number of steps `dx` from the others' (within
+/// [`TIME_GRID_TOLERANCE`](crate::tolerance::TIME_GRID_TOLERANCE) of a step); the channels are
+/// then trimmed to the span they all cover, so that sample `k` of every channel is one instant.
+/// Channels stamped at one start are returned as they are.
+///
+/// # Errors
+/// A message naming the channel (`node`, `direction` from `dof(k)`, forces first) whose start
+/// is not on the others' grid.
+fn aligned(
+    forces: Vec<(f64, Vec<f64>)>,
+    responses: Vec<(f64, Vec<f64>)>,
+    dx: f64,
+    dof: impl Fn(usize) -> (i64, i64),
+) -> std::result::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>), String> {
+    let first = forces.first().map_or(0.0, |c| c.0);
+    let all = || forces.iter().chain(&responses);
+    if all().all(|c| c.0.to_bits() == first.to_bits()) {
+        let strip = |v: Vec<(f64, Vec<f64>)>| v.into_iter().map(|c| c.1).collect();
+        return Ok((strip(forces), strip(responses)));
+    }
+    // Offsets in whole steps from the first force channel's start.
+    let mut steps = Vec::new();
+    for (k, (x0, _)) in all().enumerate() {
+        let s = (x0 - first) / dx;
+        let whole = s.round();
+        if !((s - whole).abs() <= crate::tolerance::TIME_GRID_TOLERANCE && whole.abs() < 1e15) {
+            let (node, direction) = dof(k);
+            return Err(format!(
+                "the channel at node {node} direction {direction} starts at {x0} s, {s:.3} \
+                 steps of {dx} s from the first force channel's {first} s: not a whole number of \
+                 samples, so its samples are not simultaneous with the others'"
+            ));
+        }
+        steps.push(whole as i64);
+    }
+    let start = steps.iter().copied().max().unwrap_or(0);
+    let end = all()
+        .zip(&steps)
+        .map(|((_, v), &s)| s.saturating_add(v.len() as i64))
+        .min()
+        .unwrap_or(0)
+        .max(start);
+    let trim = |v: Vec<(f64, Vec<f64>)>, steps: &[i64]| -> Vec<Vec<f64>> {
+        v.into_iter()
+            .zip(steps)
+            .map(|((_, values), &s)| {
+                let from = usize::try_from(start - s).unwrap_or(0);
+                let to = usize::try_from(end - s).unwrap_or(0);
+                values
+                    .get(from..to)
+                    .map(<[f64]>::to_vec)
+                    .unwrap_or_default()
+            })
+            .collect()
+    };
+    let n_forces = forces.len();
+    Ok((
+        trim(forces, &steps[..n_forces]),
+        trim(responses, &steps[n_forces..]),
+    ))
 }
 
 /// The time histories of a load case as `NODE±DIR` (`id`), for a message.
@@ -424,4 +500,50 @@ fn inventory<'a>(histories: impl Iterator<Item = &'a Function>) -> String {
         })
         .collect();
     names.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Channels whose start times `x0` differ by whole samples are aligned on one time grid
+    /// (before, a response stamped 5 samples late was used as simultaneous: C_xx +8.7 %); a
+    /// start between samples is refused naming the channel.
+    #[test]
+    fn start_times_align_channels_or_refuse() {
+        let dt = 1e-3;
+        let wave = |a: f64| -> Vec<f64> { (0..64).map(|k| (a * k as f64).sin()).collect() };
+        let (fx, fy, x, y) = (wave(0.3), wave(0.7), wave(0.2), wave(0.9));
+        let functions = [
+            Function::time_response(1, 1, 13, 0.0, dt, fx.clone()),
+            Function::time_response(1, 2, 13, 0.0, dt, fy[..60].to_vec()),
+            Function::time_response(1, 1, 8, 5.0 * dt, dt, x[5..].to_vec()),
+            Function::time_response(1, 2, 8, 2.0 * dt, dt, y[2..].to_vec()),
+        ];
+        let r = &records(&functions, "late.uff").unwrap()[0];
+        // The common span is samples 5..60 of the first force channel's grid.
+        assert_eq!(r.len(), 55);
+        assert_eq!(r.force(0), &fx[5..60]);
+        assert_eq!(r.force(1), &fy[5..60]);
+        assert_eq!(r.displacement(0), &x[5..60]);
+        assert_eq!(r.displacement(1), &y[5..60]);
+        // Half a sample late: no whole-sample shift makes it simultaneous.
+        let mut off = functions.clone();
+        off[3] = Function::time_response(1, 2, 8, 2.5 * dt, dt, y[2..].to_vec());
+        let e = records(&off, "off.uff").unwrap_err();
+        assert_eq!(e.kind(), "inconsistent_records");
+        assert!(
+            e.to_string()
+                .contains("node 1 direction 2 starts at 0.0025 s, 2.500 steps"),
+            "{e}"
+        );
+        // One start for all (the usual case): nothing is trimmed.
+        let same: Vec<Function> = [&fx, &fy, &x, &y]
+            .iter()
+            .zip([(2, 13), (1, 13), (1, 8), (2, 8)])
+            .map(|(v, (dir, t))| Function::time_response(3, dir, t, 0.25, dt, v.to_vec()))
+            .collect();
+        let r = &records(&same, "same.uff").unwrap()[0];
+        assert_eq!((r.len(), r.force(1)), (64, &fx[..]));
+    }
 }

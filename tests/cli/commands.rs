@@ -6,6 +6,7 @@ use crate::common;
 use crate::common::{bin, run};
 
 use std::path::{Path, PathBuf};
+use std::process::Output;
 
 use serde_json::Value;
 
@@ -1300,4 +1301,142 @@ fn stepped_sine_files_are_all_kept_in_order() {
 fn sweep_files_are_all_kept_in_order() {
     let sim = ["--records", "4", "--rate", "256", "--freqs", "5,60"];
     every_file_kept_in_order("sweep", &sim, &["--excitation", "sweep"], 2);
+}
+
+/// A stderr that cannot be written (`2>/dev/full`) changes nothing but what stderr shows: an
+/// error still exits 2 (never the 101 of a panic) and, under `--json`, still prints its object
+/// on stdout; `--plot`'s "wrote N figures" line and argument errors alike.
+#[test]
+fn a_full_stderr_neither_panics_nor_loses_the_json() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        println!("skipped: /dev/full is absent on this system");
+        return;
+    };
+    let with_full_stderr = |args: &[&str]| -> Output {
+        bin()
+            .args(args)
+            .stderr(full.try_clone().unwrap())
+            .output()
+            .expect("the binary runs")
+    };
+    let missing = "/nonexistent/bearing-ident/r.csv";
+    let out = with_full_stderr(&["identify", "--band", "8,49", missing]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let out = with_full_stderr(&["identify", "--json", "--band", "8,49", missing]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let v: Value = serde_json::from_slice(&out.stdout).expect("the error object on stdout");
+    assert_eq!(v["error"], "io_error", "{v}");
+    for args in [
+        &["identify", "--no-such-flag"][..],
+        &["identify", "--json"][..],
+    ] {
+        let out = with_full_stderr(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {out:?}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("plot");
+    let out = with_full_stderr(&["demo", "--plot", plot.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(plot.join("index.html").is_file());
+}
+
+/// An output pointed at an input (`--uff`, `--ross`, `--plot`, also through another spelling
+/// of its path) is refused before anything is written: before, `--uff` overwrote the record.
+/// `--plot` into a path that is a file says so, not "File exists (os error 17)".
+#[test]
+fn outputs_never_overwrite_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "2"]);
+    let before = std::fs::read(&files[1]).unwrap();
+    let other_spelling = format!(
+        "{}/./{}",
+        dir.path().display(),
+        Path::new(&files[1]).file_name().unwrap().to_str().unwrap()
+    );
+    for (flag, out) in [
+        ("--uff", files[1].as_str()),
+        ("--ross", other_spelling.as_str()),
+        ("--plot", files[0].as_str()),
+    ] {
+        let o = run(&[
+            "identify", "--json", "--band", "8,49", flag, out, &files[0], &files[1],
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{flag}");
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["error"], "invalid_argument", "{flag}: {v}");
+        let m = v["message"].as_str().unwrap();
+        let says = if flag == "--plot" {
+            "is a file, not a folder"
+        } else {
+            "is one of the input files"
+        };
+        assert!(m.starts_with(flag) && m.contains(says), "{m}");
+    }
+    assert_eq!(std::fs::read(&files[1]).unwrap(), before);
+    // A file where `demo --plot` wants its folder: named as such.
+    let o = run(&["demo", "--json", "--plot", &files[0]]);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        v["message"]
+            .as_str()
+            .unwrap()
+            .contains("is a file, not a folder"),
+        "{v}"
+    );
+}
+
+/// Messages name their cause and quote safely: a missing required argument is named in the
+/// JSON message (before, cut at "were not provided:"); counts of 0 and a NaN rate are refused
+/// naming the flag (before: exit 0 with nothing written, or `too_large`); a negative Coulomb
+/// force is refused; a 309-digit number, a 4000-character path and an ESC byte of a CSV header
+/// are never echoed raw.
+#[test]
+fn messages_name_the_cause_and_quote_safely() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let json_error = |args: &[&str]| -> (String, String) {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+        assert!(!o.stderr.contains(&0x1b), "{args:?}");
+        (
+            v["error"].as_str().unwrap().to_owned(),
+            v["message"].as_str().unwrap().to_owned(),
+        )
+    };
+    let (kind, m) = json_error(&["simulate", "--json"]);
+    assert_eq!(kind, "invalid_argument");
+    assert!(m.contains("--out"), "{m}");
+    for (extra, says) in [
+        (&["--rate", "nan"][..], "--rate NaN"),
+        (&["--impacts", "0"][..], "--impacts 0"),
+        (&["--kind", "random", "--records", "0"][..], "--records 0"),
+        (
+            &["--kind", "multisine", "--periods", "0"][..],
+            "--periods 0",
+        ),
+        (&["--kind", "random", "--coulomb=-5"][..], "--coulomb -5"),
+    ] {
+        let (kind, m) = json_error(&[&["simulate", "--json", "--out", out], extra].concat());
+        assert_eq!(kind, "invalid_argument", "{extra:?}: {m}");
+        assert!(m.starts_with(says), "{extra:?}: {m}");
+    }
+    assert!(!Path::new(out).exists(), "nothing is written");
+    let huge = format!("{}", 1e308);
+    let band = format!("8,{huge}");
+    let long_path = format!("{}/{}.csv", dir.path().display(), "p".repeat(4000));
+    let header = write(dir.path(), "esc.csv", "t,f\u{1b}[31mx,x\n0,0,0\n0.1,1,1\n");
+    for args in [
+        vec!["identify", "--json", "--band", &band, &header],
+        vec!["identify", "--json", &long_path],
+        vec![
+            "identify", "--json", "--force", "fx", "--disp", "x", &header,
+        ],
+    ] {
+        let (_, m) = json_error(&args);
+        let longest = m.split(' ').map(|w| w.chars().count()).max().unwrap_or(0);
+        assert!(longest <= 100 && !m.contains(&huge), "{m}");
+        assert!(!m.contains('\u{1b}'), "{m}");
+    }
 }

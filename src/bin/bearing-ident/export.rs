@@ -8,6 +8,8 @@ use bearing_ident::uff::ByteOrder;
 use bearing_ident::{Coefficients, Identification};
 use clap::ValueEnum;
 
+use bearing_ident::error::excerpt;
+
 use crate::failure::{Failure, invalid};
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
@@ -44,8 +46,45 @@ pub struct ExportArgs {
 }
 
 /// Refuses, before any work, what [`write`] could not do: a per-frequency ROSS table of a
-/// baseline-subtracted bearing.
-pub fn check(args: &ExportArgs, baseline: bool, per_frequency: bool) -> Result<(), Failure> {
+/// baseline-subtracted bearing; an output (`--uff`, `--ross`, `--plot`) that is one of the
+/// `inputs` (compared as canonical paths, so links and `./` spellings are caught), which
+/// would be overwritten.
+pub fn check(
+    args: &ExportArgs,
+    baseline: bool,
+    per_frequency: bool,
+    inputs: &[&Path],
+    plot: Option<&Path>,
+) -> Result<(), Failure> {
+    let outputs = [
+        ("--uff", args.uff.as_deref()),
+        ("--ross", args.ross.as_deref()),
+        ("--plot", plot),
+    ];
+    for (flag, out) in outputs {
+        let Some(out) = out else { continue };
+        let quoted = || excerpt(&out.display().to_string());
+        if flag == "--plot" && out.exists() && !out.is_dir() {
+            return Err(invalid(format!(
+                "--plot {}: is a file, not a folder for the report",
+                quoted()
+            )));
+        }
+        // An output that does not exist yet cannot be an input.
+        let Ok(out_at) = out.canonicalize() else {
+            continue;
+        };
+        if inputs
+            .iter()
+            .filter_map(|i| i.canonicalize().ok())
+            .any(|i| i == out_at)
+        {
+            return Err(invalid(format!(
+                "{flag} {}: is one of the input files; writing it would overwrite the input",
+                quoted()
+            )));
+        }
+    }
     if args.ross.is_some() && baseline && per_frequency {
         return Err(invalid(
             "--ross with --per-frequency and --baseline: per-frequency tables are of the whole \
@@ -81,7 +120,7 @@ pub fn write(
             (None, false) => BearingElement::new(id, node, tag, Table::Constant)?,
             (None, true) => BearingElement::new(id, node, tag, Table::PerFrequency)?,
             (Some(b), false) => BearingElement::constant(b, id.band(), node, tag)?,
-            (Some(_), true) => return check(args, true, true),
+            (Some(_), true) => return check(args, true, true, &[], None),
         };
         let json = path
             .extension()

@@ -16,6 +16,9 @@ impl From<bearing_ident::Error> for Failure {
         if matches!(e, bearing_ident::Error::MlNeedsRepeats) {
             message.push_str(" (on the command line: `--excitation periodic --period S`)");
         }
+        if matches!(e, bearing_ident::Error::BadRecord { .. }) {
+            message.push_str(" (on the command line: `--reject-bad-records`)");
+        }
         Failure {
             kind: e.kind(),
             message,
@@ -40,6 +43,14 @@ impl Failure {
     pub fn is_broken_pipe(&self) -> bool {
         self.kind == BROKEN_PIPE
     }
+}
+
+/// Writes one line to stderr and ignores a stderr that cannot take it (`2>/dev/full`, a closed
+/// terminal): what stderr says is a courtesy, never a reason to fail or to lose the JSON on
+/// stdout and the exit status.
+pub fn print_err(text: std::fmt::Arguments<'_>) {
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_fmt(text).and_then(|()| err.write_all(b"\n"));
 }
 
 /// Writes `text` to stdout (locked) and flushes it. A reader that went away is the quiet

@@ -32,13 +32,10 @@ pub struct FieldArgs {
     plot: Option<PathBuf>,
 }
 
+/// The text of a JSON input, under the readers' size rule (`/dev/zero` is refused, not read
+/// to the end).
 fn read(path: &PathBuf) -> Result<String, Failure> {
-    std::fs::read_to_string(path).map_err(|e| {
-        Failure::from(Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })
-    })
+    Ok(bearing_ident::limits::read_json_text(path)?)
 }
 
 /// Reads the rotor and the tests, identifies, prints.
@@ -66,11 +63,11 @@ pub fn field(args: &FieldArgs) -> Result<(), Failure> {
             ..Default::default()
         };
         let written = bearing_ident::plot::field_report(&id, dir, &options)?;
-        eprintln!(
+        crate::failure::print_err(format_args!(
             "bearing-ident: wrote {} figure(s) and {}",
             written.len().saturating_sub(1),
             dir.join("index.html").display()
-        );
+        ));
     }
     if args.json {
         print_out(format_args!("{}\n", to_json(&id, compute_ms)))

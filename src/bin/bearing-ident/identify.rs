@@ -294,7 +294,19 @@ fn options(args: &IdentifyArgs) -> Result<Options, Failure> {
 /// stderr while the files stream in); `--nonlinear` takes the reverse path instead.
 pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let channels = channels(args)?;
-    crate::export::check(&args.export, args.baseline.is_some(), args.per_frequency)?;
+    let inputs: Vec<&std::path::Path> = args
+        .files
+        .iter()
+        .chain(&args.baseline)
+        .map(PathBuf::as_path)
+        .collect();
+    crate::export::check(
+        &args.export,
+        args.baseline.is_some(),
+        args.per_frequency,
+        &inputs,
+        args.plot.as_deref(),
+    )?;
     if let Some(terms) = &args.nonlinear {
         return nonlinear::run(args, terms, &channels);
     }

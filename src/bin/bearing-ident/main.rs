@@ -22,11 +22,11 @@ mod simulate;
 
 use std::process::ExitCode;
 
-use bearing_ident::error::excerpt;
+use bearing_ident::error::{bounded, excerpt};
 use clap::{Parser, Subcommand};
 
 use crate::demo::{DemoArgs, demo};
-use crate::failure::print_out;
+use crate::failure::{print_err, print_out};
 use crate::field::{FieldArgs, field};
 use crate::identify::{IdentifyArgs, identify};
 use crate::inspect::{InspectArgs, inspect};
@@ -83,9 +83,11 @@ fn main() -> ExitCode {
         // The reader of stdout went away: nothing more to say, to anyone.
         Err(f) if f.is_broken_pipe() => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("bearing-ident: error: {}", f.message);
+            // Whatever the message quotes: control bytes escaped, no run past 80 characters.
+            let message = bounded(&f.message);
+            print_err(format_args!("bearing-ident: error: {message}"));
             if json {
-                let v = serde_json::json!({ "error": f.kind, "message": f.message });
+                let v = serde_json::json!({ "error": f.kind, "message": message });
                 // A closed stdout cannot take the JSON; stderr has the message.
                 let _ = print_out(format_args!("{v}\n"));
             }
@@ -118,6 +120,13 @@ fn argument_error(e: &clap::Error, json: bool) -> ExitCode {
             message = message.replace(v.as_str(), &excerpt(v));
         }
     }
+    // clap lists what is missing on the lines after its first: the message names it.
+    if e.kind() == ErrorKind::MissingRequiredArgument
+        && let Some(ContextValue::Strings(missing)) = e.get(ContextKind::InvalidArg)
+    {
+        message = format!("{} {}", message.trim_end(), missing.join(", "));
+    }
+    let mut message = bounded(&message);
     if let Some((cut, _)) = message.char_indices().nth(MESSAGE_CHARS) {
         message.truncate(cut);
         message.push('…');
@@ -129,6 +138,6 @@ fn argument_error(e: &clap::Error, json: bool) -> ExitCode {
         // Short enough to print as clap does, with its usage and tips.
         e.exit();
     }
-    eprintln!("bearing-ident: error: {message}");
+    print_err(format_args!("bearing-ident: error: {message}"));
     ExitCode::from(2)
 }

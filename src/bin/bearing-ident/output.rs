@@ -39,11 +39,11 @@ pub fn write_report(
         ..Default::default()
     };
     let written = bearing_ident::plot::report(id, records, dir, &options)?;
-    eprintln!(
+    crate::failure::print_err(format_args!(
         "bearing-ident: wrote {} figures and {}",
         written.len().saturating_sub(1),
         dir.join("index.html").display()
-    );
+    ));
     Ok(())
 }
 

@@ -48,7 +48,7 @@ pub(super) fn binary_header(line: &[u8]) -> Option<BinaryHeader> {
 
 /// Record 12 in binary (its byte count checked against the points), and the closing `-1`.
 pub(super) fn binary_values(
-    lines: &mut Lines,
+    lines: &mut Lines<'_, impl BufRead>,
     at: &Where,
     shape: &Shape,
     h: BinaryHeader,
@@ -100,13 +100,16 @@ pub(super) fn binary_values(
         ));
     }
     let expected = expected.unwrap_or(0);
-    let available = lines.remaining();
-    let bytes = lines.take(expected).ok_or_else(|| {
-        at.error(
+    let bytes = lines.take(expected)?;
+    if bytes.len() < expected {
+        return Err(at.error(
             line,
-            format!("the binary block holds {available} of its {expected} bytes"),
-        )
-    })?;
+            format!(
+                "the binary block holds {} of its {expected} bytes",
+                bytes.len()
+            ),
+        ));
+    }
     let f32_at = |b: &[u8]| -> f64 {
         let a = [b[0], b[1], b[2], b[3]];
         f64::from(if little {
@@ -135,8 +138,8 @@ pub(super) fn binary_values(
             ys.push(if y_bytes == 4 { f32_at(v) } else { f64_at(v) });
         }
     }
-    lines.skip_blank();
-    match lines.next() {
+    lines.skip_blank()?;
+    match lines.next()? {
         Some(l) if l.trim_ascii() == b"-1" => Ok((xs, ys)),
         Some(l) => Err(at.error(
             lines.line,

@@ -1,23 +1,27 @@
 //! Reading dataset 58 / 58b blocks; every other dataset is skipped by its block boundaries.
 
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use faer::c64;
 
 use super::fortran;
 use super::types::{Abscissa, Axis, DataType, Dof, Function, FunctionType, Ordinate, Precision};
-use crate::error::{Error, Result, excerpt_bytes};
+use crate::error::{Error, Result, excerpt, excerpt_bytes};
+use crate::limits::{MAX_LINE_BYTES, MAX_VALUES, read_line};
 
 mod binary;
 
 use binary::{BinaryHeader, binary_header, binary_values};
 
 /// Reads every dataset 58 and 58b block of a Universal File, in file order; other datasets are
-/// skipped.
+/// skipped. The file is streamed, line by line and binary block by block: memory holds the
+/// values read and one line, under the readers' size rule ([`crate::limits`]).
 ///
 /// # Errors
-/// [`Error::Io`] if the file cannot be read; [`Error::Uff`] (naming the file, block and line)
-/// as [`parse`].
+/// [`Error::Io`] if the file cannot be read; [`Error::FileLimit`] for a line longer than
+/// [`MAX_LINE_BYTES`] or more than [`MAX_VALUES`] values (`/dev/zero` is refused after a
+/// mebibyte); [`Error::Uff`] (naming the file, block and line) as [`parse`].
 ///
 /// # Examples
 /// ```no_run
@@ -27,12 +31,12 @@ use binary::{BinaryHeader, binary_header, binary_values};
 /// ```
 pub fn read(path: impl AsRef<Path>) -> Result<Vec<Function>> {
     let path = path.as_ref();
-    let label = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| Error::Io {
+    let label = excerpt(&path.display().to_string());
+    let file = std::fs::File::open(path).map_err(|e| Error::Io {
         path: label.clone(),
         message: e.to_string(),
     })?;
-    parse(&bytes, &label)
+    parse_from(BufReader::new(file), &label)
 }
 
 /// Reads every dataset 58 and 58b block of the bytes of a Universal File; `path` names it in
@@ -43,7 +47,7 @@ pub fn read(path: impl AsRef<Path>) -> Result<Vec<Function>> {
 /// that is not closed by `-1`, a header field that is not a number, an unknown ordinate type,
 /// byte order or float format, a 58b byte count that differs from what the points take or
 /// exceeds the bytes present, too few or too many values, or a value that is not a number or
-/// overflows `f64`.
+/// overflows `f64`; [`Error::FileLimit`] as [`read`].
 ///
 /// # Examples
 /// ```
@@ -64,14 +68,20 @@ pub fn read(path: impl AsRef<Path>) -> Result<Vec<Function>> {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn parse(data: &[u8], path: &str) -> Result<Vec<Function>> {
+    parse_from(data, path)
+}
+
+/// [`parse`] of a stream.
+fn parse_from(reader: impl BufRead, path: &str) -> Result<Vec<Function>> {
     let mut lines = Lines {
-        data,
-        pos: 0,
+        reader,
+        path,
         line: 0,
+        values: 0,
     };
     let mut functions = Vec::new();
     let mut block = 0;
-    while let Some(l) = lines.next() {
+    while let Some(l) = lines.next()? {
         let t = l.trim_ascii();
         if t.is_empty() {
             continue;
@@ -91,7 +101,7 @@ pub fn parse(data: &[u8], path: &str) -> Result<Vec<Function>> {
         }
         block += 1;
         let start = lines.line;
-        let Some(head) = lines.next() else {
+        let Some(head) = lines.next()? else {
             return Err(at.error(start, "the file ends after the block's opening `-1`".into()));
         };
         let dataset = head
@@ -101,16 +111,16 @@ pub fn parse(data: &[u8], path: &str) -> Result<Vec<Function>> {
         match dataset {
             b"58" => functions.push(read_block(&mut lines, &at, None)?),
             b"58b" => {
-                let header = binary_header(head).ok_or_else(|| {
+                let header = binary_header(&head).ok_or_else(|| {
                     at.error(
                         lines.line,
-                        format!("unreadable 58b header `{}`", excerpt_bytes(head)),
+                        format!("unreadable 58b header `{}`", excerpt_bytes(&head)),
                     )
                 })?;
                 functions.push(read_block(&mut lines, &at, Some(header))?);
             }
             _ => loop {
-                match lines.next() {
+                match lines.next()? {
                     Some(l) if l.trim_ascii() == b"-1" => break,
                     Some(_) => {}
                     None => {
@@ -146,54 +156,102 @@ impl Where<'_> {
     }
 }
 
-/// The lines of the file, with their one-based numbers.
-struct Lines<'a> {
-    data: &'a [u8],
-    pos: usize,
+/// The lines of the file, with their one-based numbers, read as they are needed.
+struct Lines<'a, R> {
+    reader: R,
+    /// The file, for errors.
+    path: &'a str,
     /// Number of the line last returned.
     line: u64,
+    /// Values read so far, against [`MAX_VALUES`].
+    values: u64,
 }
 
-impl<'a> Lines<'a> {
-    /// The next line, without its `\n` or `\r\n`.
-    fn next(&mut self) -> Option<&'a [u8]> {
-        if self.pos >= self.data.len() {
-            return None;
+impl<R: BufRead> Lines<'_, R> {
+    fn io(&self, e: &std::io::Error) -> Error {
+        Error::Io {
+            path: self.path.to_owned(),
+            message: e.to_string(),
         }
-        let rest = &self.data[self.pos..];
-        let (line, used) = match rest.iter().position(|&b| b == b'\n') {
-            Some(i) => (&rest[..i], i + 1),
-            None => (rest, rest.len()),
-        };
-        self.pos += used;
-        self.line += 1;
-        Some(line.strip_suffix(b"\r").unwrap_or(line))
     }
 
-    /// The next `n` bytes as they are, or `None` (nothing consumed) if fewer remain.
-    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
-        let end = self.pos.checked_add(n)?;
-        let bytes = self.data.get(self.pos..end)?;
-        self.pos = end;
+    /// The next line, without its `\n` or `\r\n`, into `line`; `false` at the end.
+    ///
+    /// # Errors
+    /// [`Error::Io`]; [`Error::FileLimit`] for a line longer than [`MAX_LINE_BYTES`].
+    fn next_into(&mut self, line: &mut Vec<u8>) -> Result<bool> {
+        match read_line(&mut self.reader, line, MAX_LINE_BYTES).map_err(|e| self.io(&e))? {
+            None => Err(Error::FileLimit {
+                path: self.path.to_owned(),
+                what: format!("line {}: bytes of a line", self.line + 1),
+                limit: MAX_LINE_BYTES,
+            }),
+            Some(false) => Ok(false),
+            Some(true) => {
+                self.line += 1;
+                if line.last() == Some(&b'\r') {
+                    line.pop();
+                }
+                Ok(true)
+            }
+        }
+    }
+
+    /// The next line, without its `\n` or `\r\n`, or `None` at the end.
+    fn next(&mut self) -> Result<Option<Vec<u8>>> {
+        let mut line = Vec::new();
+        Ok(self.next_into(&mut line)?.then_some(line))
+    }
+
+    /// The next `n` bytes as they are; fewer if the file ends first (memory grows only with
+    /// what arrives, never to a count a header claims).
+    fn take(&mut self, n: usize) -> Result<Vec<u8>> {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(
+            &mut std::io::Read::take(&mut self.reader, n as u64),
+            &mut bytes,
+        )
+        .map_err(|e| self.io(&e))?;
         self.line += bytes.iter().filter(|&&b| b == b'\n').count() as u64;
-        Some(bytes)
+        Ok(bytes)
     }
 
     /// Skips blanks and line ends up to the next text, counting the lines.
-    fn skip_blank(&mut self) {
-        while let Some(&b) = self.data.get(self.pos) {
-            if !b.is_ascii_whitespace() {
-                break;
+    fn skip_blank(&mut self) -> Result<()> {
+        loop {
+            let path = self.path;
+            let buf = self.reader.fill_buf().map_err(|e| Error::Io {
+                path: path.to_owned(),
+                message: e.to_string(),
+            })?;
+            if buf.is_empty() {
+                return Ok(());
             }
-            if b == b'\n' {
-                self.line += 1;
+            let blanks = buf.iter().take_while(|b| b.is_ascii_whitespace()).count();
+            let ends = buf[..blanks].iter().filter(|&&b| b == b'\n').count();
+            let more = blanks == buf.len();
+            self.reader.consume(blanks);
+            self.line += ends as u64;
+            if !more {
+                return Ok(());
             }
-            self.pos += 1;
         }
     }
 
-    fn remaining(&self) -> usize {
-        self.data.len().saturating_sub(self.pos)
+    /// Counts `n` more values of the file against [`MAX_VALUES`].
+    ///
+    /// # Errors
+    /// [`Error::FileLimit`] past it.
+    fn count_values(&mut self, n: usize) -> Result<()> {
+        self.values = self.values.saturating_add(n as u64);
+        if self.values > MAX_VALUES {
+            return Err(Error::FileLimit {
+                path: self.path.to_owned(),
+                what: format!("line {}: values", self.line),
+                limit: MAX_VALUES,
+            });
+        }
+        Ok(())
     }
 }
 
@@ -211,10 +269,14 @@ fn text(field: &[u8]) -> String {
 
 /// Reads the eleven header lines and the values of a block whose dataset line was read, and its
 /// closing `-1`.
-fn read_block(lines: &mut Lines, at: &Where, binary: Option<BinaryHeader>) -> Result<Function> {
-    let mut header = [&b""[..]; 11];
+fn read_block(
+    lines: &mut Lines<'_, impl BufRead>,
+    at: &Where,
+    binary: Option<BinaryHeader>,
+) -> Result<Function> {
+    let mut header: [Vec<u8>; 11] = Default::default();
     for (k, slot) in header.iter_mut().enumerate() {
-        *slot = lines.next().ok_or_else(|| {
+        *slot = lines.next()?.ok_or_else(|| {
             at.error(
                 lines.line,
                 format!("the file ends in the header, before record {}", k + 1),
@@ -238,7 +300,7 @@ fn read_block(lines: &mut Lines, at: &Where, binary: Option<BinaryHeader>) -> Re
 
     // Record 6.
     let line6 = first + 5;
-    let c = fortran::columns(header[5], &RECORD6);
+    let c = fortran::columns(&header[5], &RECORD6);
     let function_type = FunctionType::from_code(small(
         int(c[0], line6, "function type")?,
         line6,
@@ -260,7 +322,7 @@ fn read_block(lines: &mut Lines, at: &Where, binary: Option<BinaryHeader>) -> Re
 
     // Record 7.
     let line7 = first + 6;
-    let (ordinate_type, n, even, x0, dx, z_value) = record7(header[6]).ok_or_else(|| {
+    let (ordinate_type, n, even, x0, dx, z_value) = record7(&header[6]).ok_or_else(|| {
         at.error(
             line7,
             format!(
@@ -295,6 +357,8 @@ fn read_block(lines: &mut Lines, at: &Where, binary: Option<BinaryHeader>) -> Re
             ));
         }
     };
+    // Checked before any value is read: a header may claim any count.
+    lines.count_values(n.saturating_mul(usize::from(complex) + 1 + usize::from(!even)))?;
     if !(x0.is_finite() && dx.is_finite() && z_value.is_finite()) {
         return Err(at.error(line7, "an abscissa value overflows f64".into()));
     }
@@ -432,7 +496,11 @@ fn split(values: Vec<f64>, shape: &Shape) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Record 12 in ASCII, and the closing `-1`.
-fn ascii_values(lines: &mut Lines, at: &Where, shape: &Shape) -> Result<(Vec<f64>, Vec<f64>)> {
+fn ascii_values(
+    lines: &mut Lines<'_, impl BufRead>,
+    at: &Where,
+    shape: &Shape,
+) -> Result<(Vec<f64>, Vec<f64>)> {
     let per = shape.parts() + usize::from(!shape.even);
     let needed = shape.n.checked_mul(per).ok_or_else(|| {
         at.error(
@@ -440,10 +508,11 @@ fn ascii_values(lines: &mut Lines, at: &Where, shape: &Shape) -> Result<(Vec<f64
             format!("{} points overflow the address space", shape.n),
         )
     })?;
-    // Each value takes at least one byte of the file: the count never sizes more than that.
-    let mut values = Vec::with_capacity(needed.min(lines.remaining()));
+    // A header may claim any count: the values grow as they arrive, from a small start.
+    let mut values = Vec::with_capacity(needed.min(1 << 16));
+    let mut line = Vec::new();
     loop {
-        let Some(line) = lines.next() else {
+        if !lines.next_into(&mut line)? {
             return Err(at.error(
                 lines.line,
                 format!(
@@ -451,7 +520,7 @@ fn ascii_values(lines: &mut Lines, at: &Where, shape: &Shape) -> Result<(Vec<f64
                     values.len()
                 ),
             ));
-        };
+        }
         if line.trim_ascii() == b"-1" {
             if values.len() < needed {
                 return Err(at.error(
@@ -477,7 +546,7 @@ fn ascii_values(lines: &mut Lines, at: &Where, shape: &Shape) -> Result<(Vec<f64
                 ),
             ));
         }
-        fortran::values(line, shape.widths(), &mut values)
+        fortran::values(&line, shape.widths(), &mut values)
             .map_err(|t| at.error(lines.line, format!("value `{t}` is not a number")))?;
         if values.len() > needed {
             // Some writers fill the last line with zeros; anything else is a wrong count.
@@ -503,16 +572,43 @@ mod tests {
     #[test]
     fn lines_strip_crlf_and_count() {
         let mut l = Lines {
-            data: b"a\r\nb\n\nc",
-            pos: 0,
+            reader: &b"a\r\nb\n\nc"[..],
+            path: "m.uff",
             line: 0,
+            values: 0,
         };
-        assert_eq!(l.next(), Some(&b"a"[..]));
-        assert_eq!(l.next(), Some(&b"b"[..]));
-        assert_eq!(l.take(2), Some(&b"\nc"[..]));
+        assert_eq!(l.next().unwrap(), Some(b"a".to_vec()));
+        assert_eq!(l.next().unwrap(), Some(b"b".to_vec()));
+        assert_eq!(l.take(2).unwrap(), b"\nc");
         assert_eq!(l.line, 3);
-        assert_eq!(l.take(1), None);
-        assert_eq!(l.next(), None);
+        assert_eq!(l.take(1).unwrap(), b"");
+        assert_eq!(l.next().unwrap(), None);
+    }
+
+    /// The readers' size rule: `/dev/zero` (no newline) stops after a mebibyte, a header that
+    /// claims more values than a file may hold is refused before any is read, and neither
+    /// holds more than the line it refuses.
+    #[test]
+    fn endless_or_huge_input_is_refused_by_the_size_rule() {
+        let zeros = BufReader::new(std::io::repeat(0));
+        let e = parse_from(zeros, "zero.uff").unwrap_err();
+        assert_eq!(e.kind(), "too_large");
+        assert!(
+            e.to_string()
+                .starts_with("zero.uff: line 1: bytes of a line"),
+            "{e}"
+        );
+        let head = "    -1\n    58\n1\n2\n3\n4\n5\n\
+            \x20   1         0    0         0 NONE               1   1 NONE               0   0\n\
+            \x20        4 300000000         1  0.00000E+00  1.00000E+00  0.00000E+00\n\
+            0\n0\n0\n0\n";
+        let e = parse(head.as_bytes(), "big.uff").unwrap_err();
+        assert_eq!(e.kind(), "too_large");
+        assert!(e.to_string().contains(&MAX_VALUES.to_string()), "{e}");
+        // An endless stream of good value lines stops at the value limit too (checked here
+        // with the header's count just under it: the block's own count ends it first).
+        let ok = head.replace("300000000", "        3") + "1 2 3\n    -1\n";
+        assert_eq!(parse(ok.as_bytes(), "ok.uff").unwrap().len(), 1);
     }
 
     #[test]

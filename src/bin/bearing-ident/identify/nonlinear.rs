@@ -364,10 +364,10 @@ fn write_report(dir: &Path, id: &NonlinearIdentification, run: &Run) -> Result<(
         ..Default::default()
     };
     let written = bearing_ident::plot::nonlinear_report(id, dir, &options)?;
-    eprintln!(
+    crate::failure::print_err(format_args!(
         "bearing-ident: wrote {} figure and {}",
         written.len().saturating_sub(1),
         dir.join("index.html").display()
-    );
+    ));
     Ok(())
 }

@@ -109,6 +109,30 @@ pub struct SimulateArgs {
     pub json: bool,
 }
 
+/// Refuses, naming the flag, counts and a rate that would write nothing or fail later under
+/// another name: `--impacts 0`, `--records 0`, `--periods 0`, a sampling rate that is not a
+/// finite positive number.
+fn check_counts(args: &SimulateArgs) -> Result<(), Failure> {
+    if !(args.rate.is_finite() && args.rate > 0.0) {
+        return Err(invalid(format!(
+            "--rate {}: the sampling rate must be a finite positive number of samples/s",
+            args.rate
+        )));
+    }
+    let zero = match args.kind {
+        KindArg::Impact => (args.impacts == 0).then_some("--impacts 0"),
+        _ => (args.records == 0).then_some("--records 0"),
+    };
+    let zero =
+        zero.or((args.kind == KindArg::Multisine && args.periods == 0).then_some("--periods 0"));
+    if let Some(flag) = zero {
+        return Err(invalid(format!(
+            "{flag}: at least 1 is needed, or nothing would be written"
+        )));
+    }
+    Ok(())
+}
+
 pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     let system = match (&args.mass, &args.damping, &args.stiffness) {
         (Some(m), Some(c), Some(k)) => Coefficients::new(
@@ -132,6 +156,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
                 .into(),
         ));
     }
+    check_counts(args)?;
     let base = ImpactTest::seed_rig();
     // Time for the slowest mode to decay to 1e-7 (e^{-16.1}); a mass that is not positive
     // definite or a mode that does not decay is an error naming the matrix.

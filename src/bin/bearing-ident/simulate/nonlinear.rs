@@ -61,6 +61,14 @@ impl NonlinearArgs {
                     )));
                 }
             };
+            // A friction force is a magnitude: a negative one would drive the motion.
+            if regressor == Regressor::Coulomb
+                && let Some(v) = per_dof.iter().find(|v| **v < 0.0)
+            {
+                return Err(invalid(format!(
+                    "--coulomb {v}: a friction force is a magnitude (N), at least 0"
+                )));
+            }
             for (dof, value) in per_dof.into_iter().enumerate() {
                 terms.push((
                     Term {
@@ -70,6 +78,11 @@ impl NonlinearArgs {
                     value,
                 ));
             }
+        }
+        if let Some(f) = self.coulomb_planar.filter(|f| *f < 0.0) {
+            return Err(invalid(format!(
+                "--coulomb-planar {f}: a friction force is a magnitude (N), at least 0"
+            )));
         }
         if let Some(f) = self.coulomb_planar {
             terms.push((
