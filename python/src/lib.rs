@@ -31,6 +31,12 @@ fn invalid(message: String) -> PyErr {
 /// Rows of a 2-D float array (float64 or float32, any strides), copied once.
 fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
+        // C order: each row is one run of memory, copied as such.
+        if let (Ok(all), &[_, n]) = (a.as_slice(), a.shape())
+            && n > 0
+        {
+            return Ok(all.chunks_exact(n).map(<[f64]>::to_vec).collect());
+        }
         return Ok(a.as_array().rows().into_iter().map(|r| r.to_vec()).collect());
     }
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
