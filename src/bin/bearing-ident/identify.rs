@@ -158,6 +158,12 @@ pub struct IdentifyArgs {
     /// an eighth of the record).
     #[arg(long)]
     nperseg: Option<usize>,
+    /// Relative standard (1σ) uncertainty of the sensor gains, as a calibration sheet states
+    /// it (not a correction): `force=1%,response=2%` per channel kind, or per channel by its
+    /// name `fx=0.5%,x=2%` (percent or a fraction). It enters the JSON's
+    /// `budget.calibration` and the combined `*_std`, `*_ci95`.
+    #[arg(long, value_name = "SPEC")]
+    calibration: Option<String>,
     /// Force channels, one per degree of freedom. CSV: column names (default `fx,fy`).
     /// Universal Files: `NODE+DIR`/`NODE-DIR` (DIR: X, Y, Z, RX, RY, RZ or 1–6; matches the
     /// response node and signed direction exactly) or `id:TEXT` (the first ID line, trimmed,
@@ -336,6 +342,10 @@ fn settings(
         });
     if let Some(open) = args.force_gate {
         identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
+    }
+    if let Some(spec) = &args.calibration {
+        let (named, d) = (|g: &[String], d| if g.is_empty() { d } else { g.to_vec() }, bearing_ident::io::CsvLayout::for_dofs(first.dofs()));
+        identifier = identifier.calibration(bearing_ident::identify::Calibration::parse(spec, &named(&args.force, d.forces), &named(&args.disp, d.displacements))?);
     }
     // Screening on every excitation; the double-hit check only for impacts.
     let checks = excitation.checks();

@@ -1,0 +1,271 @@
+//! The model check of a fit ([`ModelCheck`]): do the residuals stay within the noise measured
+//! independently of the model?
+//!
+//! # The statistic
+//! The replicates of a test (paired sets, records or Welch segments, periods) scatter about
+//! their mean whatever the model: at line `k` the variance of the mean impedance,
+//! $v_{k,ij} = E|\delta H_{k,ij}|^2$ ([`Frf::impedance_variance`]), is the *pure error*, with
+//! $\nu$ real degrees of freedom ($2(S-1)$ for `S` paired sets, $2(n_d - n)$ for `n_d`
+//! cross-spectral averages). A right model leaves residuals
+//! $e_{k,ij} = \bar H_{k,ij} - \hat H_{ij}(\omega_k)$ of that size, so each
+//! $t = |e|^2 / v$ follows $F(2, \nu)$ (a complex Gaussian residual over an independent
+//! variance estimate), with the closed upper tail $(1 + 2t/\nu)^{-\nu/2}$. Each term is mapped
+//! to the χ²₂ value of the same tail, $y = \nu \ln(1 + 2t/\nu)$ (exact for any ν, and `2t` as
+//! ν → ∞), and
+//! $$\chi^2 = \sum_k \sum_{ij} y_{k,ij} \sim \chi^2_{2Ln^2 - p}$$
+//! over `L` lines, `p = 3n²` fitted parameters. This is the lack-of-fit test of regression with
+//! replicates, line by line, robust to the heavy tails of a variance estimated from few
+//! replicates (summing `t` itself would let one line with a small `v` decide). The verdict is
+//! `misfit` when its upper tail is below [`MODEL_MISFIT_P`]. `statistic / expected` is the
+//! Birge ratio squared that widens the error bars ([`Budget`](super::Budget)).
+//!
+//! For maximum likelihood the cost itself is the statistic: with the noise covariances right,
+//! `2V` is χ² with `2·expected` degrees of freedom ([`MlReport::cost_ratio`]).
+//!
+//! Without a pure error (one paired set, as many averages as inputs, an FRF given
+//! ready-made) the verdict is `untested`, with the reason; the check never fails a run.
+//!
+//! # Limits
+//! A misfit at the 1 % level is not a large misfit: with many lines and small noise a bias far
+//! below the coefficients' own error bars is found. The statistic sees only what differs
+//! between the model and the *mean* of the replicates: a systematic error present in every
+//! replicate in the same way (a gain, a delay) leaves no trace in it.
+
+use faer::c64;
+
+use crate::error::{Result, Warning};
+use crate::frf::Frf;
+use crate::model::Coefficients;
+use crate::solve::ml::MlReport;
+use crate::statistics::chi2_upper_tail;
+use crate::tolerance::MODEL_MISFIT_P;
+
+/// What the model check found.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::identify::Verdict;
+/// assert_eq!(Verdict::Misfit.name(), "misfit");
+/// assert_eq!(Verdict::Untested { reason: "one paired set".into() }.name(), "untested");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Verdict {
+    /// The residuals are within what the pure error explains.
+    Fits,
+    /// The residuals are larger than the pure error explains (upper tail below
+    /// [`MODEL_MISFIT_P`]); [`Warning::ModelMisfit`] says so.
+    Misfit,
+    /// There is no pure error to compare with.
+    Untested {
+        /// Why, in words.
+        reason: String,
+    },
+}
+
+impl Verdict {
+    /// `"fits"`, `"misfit"` or `"untested"` (the JSON's `model_check.verdict`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Verdict::Fits => "fits",
+            Verdict::Misfit => "misfit",
+            Verdict::Untested { .. } => "untested",
+        }
+    }
+}
+
+/// The lack-of-fit test of a fit against the noise measured without the model (see the
+/// module docs for the statistic and its distribution).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Identifier;
+/// use bearing_ident::identify::Verdict;
+/// use bearing_ident::simulate::{ImpactTest, seed_rig};
+/// let records = ImpactTest { per_direction: 4, noise: 0.05, ..ImpactTest::seed_rig() }
+///     .run(&seed_rig())?;
+/// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+/// let check = id.model_check();
+/// assert_eq!(check.verdict, Verdict::Fits);
+/// // 49 lines × 4 elements × 2 real parts, less 12 parameters.
+/// assert_eq!(check.dof, Some(380.0));
+/// assert!(check.ratio().unwrap() < 1.3);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ModelCheck {
+    /// The χ² statistic (`None` when untested).
+    pub statistic: Option<f64>,
+    /// Its expectation under a right model (its degrees of freedom).
+    pub expected: Option<f64>,
+    /// Its degrees of freedom.
+    pub dof: Option<f64>,
+    /// Upper-tail probability of the statistic under a right model.
+    pub p_value: Option<f64>,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Per line used: the line's share of the statistic over its own expectation (`2n²`
+    /// real terms), about 1 where the model fits; empty when untested or for ML. What the
+    /// report's residual figure draws.
+    pub line_ratios: Vec<f64>,
+}
+
+impl ModelCheck {
+    /// An untested check, with the reason.
+    pub(crate) fn untested(reason: impl Into<String>) -> Self {
+        ModelCheck {
+            statistic: None,
+            expected: None,
+            dof: None,
+            p_value: None,
+            verdict: Verdict::Untested {
+                reason: reason.into(),
+            },
+            line_ratios: Vec::new(),
+        }
+    }
+
+    /// `statistic / expected` (the Birge ratio squared), when tested.
+    pub fn ratio(&self) -> Option<f64> {
+        Some(self.statistic? / self.expected?)
+    }
+
+    /// The factor `√max(1, ratio)` by which the random standard deviations of a sandwich or
+    /// Fisher estimate grow to carry the misfit (1 when untested).
+    pub fn birge_factor(&self) -> f64 {
+        self.ratio().map_or(1.0, |r| r.max(1.0).sqrt())
+    }
+
+    /// The replicate test of `fitted` (the coefficients of the data in `frf`, before any
+    /// window correction) against `frf`'s pure error.
+    ///
+    /// # Errors
+    /// None in practice: the χ² tail of a positive number of degrees of freedom.
+    pub(crate) fn replicates(frf: &Frf, fitted: &Coefficients) -> Result<(Self, Option<Warning>)> {
+        let n = frf.dofs();
+        let lines = frf.line_count();
+        let nu = match frf.estimator().is_cross_spectral() {
+            false => 2.0 * (frf.averages() as f64 - 1.0),
+            true => 2.0 * (frf.averages() as f64 - n as f64),
+        };
+        let with_variance = lines > 0 && (0..lines).all(|k| frf.impedance_variance(k).is_some());
+        if !with_variance || nu <= 0.0 {
+            let reason = if frf.estimator().is_cross_spectral() {
+                "no pure error: as many averages as inputs, or an FRF given ready-made"
+            } else {
+                "no pure error: a single paired set, or an FRF given ready-made"
+            };
+            return Ok((ModelCheck::untested(reason), None));
+        }
+        let p = 3 * n * n;
+        let mut line_ratios = Vec::with_capacity(lines);
+        let (mut total, mut terms) = (0.0, 0usize);
+        for k in 0..lines {
+            let model = fitted.impedance_at(frf.freqs_hz()[k]);
+            let (h, v) = (
+                frf.impedance(k),
+                frf.impedance_variance(k).expect("checked"),
+            );
+            let (mut line, mut line_terms) = (0.0, 0usize);
+            for j in 0..n {
+                for i in 0..n {
+                    let var = v[(i, j)];
+                    if !(var > 0.0 && var.is_finite()) {
+                        continue;
+                    }
+                    let e: c64 = h[(i, j)] - model[(i, j)];
+                    let t = e.norm_sqr() / var;
+                    line += nu * (2.0 * t / nu).ln_1p();
+                    line_terms += 1;
+                }
+            }
+            total += line;
+            terms += line_terms;
+            line_ratios.push(if line_terms > 0 {
+                line / (2 * line_terms) as f64
+            } else {
+                f64::NAN
+            });
+        }
+        let dof = (2 * terms) as f64 - p as f64;
+        if dof <= 0.0 || !total.is_finite() {
+            return Ok((
+                ModelCheck::untested("no pure error: too few lines with a measured scatter"),
+                None,
+            ));
+        }
+        let p_value = chi2_upper_tail(total, dof)?;
+        let worst = line_ratios
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.is_finite())
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map_or(f64::NAN, |(k, _)| frf.freqs_hz()[k]);
+        Ok(Self::concluded(
+            total,
+            dof,
+            p_value,
+            line_ratios,
+            worst,
+            "replicates",
+        ))
+    }
+
+    /// The maximum-likelihood check: `2V` against χ² with `2·expected` degrees of freedom.
+    /// The worst line is not known to the cost; `worst_hz` is the band's centre line.
+    ///
+    /// # Errors
+    /// None in practice (as [`ModelCheck::replicates`]).
+    pub(crate) fn ml(report: &MlReport, frf: &Frf) -> Result<(Self, Option<Warning>)> {
+        let expected = report.cost / report.cost_ratio;
+        if report.fell_back.is_some() || !(expected > 0.0 && report.cost.is_finite()) {
+            return Ok((
+                ModelCheck::untested("maximum likelihood fell back to its IVF start"),
+                None,
+            ));
+        }
+        let (statistic, dof) = (2.0 * report.cost, 2.0 * expected);
+        let p_value = chi2_upper_tail(statistic, dof)?;
+        let freqs = frf.freqs_hz();
+        let centre = freqs.get(freqs.len() / 2).copied().unwrap_or(f64::NAN);
+        Ok(Self::concluded(
+            statistic,
+            dof,
+            p_value,
+            Vec::new(),
+            centre,
+            "ml cost",
+        ))
+    }
+
+    fn concluded(
+        statistic: f64,
+        dof: f64,
+        p_value: f64,
+        line_ratios: Vec<f64>,
+        worst_hz: f64,
+        source: &'static str,
+    ) -> (Self, Option<Warning>) {
+        let misfit = p_value < MODEL_MISFIT_P;
+        let check = ModelCheck {
+            statistic: Some(statistic),
+            expected: Some(dof),
+            dof: Some(dof),
+            p_value: Some(p_value),
+            verdict: if misfit {
+                Verdict::Misfit
+            } else {
+                Verdict::Fits
+            },
+            line_ratios,
+        };
+        let warning = misfit.then(|| Warning::ModelMisfit {
+            ratio: statistic / dof,
+            p_value,
+            worst_hz,
+            source,
+        });
+        (check, warning)
+    }
+}
