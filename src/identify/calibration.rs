@@ -82,17 +82,6 @@ impl Calibration {
         own(&self.response_channels, j).unwrap_or(self.response)
     }
 
-    /// Whether every uncertainty is zero (no calibration component).
-    pub fn is_zero(&self) -> bool {
-        self.force == 0.0
-            && self.response == 0.0
-            && self
-                .force_channels
-                .iter()
-                .chain(&self.response_channels)
-                .all(|c| c.1 == 0.0)
-    }
-
     /// Parses the command line's form: comma-separated `NAME=VALUE` with NAME `force`,
     /// `response` or a channel's name from `force_names` / `response_names`, VALUE a
     /// percentage (`2%`) or a fraction (`0.02`).
@@ -194,11 +183,7 @@ impl Calibration {
                         .hypot(self.response_uncertainty(j))
             })
         };
-        Coefficients::new(
-            scale(c.mass()),
-            scale(c.damping()),
-            scale(c.stiffness()),
-        )
+        Coefficients::new(scale(c.mass()), scale(c.damping()), scale(c.stiffness()))
     }
 }
 
@@ -244,7 +229,12 @@ mod tests {
         assert!((cal.force_uncertainty(1) - 0.005).abs() < 1e-15);
         assert!(cal.force_uncertainty(0).abs() < 1e-15);
         assert!((cal.response_uncertainty(0) - 0.02).abs() < 1e-15);
-        assert!(Calibration::default().response_channel(2, 0.01).check(Some(2)).is_err());
+        assert!(
+            Calibration::default()
+                .response_channel(2, 0.01)
+                .check(Some(2))
+                .is_err()
+        );
         let e = Identifier::new(8.0, 49.0)
             .calibration(Calibration::default().force(f64::NAN))
             .check();
@@ -271,7 +261,12 @@ mod tests {
                     .map(|i| r.force(i).iter().map(|v| v * (1.0 + df[i])).collect())
                     .collect();
                 let x = (0..2)
-                    .map(|j| r.displacement(j).iter().map(|v| v * (1.0 + dx[j])).collect())
+                    .map(|j| {
+                        r.displacement(j)
+                            .iter()
+                            .map(|v| v * (1.0 + dx[j]))
+                            .collect()
+                    })
                     .collect();
                 crate::Record::new(r.label(), r.sample_rate(), f, x).unwrap()
             })

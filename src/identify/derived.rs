@@ -37,7 +37,11 @@ pub(crate) fn mode_std(c: &Coefficients, covariance: &[Mat<f64>]) -> Result<Vec<
     let n = c.dofs();
     let lu = c.mass().partial_piv_lu();
     let minv = lu.inverse();
-    if minv.col_iter().flat_map(|c| c.iter()).any(|v| !v.is_finite()) {
+    if minv
+        .col_iter()
+        .flat_map(|c| c.iter())
+        .any(|v| !v.is_finite())
+    {
         return Err(Error::Singular {
             what: "mass matrix",
         });
@@ -121,7 +125,7 @@ pub(crate) fn scaled_covariance(
                     }
                 };
                 Mat::from_fn(p, p, |a, b| {
-                    if a == b && own(a) == 0.0 {
+                    if a == b && own(a) <= 0.0 {
                         s[(a, j)].powi(2)
                     } else {
                         cov[j][(a, b)] * factor(a) * factor(b)
@@ -162,7 +166,10 @@ mod tests {
         let first = mode_std(c, cov).unwrap();
         let n = c.dofs();
         let theta = c.stacked();
-        let factors: Vec<Mat<f64>> = cov.iter().map(|m| m.llt(faer::Side::Lower).unwrap().L().to_owned()).collect();
+        let factors: Vec<Mat<f64>> = cov
+            .iter()
+            .map(|m| m.llt(faer::Side::Lower).unwrap().L().to_owned())
+            .collect();
         let mut rng = StdRng::seed_from_u64(7);
         let draws = 400;
         let mut samples = vec![Vec::new(); 2 * n];
@@ -170,13 +177,18 @@ mod tests {
             let drawn = Mat::from_fn(3 * n, n, |_, _| 0.0);
             let mut drawn = drawn;
             for j in 0..n {
-                let z: Vec<f64> = (0..3 * n).map(|_| StandardNormal.sample(&mut rng)).collect();
+                let z: Vec<f64> = (0..3 * n)
+                    .map(|_| StandardNormal.sample(&mut rng))
+                    .collect();
                 for q in 0..3 * n {
-                    drawn[(q, j)] = theta[(q, j)]
-                        + (0..=q).map(|r| factors[j][(q, r)] * z[r]).sum::<f64>();
+                    drawn[(q, j)] =
+                        theta[(q, j)] + (0..=q).map(|r| factors[j][(q, r)] * z[r]).sum::<f64>();
                 }
             }
-            let modes = Coefficients::from_stacked(drawn.as_ref()).unwrap().modes().unwrap();
+            let modes = Coefficients::from_stacked(drawn.as_ref())
+                .unwrap()
+                .modes()
+                .unwrap();
             for (m, mode) in modes.iter().enumerate() {
                 samples[2 * m].push(mode.natural_frequency_hz);
                 samples[2 * m + 1].push(mode.damping_ratio);

@@ -26,8 +26,8 @@
 mod baseline;
 mod calibration;
 mod derived;
-mod model_check;
 mod diagnostics;
+mod model_check;
 mod pipeline;
 mod result;
 mod screen;

@@ -17,8 +17,8 @@ use crate::solve::ml::MlOptions;
 use crate::solve::{Fit, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
-use super::{Calibration, Identifier};
 use super::uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
+use super::{Calibration, Identifier};
 
 /// What to do when an iterative fit does not converge.
 ///

@@ -431,7 +431,10 @@ fn page(
 /// The model check's verdict and numbers, then the uncertainty budget per coefficient.
 fn model_check_and_budget(h: &mut String, id: &Identification, names: &[String]) {
     let check = id.model_check();
-    let _ = writeln!(h, "<h2 id=\"model-check\">Model check and uncertainty budget</h2>");
+    let _ = writeln!(
+        h,
+        "<h2 id=\"model-check\">Model check and uncertainty budget</h2>"
+    );
     let verdict = match (&check.verdict, check.statistic, check.dof, check.p_value) {
         (crate::identify::Verdict::Untested { reason }, ..) => {
             format!("untested: {}", esc(reason))
@@ -446,7 +449,10 @@ fn model_check_and_budget(h: &mut String, id: &Identification, names: &[String])
         ),
         (v, ..) => v.name().to_string(),
     };
-    let _ = writeln!(h, "<p>Residuals against the noise measured without the model: {verdict}.</p>");
+    let _ = writeln!(
+        h,
+        "<p>Residuals against the noise measured without the model: {verdict}.</p>"
+    );
     let Some(budget) = id.budget() else {
         return;
     };

@@ -344,8 +344,15 @@ fn settings(
         identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
     }
     if let Some(spec) = &args.calibration {
-        let (named, d) = (|g: &[String], d| if g.is_empty() { d } else { g.to_vec() }, bearing_ident::io::CsvLayout::for_dofs(first.dofs()));
-        identifier = identifier.calibration(bearing_ident::identify::Calibration::parse(spec, &named(&args.force, d.forces), &named(&args.disp, d.displacements))?);
+        let (named, d) = (
+            |g: &[String], d| if g.is_empty() { d } else { g.to_vec() },
+            bearing_ident::io::CsvLayout::for_dofs(first.dofs()),
+        );
+        identifier = identifier.calibration(bearing_ident::identify::Calibration::parse(
+            spec,
+            &named(&args.force, d.forces),
+            &named(&args.disp, d.displacements),
+        )?);
     }
     // Screening on every excitation; the double-hit check only for impacts.
     let checks = excitation.checks();

@@ -86,7 +86,11 @@ fn quadrature(parts: &[&Coefficients]) -> Result<Coefficients> {
     let stacked: Vec<Mat<f64>> = parts.iter().map(|c| c.stacked()).collect();
     let (p, n) = (stacked[0].nrows(), stacked[0].ncols());
     let s = Mat::from_fn(p, n, |i, j| {
-        stacked.iter().map(|m| m[(i, j)].powi(2)).sum::<f64>().sqrt()
+        stacked
+            .iter()
+            .map(|m| m[(i, j)].powi(2))
+            .sum::<f64>()
+            .sqrt()
     });
     Coefficients::from_stacked(s.as_ref())
 }
@@ -145,13 +149,17 @@ impl Settings {
             refit(&|k| k < lines - shift)?,
             refit(&|k| k >= shift && k < lines - shift)?,
         ];
-        Some(Mat::from_fn(reference.nrows(), reference.ncols(), |i, j| {
-            let ss: f64 = refits
-                .iter()
-                .map(|t| (t[(i, j)] - reference[(i, j)]).powi(2))
-                .sum();
-            (ss / refits.len() as f64).sqrt()
-        }))
+        Some(Mat::from_fn(
+            reference.nrows(),
+            reference.ncols(),
+            |i, j| {
+                let ss: f64 = refits
+                    .iter()
+                    .map(|t| (t[(i, j)] - reference[(i, j)]).powi(2))
+                    .sum();
+                (ss / refits.len() as f64).sqrt()
+            },
+        ))
     }
 }
 

@@ -60,7 +60,10 @@ pub fn residual(id: &Identification, options: &FigureOptions) -> Result<String> 
     let legend = [
         (Key::Line(MEASURED), "residual / pure error, per line"),
         (Key::Line(DARK), "1 (noise only)"),
-        (Key::Band(RGBColor(0, 158, 115)), "95 % band of a right model"),
+        (
+            Key::Band(RGBColor(0, 158, 115)),
+            "95 % band of a right model",
+        ),
     ];
     render(crate::plot::Figure::Residual, size, |root| {
         let body = header(root, &title, if points.is_empty() { &[] } else { &legend })?;
