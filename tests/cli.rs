@@ -796,6 +796,7 @@ fn identify_plot_writes_figures_and_a_static_report() {
         "per_frequency",
         "records",
         "convergence",
+        "residual",
     ] {
         assert!(report.join(format!("{stem}.svg")).is_file(), "{stem}");
         assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem}");

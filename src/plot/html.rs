@@ -468,19 +468,17 @@ fn model_check_and_budget(h: &mut String, id: &Identification, names: &[String])
         Some(&budget.calibration),
         combined,
     ];
-    let rows: Vec<Vec<super::CoefficientRow>> = parts
-        .iter()
-        .map(|p| coefficient_rows(id.coefficients(), *p, None, None, names))
-        .collect();
-    for k in 0..rows[0].len() {
+    let [random, model, calibration, combined] =
+        parts.map(|p| coefficient_rows(id.coefficients(), p, None, None, names));
+    for (((r, m), c), t) in random.iter().zip(&model).zip(&calibration).zip(&combined) {
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
-            esc(&rows[0][k].label),
-            rows[0][k].std_dev,
-            rows[1][k].std_dev,
-            rows[2][k].std_dev,
-            rows[3][k].std_dev
+            esc(&r.label),
+            r.std_dev,
+            m.std_dev,
+            c.std_dev,
+            t.std_dev
         );
     }
     let _ = writeln!(h, "</table>");

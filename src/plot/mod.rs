@@ -65,7 +65,7 @@ pub use table::{CoefficientRow, coefficient_rows};
 /// ```
 /// use bearing_ident::plot::Figure;
 /// assert_eq!(Figure::PerFrequency.name(), "per_frequency");
-/// assert_eq!(Figure::ALL.len(), 6);
+/// assert_eq!(Figure::ALL.len(), 7);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Figure {
