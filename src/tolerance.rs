@@ -268,3 +268,11 @@ pub const MODEL_MISFIT_P: f64 = 0.01;
 /// ([`Budget`](crate::identify::Budget)): a few lines, enough to move a fit that leans on its
 /// edges, few enough to leave a right model's estimate within a fraction of its σ.
 pub const BAND_SHIFT_LINES: usize = 3;
+
+/// Smallest pure-error standard deviation the model check
+/// ([`ModelCheck`](crate::identify::ModelCheck)) credits at a line, relative to the line's
+/// impedance norm `‖H_k‖_F`: replicates that agree better than this (noise-free or nearly
+/// noise-free data) leave the model judged at this precision, the level to which the
+/// simulator and the fits reproduce an exact model (a direct fit of noise-free records is
+/// off by ~1e-7), not at rounding. Any measured noise (16-bit converters give ~1e-5) is above.
+pub const MODEL_CHECK_FLOOR: f64 = 1e-6;

@@ -15,7 +15,9 @@
 //! $$\chi^2 = \sum_k \sum_{ij} y_{k,ij} \sim \chi^2_{2Ln^2 - p}$$
 //! over `L` lines, `p = 3n²` fitted parameters. This is the lack-of-fit test of regression with
 //! replicates, line by line, robust to the heavy tails of a variance estimated from few
-//! replicates (summing `t` itself would let one line with a small `v` decide). The verdict is
+//! replicates (summing `t` itself would let one line with a small `v` decide). `v` is
+//! floored at [`MODEL_CHECK_FLOOR`] of the line's `‖H‖` (noise-free data are judged at the
+//! precision the fits reproduce, not at rounding). The verdict is
 //! `misfit` when its upper tail is below [`MODEL_MISFIT_P`]. `statistic / expected` is the
 //! Birge ratio squared that widens the error bars ([`Budget`](super::Budget)).
 //!
@@ -38,7 +40,7 @@ use crate::frf::Frf;
 use crate::model::Coefficients;
 use crate::solve::ml::MlReport;
 use crate::statistics::chi2_upper_tail;
-use crate::tolerance::MODEL_MISFIT_P;
+use crate::tolerance::{MODEL_CHECK_FLOOR, MODEL_MISFIT_P};
 
 /// What the model check found.
 ///
@@ -167,10 +169,14 @@ impl ModelCheck {
                 frf.impedance(k),
                 frf.impedance_variance(k).expect("checked"),
             );
+            let norm = (0..n * n)
+                .map(|e| h[(e % n, e / n)].norm_sqr())
+                .sum::<f64>();
+            let floor = MODEL_CHECK_FLOOR * MODEL_CHECK_FLOOR * norm;
             let (mut line, mut line_terms) = (0.0, 0usize);
             for j in 0..n {
                 for i in 0..n {
-                    let var = v[(i, j)];
+                    let var = v[(i, j)].max(floor);
                     if !(var > 0.0 && var.is_finite()) {
                         continue;
                     }
