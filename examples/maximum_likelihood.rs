@@ -53,6 +53,15 @@ fn main() -> Result<(), bearing_ident::Error> {
         "ML: {} steps, cost {:.1} from IVF's {:.1}, cost / expected {:.3}\n",
         report.iterations, report.cost, report.start_cost, report.cost_ratio
     );
+    for (name, id) in [("IVF", &ivf), ("ML", &ml)] {
+        let check = id.model_check();
+        println!(
+            "model check ({name}): {}, χ²/expected {:.3}, p = {:.2e}",
+            check.verdict.name(),
+            check.ratio().unwrap_or(f64::NAN),
+            check.p_value.unwrap_or(f64::NAN)
+        );
+    }
     println!(
         "{:<8} {:>12} {:>22} {:>22}",
         "", "truth", "IVF ± σ (sandwich)", "ML ± σ (Fisher ≈ CRLB)"

@@ -69,6 +69,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ivf.converged(),
         ivf.residual_norm()
     );
+    let check = ivf.model_check();
+    println!(
+        "  model check: {} (χ²/expected {:.3}, p = {:.2e})",
+        check.verdict.name(),
+        check.ratio().unwrap_or(f64::NAN),
+        check.p_value.unwrap_or(f64::NAN)
+    );
     let r2 = ivf.fit_r2();
     println!(
         "  flexibility fit r²: xx {:.4}  xy {:.4}  yx {:.4}  yy {:.4}",

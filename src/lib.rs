@@ -137,6 +137,7 @@ pub mod screening;
 pub mod simulate;
 pub mod solve;
 pub mod spectra;
+pub mod statistics;
 pub mod stepped;
 pub mod tolerance;
 #[cfg(feature = "uff")]

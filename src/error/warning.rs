@@ -342,6 +342,20 @@ pub enum Warning {
         /// The pinned rotor's critical speed (rad/s).
         critical_rad_s: f64,
     },
+    // ---- Model check and uncertainty budget ----
+    /// The model check ([`ModelCheck`](crate::identify::ModelCheck)) found residuals larger
+    /// than the noise measured independently of the model explains: the model misses something.
+    ModelMisfit {
+        /// Observed statistic over its expectation under a right model (the Birge ratio²).
+        ratio: f64,
+        /// Probability of a ratio at least this large under a right model.
+        p_value: f64,
+        /// Line (Hz) where the residual stands furthest above the noise.
+        worst_hz: f64,
+        /// What the pure error came from: `"replicates"` (scatter of paired sets, records,
+        /// segments or periods) or `"ml cost"` (the likelihood's own cost).
+        source: &'static str,
+    },
 }
 
 impl Warning {
@@ -391,6 +405,7 @@ impl Warning {
             Warning::IllConditionedPair { .. } => "ill_conditioned_pair",
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
+            Warning::ModelMisfit { .. } => "model_misfit",
         }
     }
 }

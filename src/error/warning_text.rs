@@ -285,6 +285,19 @@ impl fmt::Display for Warning {
                 "speed {speed_rad_s:.4} rad/s is near {critical_rad_s:.4} rad/s, a critical \
                  speed of the rotor pinned at the probes: noise is amplified there"
             ),
+            Warning::ModelMisfit {
+                ratio,
+                p_value,
+                worst_hz,
+                source,
+            } => write!(
+                f,
+                "model misfit: the residual is {ratio:.3} times what the noise ({source}) \
+                 explains (p = {p_value:.1e}), worst at {worst_hz:.4} Hz; the error bars carry \
+                 it, but the coefficients may be biased: try a narrower band away from modes \
+                 outside the model, more degrees of freedom, a residual or nonlinear term, or \
+                 check the response kind (`--response`)"
+            ),
         }
     }
 }

@@ -14,14 +14,20 @@
 //! | `pipeline.rs` | the entry points and the stages after the spectra |
 //! | `screen.rs` | record screening and the force-gate check on the way to the spectra |
 //! | `diagnostics.rs` | the flexibility `r²` and the warnings of a finished fit |
-//! | `uncertainty/` | [`Uncertainty`]: sandwich, jackknife, bootstrap, Student's t |
+//! | `uncertainty/` | [`Uncertainty`]: sandwich, jackknife, bootstrap, Student's t; the [`Budget`] |
+//! | `model_check.rs` | [`ModelCheck`]: the lack-of-fit test of every fit against the replicates' scatter |
+//! | `calibration.rs` | [`Calibration`]: stated sensor gain uncertainties and their propagation |
+//! | `derived.rs` | error bars of natural frequencies and damping ratios |
 //! | `result.rs` | [`Identification`] and its accessors |
 //! | `timings.rs` | [`Timings`]: wall time per stage |
 //! | `baseline.rs` | [`Baseline`] and [`Identification::subtract_baseline`] |
 //! | `serialize.rs` | the JSON form of an [`Identification`] (feature `serde`) |
 
 mod baseline;
+mod calibration;
+mod derived;
 mod diagnostics;
+mod model_check;
 mod pipeline;
 mod result;
 mod screen;
@@ -32,10 +38,12 @@ mod timings;
 mod uncertainty;
 
 pub use baseline::Baseline;
+pub use calibration::Calibration;
+pub use model_check::{ModelCheck, Verdict};
 pub use result::Identification;
 pub use settings::{NonConvergence, Screening, Settings};
 pub use timings::Timings;
-pub use uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
+pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
 use crate::error::Result;
@@ -78,6 +86,7 @@ pub struct Identifier {
     force_gate: Option<ForceGate>,
     screening: Screening,
     gate: FitGate,
+    calibration: Calibration,
 }
 
 impl Identifier {
@@ -103,6 +112,7 @@ impl Identifier {
             force_gate: None,
             screening: Screening::default(),
             gate: FitGate::default(),
+            calibration: Calibration::default(),
         }
     }
 
@@ -243,6 +253,31 @@ impl Identifier {
     /// What a non-converged IVF does. Default [`NonConvergence::Warn`].
     pub fn on_non_convergence(mut self, policy: NonConvergence) -> Self {
         self.non_convergence = policy;
+        self
+    }
+
+    /// The sensors' stated relative gain uncertainties (1σ, as a calibration sheet gives
+    /// them; each finite and ≥ 0, channels below the number of degrees of freedom). They enter
+    /// [`Budget::calibration`] and the combined standard deviations. Default: none.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::identify::Calibration;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 4, noise: 0.05, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let plain = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// let stated = Identifier::new(8.0, 49.0)
+    ///     .calibration(Calibration::default().force(0.01))
+    ///     .identify(&records)?;
+    /// let (a, b) = (plain.std_dev().unwrap().mass()[(0, 0)], stated.std_dev().unwrap().mass()[(0, 0)]);
+    /// let m = plain.coefficients().mass()[(0, 0)];
+    /// assert!((b * b - a * a - (0.01 * m).powi(2)).abs() < 1e-9 * b * b);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn calibration(mut self, calibration: Calibration) -> Self {
+        self.calibration = calibration;
         self
     }
 

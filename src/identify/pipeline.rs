@@ -16,10 +16,11 @@ use crate::solve::{self, Convergence, Fit, Method};
 use crate::spectra::Segmentation;
 use crate::tolerance;
 
+use super::derived::{mode_std, scaled_covariance};
 use super::diagnostics::flexibility_r2;
 use super::screen::{kept_records, observe, reported, screen_batch};
 use super::timings::{Untimed, timed};
-use super::{Identification, Identifier, Settings, Timings};
+use super::{Identification, Identifier, ModelCheck, Settings, Timings};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
 
@@ -377,12 +378,23 @@ impl Settings {
         warnings.extend(self.convergence_warning(&fit)?);
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
+        // So does the model check: the windowed data against the windowed fit.
+        let (model_check, misfit) = match &ml {
+            Some(report) if fit.method() == Method::Ml => ModelCheck::ml(report, &frf)?,
+            _ => ModelCheck::replicates(&frf, fit.coefficients())?,
+        };
+        warnings.extend(misfit);
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         t.solve += solve_start.elapsed();
         let bars = timed(&mut t.uncertainty, || {
-            self.error_bars(&fit, &frf, builder, &mut warnings)
+            self.error_bars(&fit, &frf, builder, &model_check, &mut warnings)
         })?;
+        // Calibration is left out: a common gain scales M, C, K alike and moves no mode.
+        let modes_std = bars.budget.as_ref().and_then(|b| {
+            let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
+            mode_std(fit.coefficients(), &cov).ok()
+        });
         t.total = start.elapsed();
         Ok(Identification {
             ml,
@@ -396,6 +408,9 @@ impl Settings {
             force_gate: self.force_gate.filter(|_| builder.is_some()),
             uncertainty: bars.uncertainty,
             std_dev: bars.std_dev,
+            budget: bars.budget,
+            model_check,
+            modes_std,
             interval_factor: bars.interval_factor,
             estimator: self.estimator,
             frf,

@@ -13,7 +13,7 @@ use crate::solve::{Convergence, Fit, Iteration, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
 use super::timings::Untimed;
-use super::{Timings, Uncertainty};
+use super::{Budget, ModelCheck, Timings, Uncertainty};
 
 /// The result of an identification: coefficients and the evidence to defend them.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,6 +25,10 @@ pub struct Identification {
     pub(super) force_gate: Option<ForceGate>,
     pub(super) uncertainty: Uncertainty,
     pub(super) std_dev: Option<Coefficients>,
+    pub(super) budget: Option<Budget>,
+    pub(super) model_check: ModelCheck,
+    /// `(σ(f_n), σ(ζ))` per mode, in the order of [`Identification::modes`].
+    pub(super) modes_std: Option<Vec<(f64, f64)>>,
     pub(super) interval_factor: f64,
     pub(super) estimator: Estimator,
     pub(super) frf: Frf,
@@ -62,10 +66,61 @@ impl Identification {
         self.fit.coefficients()
     }
 
-    /// Standard deviations of the coefficients by the chosen [`Uncertainty`] (sandwich by
-    /// default: least squares and IVF only; jackknife: any method).
+    /// Combined standard uncertainties of the coefficients: the random part by the chosen
+    /// [`Uncertainty`] (sandwich by default: least squares and IVF only; jackknife: any
+    /// method), the model part and the stated calibration in quadrature (see
+    /// [`Identification::budget`]).
     pub fn std_dev(&self) -> Option<&Coefficients> {
         self.std_dev.as_ref()
+    }
+
+    /// The components of [`Identification::std_dev`]: random, model, calibration (`None`
+    /// without error bars).
+    pub fn budget(&self) -> Option<&Budget> {
+        self.budget.as_ref()
+    }
+
+    /// The lack-of-fit test of the fit against the noise measured without the model.
+    pub fn model_check(&self) -> &ModelCheck {
+        &self.model_check
+    }
+
+    /// First-order standard deviations of the natural frequencies (Hz), one per mode of
+    /// [`Identification::modes`], from the coefficients' covariance scaled to their random
+    /// and model uncertainty (`None` without error bars).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 4, noise: 0.05, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// let (f, s) = (id.modes()?, id.natural_frequencies_hz_std().unwrap());
+    /// // The first mode, near 27.5 Hz, known to a fraction of a percent.
+    /// assert!(s[0] > 0.0 && s[0] < 0.005 * f[0].natural_frequency_hz);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn natural_frequencies_hz_std(&self) -> Option<Vec<f64>> {
+        Some(self.modes_std.as_ref()?.iter().map(|m| m.0).collect())
+    }
+
+    /// First-order standard deviations of the damping ratios, as
+    /// [`Identification::natural_frequencies_hz_std`].
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 4, noise: 0.05, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// let s = id.damping_ratios_std().unwrap();
+    /// assert!(s[0] > 0.0 && s[0] < 0.1 * id.modes()?[0].damping_ratio);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn damping_ratios_std(&self) -> Option<Vec<f64>> {
+        Some(self.modes_std.as_ref()?.iter().map(|m| m.1).collect())
     }
 
     /// How [`Identification::std_dev`] was estimated.

@@ -6,7 +6,7 @@ use crate::error::Warning;
 use crate::solve::Method;
 use crate::spectra::Segmentation;
 
-use super::{Identification, Uncertainty};
+use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 
 /// Serializes as one flat object, in SI units and Hz:
 /// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
@@ -18,7 +18,10 @@ use super::{Identification, Uncertainty};
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
 /// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
 /// [`Warning::kind`] names, in the same order) and `history`
-/// (IVF iterations).
+/// (IVF iterations); `model_check` (`statistic`, `expected`, `dof`, `p_value`, `verdict`
+/// `fits`/`misfit`/`untested`, `reason`), `budget` (`random`, `model`, `calibration`, each
+/// with `M_std`, `C_std`, `K_std`; null without error bars; the top-level `*_std` are the
+/// combined standard uncertainties), `natural_frequencies_hz_std`, `damping_ratios_std`.
 impl serde::Serialize for Identification {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use crate::model::rows;
@@ -87,6 +90,55 @@ impl serde::Serialize for Identification {
         let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
         m.serialize_entry("warning_kinds", &kinds)?;
         m.serialize_entry("history", self.history())?;
+        // The model check, the uncertainty budget, the derived quantities' error bars.
+        m.serialize_entry("model_check", &self.model_check)?;
+        m.serialize_entry("budget", &self.budget)?;
+        m.serialize_entry(
+            "natural_frequencies_hz_std",
+            &self.natural_frequencies_hz_std(),
+        )?;
+        m.serialize_entry("damping_ratios_std", &self.damping_ratios_std())?;
+        m.end()
+    }
+}
+
+/// `{statistic, expected, dof, p_value, verdict, reason}`: null numbers and a `reason` when
+/// untested, `reason` null otherwise.
+impl serde::Serialize for ModelCheck {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(6))?;
+        m.serialize_entry("statistic", &self.statistic)?;
+        m.serialize_entry("expected", &self.expected)?;
+        m.serialize_entry("dof", &self.dof)?;
+        m.serialize_entry("p_value", &self.p_value)?;
+        m.serialize_entry("verdict", self.verdict.name())?;
+        let reason = match &self.verdict {
+            Verdict::Untested { reason } => Some(reason.as_str()),
+            _ => None,
+        };
+        m.serialize_entry("reason", &reason)?;
+        m.end()
+    }
+}
+
+/// `{random, model, calibration}`, each `{M_std, C_std, K_std}` (row-major matrices).
+impl serde::Serialize for Budget {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use crate::model::{Coefficients, rows};
+        use serde::ser::SerializeMap;
+        let part = |c: &Coefficients| -> std::collections::BTreeMap<&str, Vec<Vec<f64>>> {
+            [
+                ("M_std", rows(c.mass())),
+                ("C_std", rows(c.damping())),
+                ("K_std", rows(c.stiffness())),
+            ]
+            .into()
+        };
+        let mut m = s.serialize_map(Some(3))?;
+        m.serialize_entry("random", &part(&self.random))?;
+        m.serialize_entry("model", &part(&self.model))?;
+        m.serialize_entry("calibration", &part(&self.calibration))?;
         m.end()
     }
 }

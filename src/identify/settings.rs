@@ -17,8 +17,8 @@ use crate::solve::ml::MlOptions;
 use crate::solve::{Fit, IvfOptions, Method};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
-use super::Identifier;
 use super::uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
+use super::{Calibration, Identifier};
 
 /// What to do when an iterative fit does not converge.
 ///
@@ -126,12 +126,14 @@ pub struct Settings {
     /// The screening checks and whether faulty records are left out; `None` when off.
     pub(super) screening: Option<(Checks, bool)>,
     pub(super) gate: FitGate,
+    pub(super) calibration: Calibration,
 }
 
 impl Settings {
     /// Checks every setting of `id`, in a fixed order (the first fault is the error).
     pub(super) fn new(id: &Identifier) -> Result<Self> {
         let band = Band::new(id.low_hz, id.high_hz)?;
+        id.calibration.check(id.dofs)?;
         if id.method == Method::Ml
             && matches!(
                 id.uncertainty,
@@ -211,6 +213,7 @@ impl Settings {
             force_gate: id.force_gate,
             screening,
             gate: id.gate,
+            calibration: id.calibration.clone(),
         })
     }
 

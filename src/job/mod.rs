@@ -413,6 +413,19 @@ impl Job {
         if let Some(open) = o.force_gate_s {
             identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
         }
+        if let Some(spec) = &o.calibration {
+            // Channels by the names of the files' columns (or the defaults for as many DOFs).
+            let names = if self.channels.csv.forces.len() == first.dofs() {
+                self.channels.csv.clone()
+            } else {
+                crate::io::CsvLayout::for_dofs(first.dofs())
+            };
+            identifier = identifier.calibration(crate::identify::Calibration::parse(
+                spec,
+                &names.forces,
+                &names.displacements,
+            )?);
+        }
         // Screening on every excitation; the double-hit check only for impacts.
         let checks = excitation.checks();
         identifier = identifier.screening(if o.reject_bad_records {

@@ -153,11 +153,15 @@ pub struct Options {
     /// `baseline`: a dry-structure baseline to subtract: a folder of its CSV records
     /// (identified with the same settings) or the JSON of an earlier identification.
     pub baseline: Option<PathBuf>,
+    /// `calibration`: the relative standard (1σ) uncertainty of the sensor gains, as a
+    /// calibration sheet states it: `force=1%,response=2%` per channel kind, or per channel
+    /// by its name `fx=0.5%,x=2%` ([`crate::identify::Calibration::parse`]).
+    pub calibration: Option<String>,
 }
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 19] = [
+    pub const NAMES: [&'static str; 20] = [
         "band",
         "method",
         "excitation",
@@ -177,6 +181,7 @@ impl Options {
         "max-iterations",
         "allow-unconverged",
         "baseline",
+        "calibration",
     ];
 
     /// The defaults of the `identify` command over the band `low_hz`–`high_hz`.
@@ -201,6 +206,7 @@ impl Options {
             max_iterations: 50,
             allow_unconverged: false,
             baseline: None,
+            calibration: None,
         }
     }
 
@@ -262,6 +268,7 @@ impl Options {
             "max-iterations" => self.max_iterations = count()?,
             "allow-unconverged" => self.allow_unconverged = flag()?,
             "baseline" => self.baseline = Some(PathBuf::from(value)),
+            "calibration" => self.calibration = Some(value.to_owned()),
             _ => unreachable!("every name of NAMES has its arm"),
         }
         Ok(())
@@ -327,6 +334,7 @@ mod tests {
             ("max-iterations", "9"),
             ("allow-unconverged", "true"),
             ("baseline", "dry/"),
+            ("calibration", "force=1%"),
         ];
         assert_eq!(values.len(), Options::NAMES.len());
         let mut o = Options::new(8.0, 49.0);

@@ -46,7 +46,7 @@ impl Default for ReportOptions {
 }
 
 /// The figures of a report: file stem, heading, caption.
-const FIGURES: [(&str, &str, &str); 6] = [
+const FIGURES: [(&str, &str, &str); 7] = [
     (
         "flexibility",
         "Flexibility",
@@ -82,6 +82,13 @@ const FIGURES: [(&str, &str, &str); 6] = [
         "IVF convergence",
         "Block-wise relative change of M, C and K per iteration.",
     ),
+    (
+        "residual",
+        "Model check",
+        "Per line, the fit's squared residual over the replicates' own scatter (the pure \
+         error), about 1 where the model fits; the shaded band holds 95 % of the lines of a \
+         right model. Lines far above it are what the model misses.",
+    ),
 ];
 
 /// Writes every figure of `id` as an SVG file into `dir` (created if missing) and an
@@ -109,7 +116,7 @@ const FIGURES: [(&str, &str, &str); 6] = [
 /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
 /// let dir = std::env::temp_dir().join("bearing-ident-doc-report");
 /// let written = plot::report(&id, &records, &dir, &ReportOptions::default())?;
-/// assert_eq!(written.len(), 7);
+/// assert_eq!(written.len(), 8);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
 /// assert!(html.contains("href=\"impedance.svg\"") && html.contains("<svg"));
 /// # Ok::<(), bearing_ident::Error>(())
@@ -139,6 +146,7 @@ pub fn report(
         ));
     }
     svgs.push(("convergence", super::convergence(id, fig)?));
+    svgs.push(("residual", super::residual(id, fig)?));
     let mut written = Vec::with_capacity(svgs.len() + 1);
     for (stem, svg) in &svgs {
         written.push(write_file(&dir.join(format!("{stem}.svg")), svg)?);
@@ -275,7 +283,8 @@ fn page(
     // Contents.
     let _ = writeln!(
         h,
-        "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#diagnostics\">Diagnostics</a>"
+        "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#model-check\">Model check</a> \
+         · <a href=\"#diagnostics\">Diagnostics</a>"
     );
     for (stem, _) in svgs {
         if let Some((_, heading, _)) = FIGURES.iter().find(|f| f.0 == *stem) {
@@ -331,19 +340,29 @@ fn page(
     if let Ok(modes) = id.modes() {
         let _ = writeln!(
             h,
-            "<table>\n<tr><th>mode</th><th>natural frequency (Hz)</th><th>damping ratio</th></tr>"
+            "<table>\n<tr><th>mode</th><th>natural frequency (Hz)</th><th>±1σ</th>\
+             <th>damping ratio</th><th>±1σ</th></tr>"
         );
+        let (sf, sz) = (id.natural_frequencies_hz_std(), id.damping_ratios_std());
+        let std = |s: &Option<Vec<f64>>, k: usize| {
+            s.as_ref()
+                .and_then(|s| s.get(k))
+                .map_or("—".to_string(), |v| sig(*v, 3))
+        };
         for (k, m) in modes.iter().enumerate() {
             let _ = writeln!(
                 h,
-                "<tr><td>{}</td><td>{:.3}</td><td>{:.4}</td></tr>",
+                "<tr><td>{}</td><td>{:.3}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 k + 1,
                 m.natural_frequency_hz,
-                m.damping_ratio
+                std(&sf, k),
+                sig(m.damping_ratio, 3),
+                std(&sz, k)
             );
         }
         let _ = writeln!(h, "</table>");
     }
+    model_check_and_budget(&mut h, id, &names);
     // Diagnostics.
     let freqs = id.freqs_hz();
     let cond = id.conditioning();
@@ -415,6 +434,62 @@ fn page(
     }
     page_tail(&mut h, options);
     h
+}
+
+/// The model check's verdict and numbers, then the uncertainty budget per coefficient.
+fn model_check_and_budget(h: &mut String, id: &Identification, names: &[String]) {
+    let check = id.model_check();
+    let _ = writeln!(
+        h,
+        "<h2 id=\"model-check\">Model check and uncertainty budget</h2>"
+    );
+    let verdict = match (&check.verdict, check.statistic, check.dof, check.p_value) {
+        (crate::identify::Verdict::Untested { reason }, ..) => {
+            format!("untested: {}", esc(reason))
+        }
+        (v, Some(stat), Some(dof), Some(p)) => format!(
+            "<b>{}</b>: χ² = {} on {} degrees of freedom (ratio {:.3}, p = {:.2e})",
+            v.name(),
+            sig(stat, 5),
+            sig(dof, 5),
+            stat / dof,
+            p
+        ),
+        (v, ..) => v.name().to_string(),
+    };
+    let _ = writeln!(
+        h,
+        "<p>Residuals against the noise measured without the model: {verdict}.</p>"
+    );
+    let Some(budget) = id.budget() else {
+        return;
+    };
+    let _ = writeln!(
+        h,
+        "<table>\n<tr><th>coefficient</th><th>random σ</th><th>model σ</th>\
+         <th>calibration σ</th><th>combined σ</th></tr>"
+    );
+    let combined = id.std_dev();
+    let parts = [
+        Some(&budget.random),
+        Some(&budget.model),
+        Some(&budget.calibration),
+        combined,
+    ];
+    let [random, model, calibration, combined] =
+        parts.map(|p| coefficient_rows(id.coefficients(), p, None, None, names));
+    for (((r, m), c), t) in random.iter().zip(&model).zip(&calibration).zip(&combined) {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            esc(&r.label),
+            r.std_dev,
+            m.std_dev,
+            c.std_dev,
+            t.std_dev
+        );
+    }
+    let _ = writeln!(h, "</table>");
 }
 
 #[cfg(test)]

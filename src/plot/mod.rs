@@ -53,6 +53,7 @@ mod table;
 pub use field_report::{field_cells, field_report};
 pub use figures::{
     coherence, convergence, field, flexibility, impedance, nonlinear, per_frequency, records,
+    residual,
 };
 pub use html::{ReportOptions, report};
 pub use nonlinear_report::nonlinear_report;
@@ -64,7 +65,7 @@ pub use table::{CoefficientRow, coefficient_rows};
 /// ```
 /// use bearing_ident::plot::Figure;
 /// assert_eq!(Figure::PerFrequency.name(), "per_frequency");
-/// assert_eq!(Figure::ALL.len(), 6);
+/// assert_eq!(Figure::ALL.len(), 7);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Figure {
@@ -80,6 +81,8 @@ pub enum Figure {
     Records,
     /// [`convergence`]: the IVF iterations.
     Convergence,
+    /// [`residual`]: the model check, residual against the pure error per line.
+    Residual,
     /// [`nonlinear`]: the coefficient spectra of the nonlinear terms of a
     /// [`NonlinearIdentification`](crate::nonlinear::NonlinearIdentification) (not in
     /// [`Figure::ALL`], which lists the figures of an [`Identification`](crate::Identification)).
@@ -91,17 +94,18 @@ pub enum Figure {
 
 impl Figure {
     /// Every figure of an [`Identification`](crate::Identification)'s report, in its order.
-    pub const ALL: [Figure; 6] = [
+    pub const ALL: [Figure; 7] = [
         Figure::Flexibility,
         Figure::Impedance,
         Figure::Coherence,
         Figure::PerFrequency,
         Figure::Records,
         Figure::Convergence,
+        Figure::Residual,
     ];
 
     /// The figure's file stem: `"flexibility"`, `"impedance"`, `"coherence"`,
-    /// `"per_frequency"`, `"records"` or `"convergence"`.
+    /// `"per_frequency"`, `"records"`, `"convergence"` or `"residual"`.
     pub fn name(self) -> &'static str {
         match self {
             Figure::Flexibility => "flexibility",
@@ -110,6 +114,7 @@ impl Figure {
             Figure::PerFrequency => "per_frequency",
             Figure::Records => "records",
             Figure::Convergence => "convergence",
+            Figure::Residual => "residual",
             Figure::Nonlinear => "nonlinear",
             Figure::Field => "field",
         }

@@ -787,6 +787,7 @@ fn identify_plot_writes_figures_and_a_static_report() {
         "per_frequency",
         "records",
         "convergence",
+        "residual",
     ] {
         assert!(report.join(format!("{stem}.svg")).is_file(), "{stem}");
         assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem}");
@@ -1438,5 +1439,55 @@ fn messages_name_the_cause_and_quote_safely() {
         let longest = m.split(' ').map(|w| w.chars().count()).max().unwrap_or(0);
         assert!(longest <= 100 && !m.contains(&huge), "{m}");
         assert!(!m.contains('\u{1b}'), "{m}");
+    }
+}
+
+/// `--calibration`: the stated force gain uncertainty enters `budget.calibration` exactly
+/// (`|P| · u`), the combined `*_std` hold the three components in quadrature, the model check
+/// and the modes' error bars are in the JSON; bad values and unknown channels are refused.
+#[test]
+fn calibration_enters_the_budget_and_bad_values_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "4", "--noise", "0.05"]);
+    let v = identify_json(
+        &["--band", "8,49", "--calibration", "force=2%,x=1%"],
+        &files,
+    );
+    let (k, cal) = (
+        matrix(&v, "K"),
+        matrix(&v["budget"]["calibration"], "K_std"),
+    );
+    // Row x: 2 % force and 1 % response x; row y: 2 % force and response y unstated (0).
+    assert!((cal[0][0] - k[0][0].abs() * 0.02f64.hypot(0.01)).abs() < 1e-9 * k[0][0]);
+    assert!((cal[1][1] - k[1][1].abs() * 0.02).abs() < 1e-9 * k[1][1]);
+    let (random, model) = (
+        matrix(&v["budget"]["random"], "K_std"),
+        matrix(&v["budget"]["model"], "K_std"),
+    );
+    let combined = matrix(&v, "K_std");
+    let quadrature = (random[0][0].powi(2) + model[0][0].powi(2) + cal[0][0].powi(2)).sqrt();
+    assert!((combined[0][0] - quadrature).abs() < 1e-9 * combined[0][0]);
+    assert_eq!(v["model_check"]["verdict"], "fits", "{}", v["model_check"]);
+    assert!(v["model_check"]["p_value"].as_f64().unwrap() > 0.01);
+    assert_eq!(v["natural_frequencies_hz_std"].as_array().unwrap().len(), 2);
+    assert!(v["damping_ratios_std"][0].as_f64().unwrap() > 0.0);
+    let file = files[0].as_str();
+    for (spec, kind) in [
+        ("force=-1%", "invalid_argument"),
+        ("force=nan", "invalid_argument"),
+        ("z=1%", "invalid_argument"),
+    ] {
+        expect_failure(
+            &[
+                "identify",
+                "--json",
+                "--band",
+                "8,49",
+                "--calibration",
+                spec,
+                file,
+            ],
+            kind,
+        );
     }
 }

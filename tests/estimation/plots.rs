@@ -287,6 +287,7 @@ fn report_embeds_and_links_every_figure() {
         "per_frequency",
         "records",
         "convergence",
+        "residual",
     ];
     assert_eq!(written.len(), stems.len() + 1);
     assert_eq!(written.last().unwrap(), &dir.path().join("index.html"));

@@ -150,6 +150,12 @@ pub struct IdentifyArgs {
     /// an eighth of the record).
     #[arg(long)]
     nperseg: Option<usize>,
+    /// Relative standard (1σ) uncertainty of the sensor gains, as a calibration sheet states
+    /// it (not a correction): `force=1%,response=2%` per channel kind, or per channel by its
+    /// name `fx=0.5%,x=2%` (percent or a fraction). It enters the JSON's
+    /// `budget.calibration` and the combined `*_std`, `*_ci95`.
+    #[arg(long, value_name = "SPEC")]
+    calibration: Option<String>,
     /// Force channels, one per degree of freedom. CSV: column names (default `fx,fy`).
     /// Universal Files: `NODE+DIR`/`NODE-DIR` (DIR: X, Y, Z, RX, RY, RZ or 1–6; matches the
     /// response node and signed direction exactly) or `id:TEXT` (the first ID line, trimmed,
@@ -287,6 +293,7 @@ fn options(args: &IdentifyArgs) -> Result<Options, Failure> {
     o.max_iterations = args.max_iterations;
     o.allow_unconverged = args.allow_unconverged;
     o.baseline.clone_from(&args.baseline);
+    o.calibration.clone_from(&args.calibration);
     Ok(o)
 }
 

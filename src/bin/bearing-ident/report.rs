@@ -176,14 +176,22 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         coefficient_lines(&mut out, &axes, b, std.as_ref(), None);
         let _ = writeln!(out);
     }
-    let _ = writeln!(out, "Modes");
+    let _ = writeln!(out, "Modes (± one standard deviation)");
+    let (sf, sz) = (id.natural_frequencies_hz_std(), id.damping_ratios_std());
+    let pm = |s: &Option<Vec<f64>>, k: usize| {
+        s.as_ref()
+            .and_then(|s| s.get(k))
+            .map_or(String::new(), |v| format!(" ± {}", sig(*v, 2)))
+    };
     for (k, m) in id.modes().unwrap_or_default().iter().enumerate() {
         let _ = writeln!(
             out,
-            "  {}: natural frequency {:8.3} Hz, damping ratio {:.4}",
+            "  {}: natural frequency {:8.3}{} Hz, damping ratio {}{}",
             k + 1,
             m.natural_frequency_hz,
-            m.damping_ratio
+            pm(&sf, k),
+            sig(m.damping_ratio, 3),
+            pm(&sz, k)
         );
     }
     let cond = id.conditioning();
@@ -222,6 +230,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     if let Some(c) = id.coherence_min() {
         let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
     }
+    model_check_lines(&mut out, id);
     let r2 = id.fit_r2();
     let _ = write!(out, "  flexibility fit r²:");
     for (i, ai) in axes.iter().enumerate() {
@@ -237,6 +246,22 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         per_frequency_lines(&mut out, &axes, pf);
     }
     out
+}
+
+/// The model check's verdict, with its ratio and p-value when tested.
+fn model_check_lines(out: &mut String, id: &Identification) {
+    let check = id.model_check();
+    let _ = match (&check.verdict, check.ratio(), check.p_value) {
+        (bearing_ident::identify::Verdict::Untested { reason }, ..) => {
+            writeln!(out, "  model check: untested ({reason})")
+        }
+        (v, Some(r), Some(p)) => writeln!(
+            out,
+            "  model check: {}, χ²/expected {r:.3}, p = {p:.2e}",
+            v.name()
+        ),
+        (v, ..) => writeln!(out, "  model check: {}", v.name()),
+    };
 }
 
 /// The per-line diagonal coefficients as a table (the JSON has every element).

@@ -4,6 +4,7 @@
 //! with 95 % intervals from Student's t (`student_t.rs`).
 
 mod bootstrap;
+mod budget;
 mod jackknife;
 mod student_t;
 
@@ -17,7 +18,8 @@ use crate::gate;
 use crate::model::Coefficients;
 use crate::solve::{self, Fit, Method};
 
-use super::Settings;
+use super::{ModelCheck, Settings};
+pub use budget::Budget;
 use student_t::t975;
 
 /// How the standard deviations of the coefficients are estimated.
@@ -116,11 +118,12 @@ impl FromStr for Uncertainty {
     }
 }
 
-/// The error bars of a fit: the estimate used, the standard deviations and the factor `q` of
-/// the 95 % half-widths `q · σ`.
+/// The error bars of a fit: the estimate used, the combined standard deviations, their
+/// budget and the factor `q` of the 95 % half-widths `q · σ`.
 pub(super) struct ErrorBars {
     pub(super) uncertainty: Uncertainty,
     pub(super) std_dev: Option<Coefficients>,
+    pub(super) budget: Option<Budget>,
     pub(super) interval_factor: f64,
 }
 
@@ -128,12 +131,15 @@ impl Settings {
     /// The error bars of `fit` (window-corrected) by the chosen [`Uncertainty`]: the
     /// resampling estimates refit the replicates of `builder` on the lines of `frf`; without
     /// `builder` or with fewer than 3 replicates, the sandwich. Warnings (few or dependent
-    /// replicates, zero spread) are appended to `warnings`.
+    /// replicates, zero spread) are appended to `warnings`. The random part so estimated is
+    /// combined with the model (from `check` and the band refits) and calibration parts of
+    /// the [`Budget`].
     pub(super) fn error_bars(
         &self,
         fit: &Fit,
         frf: &Frf,
         builder: Option<&FrfBuilder>,
+        check: &ModelCheck,
         warnings: &mut Vec<Warning>,
     ) -> Result<ErrorBars> {
         // Shared by every refit: per-set impedances (or per-record cross-spectra) on the
@@ -183,9 +189,14 @@ impl Settings {
             // The sandwich (or Fisher information) the fit carries, with normal intervals.
             _ => (fit.std_dev().cloned(), t975(0)),
         };
+        let budget = std_dev
+            .as_ref()
+            .map(|random| self.budget(fit.coefficients(), random, check, frf))
+            .transpose()?;
         Ok(ErrorBars {
             uncertainty,
-            std_dev,
+            std_dev: budget.as_ref().map(Budget::combined).transpose()?,
+            budget,
             interval_factor,
         })
     }

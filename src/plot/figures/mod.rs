@@ -11,6 +11,7 @@ mod impedance;
 mod nonlinear;
 mod per_frequency;
 mod records;
+mod residual;
 mod trace;
 
 pub(crate) use chart::tick;
@@ -22,3 +23,4 @@ pub use impedance::impedance;
 pub use nonlinear::nonlinear;
 pub use per_frequency::per_frequency;
 pub use records::records;
+pub use residual::residual;
