@@ -320,6 +320,44 @@ pub enum Warning {
         /// The threshold.
         threshold: f64,
     },
+    // ---- Predicted bias (issue 25, item 8) ----
+    /// Impact records whose response has not decayed by the record's end: the truncation
+    /// biases the coefficients by more than half a standard deviation
+    /// ([`crate::gate::truncated_flexibility`]); an exponential window removes it.
+    NotDecayed {
+        /// The slowest mode's envelope left at the record's end, relative to its start.
+        remaining: f64,
+        /// The coefficient most biased, in standard deviations: its block, row and column.
+        block: Block,
+        /// Row of that coefficient.
+        row: usize,
+        /// Column of that coefficient.
+        col: usize,
+        /// Its predicted bias relative to its value.
+        relative: f64,
+        /// Its predicted bias in standard deviations.
+        sigmas: f64,
+        /// The value at the record's end of an exponential window that leaves the remaining
+        /// envelope at 1e-3 (`--window exp:END`; the coefficients are corrected exactly).
+        window_end: f64,
+    },
+    /// Welch segments (Hann) leak: the predicted bias ([`crate::gate::leaked_flexibility`])
+    /// of some coefficient is above half a standard deviation; longer segments remove it.
+    LeakageBias {
+        /// Line spacing of the segments (Hz).
+        spacing_hz: f64,
+        /// The coefficient most biased, in standard deviations: its block, row and column.
+        block: Block,
+        /// Row of that coefficient.
+        row: usize,
+        /// Column of that coefficient.
+        col: usize,
+        /// Its predicted bias relative to its value.
+        relative: f64,
+        /// Its predicted bias in standard deviations.
+        sigmas: f64,
+    },
+    // ---- end of predicted bias ----
     /// Field identification: a speed sits near a synchronous natural frequency of the rotor
     /// pinned at the probes, where the recovery of the unmeasured degrees of freedom amplifies
     /// noise.
@@ -377,6 +415,8 @@ impl Warning {
             Warning::IllConditionedPair { .. } => "ill_conditioned_pair",
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
+            Warning::NotDecayed { .. } => "not_decayed",
+            Warning::LeakageBias { .. } => "leakage_bias",
         }
     }
 }

@@ -254,6 +254,37 @@ impl fmt::Display for Warning {
                  circular orbits or nearly dependent tests; either way noise is amplified",
                 speeds_rad_s.len()
             ),
+            Warning::NotDecayed {
+                remaining,
+                block,
+                row,
+                col,
+                relative,
+                sigmas,
+                window_end,
+            } => write!(
+                f,
+                "the response has not decayed by the record's end ({:.2} % of the slowest \
+                 mode's envelope left): truncation biases {block}[{row}][{col}] by {:+.2} % \
+                 ({sigmas:.1} σ); an exponential window falling to {window_end:.1e} at the \
+                 record's end (`--window exp:{window_end:.1e}`, corrected exactly) removes it",
+                100.0 * remaining,
+                100.0 * relative
+            ),
+            Warning::LeakageBias {
+                spacing_hz,
+                block,
+                row,
+                col,
+                relative,
+                sigmas,
+            } => write!(
+                f,
+                "Welch segments with {spacing_hz:.4} Hz line spacing leak: predicted bias of \
+                 {block}[{row}][{col}] {:+.2} % ({sigmas:.1} σ); longer segments \
+                 (`--nperseg`) remove it",
+                100.0 * relative
+            ),
             Warning::HighNoiseGain {
                 bearing,
                 speeds_rad_s,

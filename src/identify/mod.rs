@@ -21,6 +21,7 @@
 //! | `serialize.rs` | the JSON form of an [`Identification`] (feature `serde`) |
 
 mod baseline;
+mod bias;
 mod diagnostics;
 mod pipeline;
 mod result;
@@ -39,7 +40,7 @@ pub use uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
 use crate::error::Result;
-use crate::frf::{Assignment, Estimator};
+use crate::frf::{Assignment, ChannelTransfers, Estimator};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;
 use crate::solve::{IvfOptions, Method};
@@ -78,6 +79,7 @@ pub struct Identifier {
     force_gate: Option<ForceGate>,
     screening: Screening,
     gate: FitGate,
+    transfers: ChannelTransfers,
 }
 
 impl Identifier {
@@ -103,6 +105,7 @@ impl Identifier {
             force_gate: None,
             screening: Screening::default(),
             gate: FitGate::default(),
+            transfers: ChannelTransfers::new(),
         }
     }
 
@@ -191,6 +194,36 @@ impl Identifier {
         self
     }
 
+    /// The channels' known transfer characteristics ([`ChannelTransfers`]: a delay such as a
+    /// multiplexed acquisition's skew, an AC-coupling corner), divided out of every spectrum
+    /// at the band lines before any average, so the fit sees the signals themselves. Default:
+    /// none. Not applied to [`Identifier::identify_stepped_sine`] nor to a ready-made FRF.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::{ChannelTransfer, ChannelTransfers};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// use bearing_ident::{Channel, Identifier, Record};
+    /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // The force channels sampled 3 samples late (whole-record DFT: a circular shift).
+    /// let late: Vec<Record> = records.iter().map(|r| {
+    ///     let shift = |x: &[f64]| [&x[x.len() - 3..], &x[..x.len() - 3]].concat();
+    ///     Record::new(r.label(), r.sample_rate(), vec![shift(r.force(0)), shift(r.force(1))],
+    ///         vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])
+    /// }).collect::<Result<_, _>>()?;
+    /// let tau = 3.0 / records[0].sample_rate();
+    /// let transfers = (0..2).fold(ChannelTransfers::new(), |t, c| {
+    ///     t.with(Channel::Force(c), ChannelTransfer::delay(tau))
+    /// });
+    /// let id = Identifier::new(8.0, 49.0).channel_transfers(transfers).identify(&late)?;
+    /// assert!((id.coefficients().damping()[(0, 0)] / 131.98 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn channel_transfers(mut self, transfers: ChannelTransfers) -> Self {
+        self.transfers = transfers;
+        self
+    }
+
     /// How records are screened for faults ([`Screening`]); default
     /// [`Screening::Warn`]`(`[`Checks::default`](crate::screening::Checks::default)`)`.
     ///
@@ -264,7 +297,8 @@ impl Identifier {
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for an ML uncertainty other than none, sandwich or auto,
     /// fewer than 20 bootstrap replicates, a minimum coherence outside `[0, 1)`, an
     /// exponential window's decay not finite and `≥ 0`, the IVF tolerance and iteration limit,
-    /// the fit gate ([`FitGate::check`]), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
+    /// the fit gate ([`FitGate::check`]), the channel characteristics
+    /// ([`ChannelTransfers::check`] against the [`Identifier::dofs`] if given), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
     /// condition limits (`1 ≤ warn ≤ refuse`); [`Error::TooLarge`](crate::Error::TooLarge) for more than
     /// [`MAX_BOOTSTRAP_DRAWS`] bootstrap replicates; [`Error::InvalidParameter`](crate::Error::InvalidParameter) for ML
     /// options out of range.

@@ -366,6 +366,8 @@ impl Settings {
         let bars = timed(&mut t.uncertainty, || {
             self.error_bars(&fit, &frf, builder, &mut warnings)
         })?;
+        let predicted_bias =
+            self.predicted_bias(&frf, builder, &fit, bars.std_dev.as_ref(), &mut warnings);
         t.total = start.elapsed();
         Ok(Identification {
             ml,
@@ -388,6 +390,7 @@ impl Settings {
             excitations,
             warnings,
             timings: Untimed(t),
+            predicted_bias,
         })
     }
 

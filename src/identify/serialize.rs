@@ -17,8 +17,9 @@ use super::{Identification, Uncertainty};
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
 /// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
-/// [`Warning::kind`] names, in the same order) and `history`
-/// (IVF iterations).
+/// [`Warning::kind`] names, in the same order), `history`
+/// (IVF iterations) and `predicted_bias` (`{source, M, C, K}`, absolute, or null; see
+/// [`Identification::predicted_bias`]).
 impl serde::Serialize for Identification {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use crate::model::rows;
@@ -87,6 +88,27 @@ impl serde::Serialize for Identification {
         let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
         m.serialize_entry("warning_kinds", &kinds)?;
         m.serialize_entry("history", self.history())?;
+        // Predicted bias (issue 25, item 8): `{source, M, C, K}`, absolute, or null.
+        let predicted = self.predicted_bias.as_ref().map(|p| {
+            let b = &p.bias;
+            let mut out = std::collections::BTreeMap::new();
+            out.insert("M", rows(b.mass()));
+            out.insert("C", rows(b.damping()));
+            out.insert("K", rows(b.stiffness()));
+            (p.source.name(), out)
+        });
+        match predicted {
+            Some((source, matrices)) => {
+                #[derive(serde::Serialize)]
+                struct Predicted<'a, T> {
+                    source: &'a str,
+                    #[serde(flatten)]
+                    matrices: T,
+                }
+                m.serialize_entry("predicted_bias", &Predicted { source, matrices })?;
+            }
+            None => m.serialize_entry("predicted_bias", &None::<()>)?,
+        }
         m.end()
     }
 }

@@ -10,7 +10,7 @@ use std::str::FromStr;
 
 use crate::conditioning::ConditionLimits;
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Band, Estimator, FrfBuilder};
+use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
@@ -126,6 +126,7 @@ pub struct Settings {
     /// The screening checks and whether faulty records are left out; `None` when off.
     pub(super) screening: Option<(Checks, bool)>,
     pub(super) gate: FitGate,
+    pub(super) transfers: ChannelTransfers,
 }
 
 impl Settings {
@@ -163,6 +164,7 @@ impl Settings {
         let window = id.window.checked()?;
         id.ivf.validate()?;
         id.gate.check()?;
+        id.transfers.check(id.dofs)?;
         let screening = match id.screening {
             Screening::Off => None,
             Screening::Warn(c) => Some((c, false)),
@@ -211,6 +213,7 @@ impl Settings {
             force_gate: id.force_gate,
             screening,
             gate: id.gate,
+            transfers: id.transfers.clone(),
         })
     }
 
@@ -239,7 +242,8 @@ impl Settings {
     /// resamples or the method is ML).
     pub(super) fn builder(&self) -> FrfBuilder {
         let mut builder =
-            FrfBuilder::new(self.estimator, self.band, self.segmentation, self.window);
+            FrfBuilder::new(self.estimator, self.band, self.segmentation, self.window)
+                .channel_transfers(self.transfers.clone());
         if self.uncertainty.resamples() || self.method == Method::Ml {
             builder = builder.keeping_partials();
         }

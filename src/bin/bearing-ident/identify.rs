@@ -180,6 +180,16 @@ pub struct IdentifyArgs {
     /// Time column (s).
     #[arg(long, default_value = "t")]
     time: String,
+    /// Known delay of channels, divided out of their spectra before any average: `NAME=0.25ms`
+    /// (units s, ms, us), NAME a `--force`/`--disp` column or `force`/`response` for every
+    /// channel of that kind (e.g. a multiplexed acquisition's skew); comma list.
+    #[arg(long, value_delimiter = ',')]
+    delay: Vec<String>,
+    /// Known AC coupling of channels, divided out of their spectra before any average:
+    /// `NAME=3Hz` (a first-order high-pass with that corner) or `NAME=3Hz:2` (order 2), NAME as
+    /// for `--delay`; comma list.
+    #[arg(long, value_delimiter = ',')]
+    highpass: Vec<String>,
     /// IVF tolerance on the block-wise relative change.
     #[arg(long, default_value_t = 1e-8)]
     tolerance: f64,
@@ -337,6 +347,13 @@ fn settings(
     if let Some(open) = args.force_gate {
         identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
     }
+    let names = layout(args)?.csv;
+    identifier = identifier.channel_transfers(crate::channels::transfers(
+        &args.delay,
+        &args.highpass,
+        &names.forces,
+        &names.displacements,
+    )?);
     // Screening on every excitation; the double-hit check only for impacts.
     let checks = excitation.checks();
     identifier = identifier.screening(if args.reject_bad_records {
