@@ -268,3 +268,23 @@ pub const BIAS_SIGMAS: f64 = 0.5;
 /// is below a thousandth of the coefficients'), and the exponential window that
 /// [`crate::Warning::NotDecayed`] names brings the envelope down to it.
 pub const DECAYED: f64 = 1e-3;
+
+// ---- Periodic records (issue 25, item 5) ----
+
+/// Normalised autocorrelation of the dominant force above which a record is periodic
+/// ([`crate::screening::find_period`]): a steady periodic force gives `1/(1 + 1/SNR)` at its
+/// period (0.8 at 6 dB), white or random forcing about `1/√N` at any lag.
+pub const PERIODIC_CORRELATION: f64 = 0.8;
+
+/// Fraction of the dominant force's energy between the harmonic lines of the stated period
+/// above which it may not fit ([`crate::Warning::PeriodMismatch`], raised when the period the
+/// data suggest also halves it): a steady force at 13 dB signal to noise stays below it, a
+/// period off by a line's width puts most of the energy there.
+pub const PERIOD_MISMATCH: f64 = 0.05;
+
+/// The first period is a start-up transient ([`crate::Warning::StartTransient`]) when its
+/// distance from the mean of the later periods is more than this many times what their own
+/// scatter predicts: in a steady state the ratio is an F variate about 1 with thousands of
+/// degrees of freedom (a few hundred after the anti-alias filter), so 3 is never reached by
+/// noise.
+pub const START_TRANSIENT: f64 = 3.0;

@@ -285,6 +285,52 @@ impl fmt::Display for Warning {
                  (`--nperseg`) remove it",
                 100.0 * relative
             ),
+            Warning::PeriodMismatch {
+                stated_s,
+                suggested_s: Some(p),
+            } => write!(
+                f,
+                "the stated period {stated_s} s does not fit the records (their force has \
+                 energy between its harmonic lines); the data suggest {p:.6} s"
+            ),
+            Warning::PeriodMismatch {
+                stated_s,
+                suggested_s: None,
+            } => write!(
+                f,
+                "the stated period {stated_s} s does not fit the records (their force has \
+                 energy between its harmonic lines), and they show no period of their own"
+            ),
+            Warning::StartTransient {
+                records,
+                worst_ratio,
+            } => write!(
+                f,
+                "the first period of {} record(s) (first `{}`) differs from the later ones \
+                 {worst_ratio:.1} times more than their scatter: a start-up transient \
+                 (leave it out with `--drop-periods 1`)",
+                records.len(),
+                records.first().map_or("", String::as_str)
+            ),
+            Warning::TransferFrf { dof, fraction } => write!(
+                f,
+                "G[{dof}][{dof}] has a positive imaginary part at {:.0} % of the lines: a \
+                 transfer (non-drive-point) FRF, whose diagonal coefficients need not be \
+                 positive (measure the response at the force for a drive point)",
+                100.0 * fraction
+            ),
+            Warning::ResponseKind {
+                suggested,
+                residual,
+                original,
+            } => write!(
+                f,
+                "a negative diagonal mass from channels read as displacement; read as {} they \
+                 fit with every diagonal positive (relative residual {residual:.2e} against \
+                 {original:.2e}): try `--response {}`",
+                suggested.name(),
+                suggested.name()
+            ),
             Warning::HighNoiseGain {
                 bearing,
                 speeds_rad_s,

@@ -88,6 +88,11 @@ pub struct FrfBuilder {
     pub(super) dofs: Option<usize>,
     pub(super) force_gate: Option<ForceGate>,
     pub(super) transfers: ChannelTransfers,
+    /// Whether every record pushed had displacement responses only.
+    pub(super) all_displacement: bool,
+    /// Whole records: the time of each record's largest dominant-force sample (s), where an
+    /// impact's response starts.
+    pub(super) force_peaks_s: Vec<f64>,
     pub(super) plan: Option<(Plan, SpectralEstimator)>,
     pub(super) gathered: Vec<Gathered>,
     /// Cross-spectral totals, merged record by record.
@@ -124,6 +129,8 @@ impl FrfBuilder {
             dofs: None,
             force_gate: None,
             transfers: ChannelTransfers::new(),
+            all_displacement: true,
+            force_peaks_s: Vec::new(),
             plan: None,
             gathered: Vec::new(),
             sff: Vec::new(),
@@ -230,6 +237,19 @@ impl FrfBuilder {
         self.plan
             .as_ref()
             .map(|(p, _)| (p.len, p.seg_len, p.sample_rate))
+    }
+
+    /// Whole records: the median time of the records' largest dominant-force samples (s),
+    /// where an impact's response starts; `None` for segmented records or none pushed.
+    pub(crate) fn force_peak_s(&self) -> Option<f64> {
+        let mut t = self.force_peaks_s.clone();
+        t.sort_by(f64::total_cmp);
+        t.get(t.len() / 2).copied()
+    }
+
+    /// Whether every record pushed had displacement responses only.
+    pub(crate) fn all_displacement(&self) -> bool {
+        self.all_displacement
     }
 
     /// Number of records pushed.
@@ -394,6 +414,12 @@ impl FrfBuilder {
     fn merge(&mut self, record: &Record, contribution: Contribution) -> Result<()> {
         if self.dead.is_none() {
             self.dead = dead_channel(record);
+        }
+        self.all_displacement &= record.is_displacement();
+        if self.segmentation == Segmentation::WholeRecord {
+            let f = record.force(record.dominant_force());
+            let peak = (0..f.len()).fold(0, |p, m| if f[m].abs() > f[p].abs() { m } else { p });
+            self.force_peaks_s.push(peak as f64 / record.sample_rate());
         }
         let contribution = match contribution {
             Contribution::Cross {

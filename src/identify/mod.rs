@@ -23,6 +23,7 @@
 mod baseline;
 mod bias;
 mod diagnostics;
+mod periodic;
 mod pipeline;
 mod result;
 mod screen;
@@ -80,6 +81,7 @@ pub struct Identifier {
     screening: Screening,
     gate: FitGate,
     transfers: ChannelTransfers,
+    drop_periods: usize,
 }
 
 impl Identifier {
@@ -106,6 +108,7 @@ impl Identifier {
             screening: Screening::default(),
             gate: FitGate::default(),
             transfers: ChannelTransfers::new(),
+            drop_periods: 0,
         }
     }
 
@@ -221,6 +224,37 @@ impl Identifier {
     /// ```
     pub fn channel_transfers(mut self, transfers: ChannelTransfers) -> Self {
         self.transfers = transfers;
+        self
+    }
+
+    /// Periodic records ([`Segmentation::Periods`]): leaves the first `periods` periods of
+    /// every record out (a start-up transient, [`Warning::StartTransient`](crate::Warning::StartTransient)).
+    /// Default 0; ignored for other segmentations. With [`Segmentation::Periods`], the records
+    /// are also checked against the period ([`PeriodCheck`](crate::screening::PeriodCheck):
+    /// [`Warning::PeriodMismatch`](crate::Warning::PeriodMismatch), `StartTransient`).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, multisine, seed_rig};
+    /// use bearing_ident::{Estimator, Identifier, Segmentation};
+    /// let mut sim = Simulator::new(&seed_rig(), 500.0, 3000, AntiAlias::default())?;
+    /// // 6 periods of a 1 s multisine from rest on each axis in turn: the first is transient.
+    /// let records = (0..2).map(|d| {
+    ///     let f: Vec<Vec<f64>> = (0..2).map(|c| multisine(500, 8..=49, if c == d { 20.0 } else { 5.0 }, 3000, c as u64 + 1))
+    ///         .collect::<Result<_, _>>()?;
+    ///     sim.held_record(format!("ms{d}"), &f)
+    /// }).collect::<Result<Vec<_>, _>>()?;
+    /// let id = |drop| Identifier::new(8.0, 49.0).estimator(Estimator::H1)
+    ///     .segmentation(Segmentation::Periods { len: 500 }).drop_periods(drop).identify(&records);
+    /// assert!(id(0)?.warnings().iter().any(|w| w.kind() == "start_transient"));
+    /// let steady = id(1)?;
+    /// assert!(steady.warnings().iter().all(|w| w.kind() != "start_transient"));
+    /// assert_eq!(steady.periods_dropped(), 1);
+    /// assert!((steady.coefficients().stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn drop_periods(mut self, periods: usize) -> Self {
+        self.drop_periods = periods;
         self
     }
 

@@ -37,6 +37,10 @@ pub struct Identification {
     /// A bias the processing adds and the fit cannot see, predicted from the fitted model
     /// when above half a standard deviation.
     pub(super) predicted_bias: Option<crate::gate::PredictedBias>,
+    /// Periods left out at the start of every record ([`Identifier::drop_periods`](super::Identifier::drop_periods)).
+    pub(super) periods_dropped: usize,
+    /// The period of periodic records (s).
+    pub(super) period_s: Option<f64>,
 }
 
 impl Identification {
@@ -53,9 +57,11 @@ impl Identification {
     /// ```
     /// use bearing_ident::Identifier;
     /// use bearing_ident::simulate::{ImpactTest, seed_rig};
-    /// // Records of 0.2 s: the response is still ringing at their end.
-    /// let test = ImpactTest { per_direction: 3, noise: 0.02, duration_s: 0.2, ..ImpactTest::seed_rig() };
-    /// let id = Identifier::new(5.0, 50.0).identify(&test.run(&seed_rig())?)?;
+    /// // Records cut to their first 0.2 s: the response is still ringing at their end.
+    /// let test = ImpactTest { per_direction: 3, noise: 0.02, ..ImpactTest::seed_rig() };
+    /// let records = test.run(&seed_rig())?.iter().map(|r| r.trimmed(0..1340))
+    ///     .collect::<Result<Vec<_>, _>>()?;
+    /// let id = Identifier::new(5.0, 50.0).identify(&records)?;
     /// assert!(id.warnings().iter().any(|w| w.kind() == "not_decayed"));
     /// let bias = id.predicted_bias().expect("predicted");
     /// assert_eq!(bias.source.name(), "truncation");
@@ -63,6 +69,12 @@ impl Identification {
     /// ```
     pub fn predicted_bias(&self) -> Option<&crate::gate::PredictedBias> {
         self.predicted_bias.as_ref()
+    }
+
+    /// Periods left out at the start of every periodic record
+    /// ([`Identifier::drop_periods`](super::Identifier::drop_periods)); 0 for other records.
+    pub fn periods_dropped(&self) -> usize {
+        self.periods_dropped
     }
 
     /// The window the spectra were taken with. Under [`Window::Exponential`] the

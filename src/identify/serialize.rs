@@ -88,6 +88,9 @@ impl serde::Serialize for Identification {
         let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
         m.serialize_entry("warning_kinds", &kinds)?;
         m.serialize_entry("history", self.history())?;
+        // Periodic records (issue 25, item 5): the period (s) and the periods left out.
+        m.serialize_entry("period", &self.period_s)?;
+        m.serialize_entry("periods_dropped", &self.periods_dropped)?;
         // Predicted bias (issue 25, item 8): `{source, M, C, K}`, absolute, or null.
         let predicted = self.predicted_bias.as_ref().map(|p| {
             let b = &p.bias;

@@ -127,6 +127,8 @@ pub struct Settings {
     pub(super) screening: Option<(Checks, bool)>,
     pub(super) gate: FitGate,
     pub(super) transfers: ChannelTransfers,
+    /// Periods left out at the start of every record (periodic records only; 0 otherwise).
+    pub(super) drop_periods: usize,
 }
 
 impl Settings {
@@ -214,6 +216,10 @@ impl Settings {
             screening,
             gate: id.gate,
             transfers: id.transfers.clone(),
+            drop_periods: match id.segmentation {
+                Segmentation::Periods { .. } => id.drop_periods,
+                _ => 0,
+            },
         })
     }
 

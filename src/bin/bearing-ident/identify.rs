@@ -39,7 +39,8 @@ pub enum MethodArg {
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
 pub enum ExcitationArg {
-    /// Decide from the force signals' crest factor.
+    /// Decide from the force signals: impacts by their crest factor, periodic records by their
+    /// autocorrelation (the period found too), else random.
     Auto,
     /// Impacts: paired sets, whole-record DFT, no window.
     Impact,
@@ -127,9 +128,14 @@ pub struct IdentifyArgs {
     /// taper over a fifth of that; the quiet force after an impact is noise only.
     #[arg(long)]
     force_gate: Option<f64>,
-    /// Period of periodic excitation (s), for `--excitation periodic`.
+    /// Period of periodic excitation (s), for `--excitation periodic`; found in the records
+    /// when not given (and with `--excitation auto`, which recognises periodic records).
     #[arg(long)]
     period: Option<f64>,
+    /// Periodic excitation: leave the first N periods of every record out (a start-up
+    /// transient; JSON `periods_dropped`).
+    #[arg(long, default_value_t = 0)]
+    drop_periods: usize,
     /// Drive frequencies closer than this (Hz) are one step of a stepped-sine test.
     #[arg(long, default_value_t = 0.01)]
     step_tolerance: f64,
@@ -329,6 +335,7 @@ fn settings(
         .tolerance(args.tolerance)
         .max_iterations(args.max_iterations)
         .min_coherence(args.min_coherence)
+        .drop_periods(args.drop_periods)
         .fit_gate(FitGate {
             min_r2: args.min_r2,
         })
@@ -489,7 +496,7 @@ fn identify_files(
     let excitation = args
         .excitation
         .kind()
-        .unwrap_or_else(|| Excitation::from_crest_factor(crest));
+        .unwrap_or_else(|| Excitation::from_record(crest, first));
     let Some(ahead) = ahead else {
         let terms = args
             .nonlinear
