@@ -288,3 +288,8 @@ pub const PERIOD_MISMATCH: f64 = 0.05;
 /// degrees of freedom (a few hundred after the anti-alias filter), so 3 is never reached by
 /// noise.
 pub const START_TRANSIENT: f64 = 3.0;
+
+/// A first period whose distance from the later ones holds less than this fraction of the
+/// mean period's energy is steady whatever their scatter (noise-free records): its amplitude
+/// is a thousandth of the signal's, below any bias worth a warning.
+pub const TRANSIENT_ENERGY: f64 = 1e-6;
