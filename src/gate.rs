@@ -31,6 +31,13 @@ use crate::spectra::{ForceGate, Segmentation, Window};
 
 pub use crate::tolerance::ALIKE;
 
+mod bias;
+mod causes;
+pub use bias::{
+    BiasSource, PredictedBias, leaked_flexibility, predicted_bias, truncated_flexibility,
+};
+pub use causes::{TRANSFER_FRACTION, negative_diagonal_causes};
+
 /// An off-diagonal flexibility element carries signal when its RMS over the band is at least
 /// this fraction of the geometric mean of the two diagonal elements' RMS; below it, its `r²`
 /// measures noise about zero and says nothing of the fit.

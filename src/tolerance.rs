@@ -319,3 +319,41 @@ pub const BAND_SHIFT_LINES: usize = 3;
 /// simulator and the fits reproduce an exact model (a direct fit of noise-free records is
 /// off by ~1e-7), not at rounding. Any measured noise (16-bit converters give ~1e-5) is above.
 pub const MODEL_CHECK_FLOOR: f64 = 1e-6;
+// ---- Predicted bias (issue 25, item 8) ----
+
+/// A predicted bias ([`crate::gate::PredictedBias`]) is named in a warning and kept on the
+/// result above this many standard deviations of the coefficient it biases: below it, it
+/// widens a 95 % interval by under 12 % (the interval of `N(b, σ)` for `b = σ/2` covers as
+/// one of width `1.96 σ · 1.12` about the truth).
+pub const BIAS_SIGMAS: f64 = 0.5;
+
+/// A response is decayed when its slowest mode's envelope at the record's end is below this
+/// fraction of its start: the truncation of what is left is then predicted no more (its bias
+/// is below a thousandth of the coefficients'), and the exponential window that
+/// [`crate::Warning::NotDecayed`] names brings the envelope down to it.
+pub const DECAYED: f64 = 1e-3;
+
+// ---- Periodic records (issue 25, item 5) ----
+
+/// Normalised autocorrelation of the dominant force above which a record is periodic
+/// ([`crate::screening::find_period`]): a steady periodic force gives `1/(1 + 1/SNR)` at its
+/// period (0.8 at 6 dB), white or random forcing about `1/√N` at any lag.
+pub const PERIODIC_CORRELATION: f64 = 0.8;
+
+/// Fraction of the dominant force's energy between the harmonic lines of the stated period
+/// above which it may not fit ([`crate::Warning::PeriodMismatch`], raised when the period the
+/// data suggest also halves it): a steady force at 13 dB signal to noise stays below it, a
+/// period off by a line's width puts most of the energy there.
+pub const PERIOD_MISMATCH: f64 = 0.05;
+
+/// The first period is a start-up transient ([`crate::Warning::StartTransient`]) when its
+/// distance from the mean of the later periods is more than this many times what their own
+/// scatter predicts: in a steady state the ratio is an F variate about 1 with thousands of
+/// degrees of freedom (a few hundred after the anti-alias filter), so 3 is never reached by
+/// noise.
+pub const START_TRANSIENT: f64 = 3.0;
+
+/// A first period whose distance from the later ones holds less than this fraction of the
+/// mean period's energy is steady whatever their scatter (noise-free records): its amplitude
+/// is a thousandth of the signal's, below any bias worth a warning.
+pub const TRANSIENT_ENERGY: f64 = 1e-6;

@@ -333,6 +333,84 @@ pub enum Warning {
         /// The threshold.
         threshold: f64,
     },
+    // ---- Predicted bias (issue 25, item 8) ----
+    /// Impact records whose response has not decayed by the record's end: the truncation
+    /// biases the coefficients by more than half a standard deviation
+    /// ([`crate::gate::truncated_flexibility`]); an exponential window removes it.
+    NotDecayed {
+        /// The slowest mode's envelope left at the record's end, relative to its start.
+        remaining: f64,
+        /// The coefficient most biased, in standard deviations: its block, row and column.
+        block: Block,
+        /// Row of that coefficient.
+        row: usize,
+        /// Column of that coefficient.
+        col: usize,
+        /// Its predicted bias relative to its value.
+        relative: f64,
+        /// Its predicted bias in standard deviations.
+        sigmas: f64,
+        /// The value at the record's end of an exponential window that leaves the remaining
+        /// envelope at 1e-3 (`--window exp:END`; the coefficients are corrected exactly).
+        window_end: f64,
+    },
+    /// Welch segments (Hann) leak: the predicted bias ([`crate::gate::leaked_flexibility`])
+    /// of some coefficient is above half a standard deviation; longer segments remove it.
+    LeakageBias {
+        /// Line spacing of the segments (Hz).
+        spacing_hz: f64,
+        /// The coefficient most biased, in standard deviations: its block, row and column.
+        block: Block,
+        /// Row of that coefficient.
+        row: usize,
+        /// Column of that coefficient.
+        col: usize,
+        /// Its predicted bias relative to its value.
+        relative: f64,
+        /// Its predicted bias in standard deviations.
+        sigmas: f64,
+    },
+    // ---- end of predicted bias ----
+    // ---- Periodic records (issue 25, item 5) ----
+    /// The stated period does not fit periodic records: the dominant force's energy between
+    /// the harmonic lines is large ([`crate::screening::PeriodCheck`]).
+    PeriodMismatch {
+        /// The stated period (s).
+        stated_s: f64,
+        /// The period the data suggest ([`crate::screening::find_period`]), if any.
+        suggested_s: Option<f64>,
+    },
+    /// The first period of some periodic records differs from the later ones beyond their
+    /// scatter: a start-up transient ([`crate::screening::PeriodCheck`]).
+    StartTransient {
+        /// The records.
+        records: Vec<String>,
+        /// The largest distance of a first period from the others, over what their scatter
+        /// predicts (about 1 in a steady state).
+        worst_ratio: f64,
+    },
+    // ---- end of periodic records ----
+    // ---- Causes of negative diagonals (issue 25, item 6) ----
+    /// A diagonal flexibility has a positive imaginary part at many lines: it is a transfer
+    /// (non-drive-point) FRF, whose diagonal coefficients need not be positive.
+    TransferFrf {
+        /// The degree of freedom.
+        dof: usize,
+        /// Fraction of the lines where `Im G_ii > 0`.
+        fraction: f64,
+    },
+    /// A negative diagonal mass from channels read as displacement, while the flexibility
+    /// divided by `iω` or `−ω²` fits with every diagonal positive: the channels likely measure
+    /// velocity or acceleration.
+    ResponseKind {
+        /// The kind the data look like.
+        suggested: crate::records::Response,
+        /// Relative residual of the fit read as that kind.
+        residual: f64,
+        /// Relative residual of the fit read as displacement.
+        original: f64,
+    },
+    // ---- end of causes ----
     /// Field identification: a speed sits near a synchronous natural frequency of the rotor
     /// pinned at the probes, where the recovery of the unmeasured degrees of freedom amplifies
     /// noise.
@@ -406,6 +484,12 @@ impl Warning {
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
             Warning::ModelMisfit { .. } => "model_misfit",
+            Warning::NotDecayed { .. } => "not_decayed",
+            Warning::LeakageBias { .. } => "leakage_bias",
+            Warning::PeriodMismatch { .. } => "period_mismatch",
+            Warning::StartTransient { .. } => "start_transient",
+            Warning::TransferFrf { .. } => "transfer_frf",
+            Warning::ResponseKind { .. } => "response_kind",
         }
     }
 }

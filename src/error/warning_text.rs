@@ -264,6 +264,83 @@ impl fmt::Display for Warning {
                  circular orbits or nearly dependent tests; either way noise is amplified",
                 speeds_rad_s.len()
             ),
+            Warning::NotDecayed {
+                remaining,
+                block,
+                row,
+                col,
+                relative,
+                sigmas,
+                window_end,
+            } => write!(
+                f,
+                "the response has not decayed by the record's end ({:.2} % of the slowest \
+                 mode's envelope left): truncation biases {block}[{row}][{col}] by {:+.2} % \
+                 ({sigmas:.1} σ); an exponential window falling to {window_end:.1e} at the \
+                 record's end (`--window exp:{window_end:.1e}`, corrected exactly) removes it",
+                100.0 * remaining,
+                100.0 * relative
+            ),
+            Warning::LeakageBias {
+                spacing_hz,
+                block,
+                row,
+                col,
+                relative,
+                sigmas,
+            } => write!(
+                f,
+                "Welch segments with {spacing_hz:.4} Hz line spacing leak: predicted bias of \
+                 {block}[{row}][{col}] {:+.2} % ({sigmas:.1} σ); longer segments \
+                 (`--nperseg`) remove it",
+                100.0 * relative
+            ),
+            Warning::PeriodMismatch {
+                stated_s,
+                suggested_s: Some(p),
+            } => write!(
+                f,
+                "the stated period {stated_s} s does not fit the records (their force has \
+                 energy between its harmonic lines); the data suggest {p:.6} s"
+            ),
+            Warning::PeriodMismatch {
+                stated_s,
+                suggested_s: None,
+            } => write!(
+                f,
+                "the stated period {stated_s} s does not fit the records (their force has \
+                 energy between its harmonic lines), and they show no period of their own"
+            ),
+            Warning::StartTransient {
+                records,
+                worst_ratio,
+            } => write!(
+                f,
+                "the first period of {} record(s) (first `{}`) differs from the later ones \
+                 {worst_ratio:.1} times more than their scatter: a start-up transient \
+                 (leave it out with `--drop-periods 1`)",
+                records.len(),
+                records.first().map_or("", String::as_str)
+            ),
+            Warning::TransferFrf { dof, fraction } => write!(
+                f,
+                "G[{dof}][{dof}] has a positive imaginary part at {:.0} % of the lines: a \
+                 transfer (non-drive-point) FRF, whose diagonal coefficients need not be \
+                 positive (measure the response at the force for a drive point)",
+                100.0 * fraction
+            ),
+            Warning::ResponseKind {
+                suggested,
+                residual,
+                original,
+            } => write!(
+                f,
+                "a negative diagonal mass from channels read as displacement; read as {} they \
+                 fit with every diagonal positive (relative residual {residual:.2e} against \
+                 {original:.2e}): try `--response {}`",
+                suggested.name(),
+                suggested.name()
+            ),
             Warning::HighNoiseGain {
                 bearing,
                 speeds_rad_s,

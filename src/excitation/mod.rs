@@ -11,16 +11,17 @@
 //! | [`SteppedSine`](Excitation::SteppedSine) | paired sets | whole record | rectangular | no |
 //! | [`Sweep`](Excitation::Sweep) | paired sets | whole record | rectangular | no |
 //!
-//! Detection ([`Excitation::detect`]) tells impacts from random forcing only, by the crest
-//! factor of the force ([`crest_factor`], [`IMPACT_CREST_FACTOR`]); the other kinds are the
-//! user's to say. This module sits after [`identify`](crate::identify): it configures an
+//! Detection ([`Excitation::detect`]) tells impacts from random forcing by the crest factor of
+//! the force ([`crest_factor`], [`IMPACT_CREST_FACTOR`]), and periodic forcing (a multisine or
+//! a stepped drive repeated) from random by the force's autocorrelation ([`find_period`]),
+//! which also gives the period; stepped sines and sweeps are the user's to say. This module sits after [`identify`](crate::identify): it configures an
 //! [`Identifier`] and no stage imports it.
 
 use crate::error::{Channel, Error, Result};
 use crate::frf::Estimator;
 use crate::identify::{Identifier, Screening};
 use crate::records::Record;
-use crate::screening::Checks;
+use crate::screening::{Checks, find_period};
 use crate::spectra::{Segmentation, Window};
 
 mod welch;
@@ -194,8 +195,32 @@ impl Excitation {
         }
     }
 
-    /// Detects impacts or random forcing from the [`crest_factor`] of the first record whose
-    /// force is not flat (a hammer hit that did not register says nothing of the excitation).
+    /// The kind a crest factor and a record say: [`Impact`](Excitation::Impact) at and above
+    /// [`IMPACT_CREST_FACTOR`]; else [`Periodic`](Excitation::Periodic) when the record's
+    /// force repeats ([`find_period`]: a multisine or a stepped drive repeated), else
+    /// [`Random`](Excitation::Random).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Record;
+    /// use bearing_ident::excitation::{Excitation, crest_factor};
+    /// use bearing_ident::simulate::multisine;
+    /// let f = multisine(250, 3..=40, 1.0, 2000, 3)?;
+    /// let r = Record::new("ms", 1000.0, vec![f], vec![vec![0.0; 2000]])?;
+    /// assert_eq!(Excitation::from_record(crest_factor(&r), &r), Excitation::Periodic);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn from_record(crest: f64, record: &Record) -> Excitation {
+        match Excitation::from_crest_factor(crest) {
+            Excitation::Random if find_period(record).is_some() => Excitation::Periodic,
+            kind => kind,
+        }
+    }
+
+    /// Detects impacts, periodic or random forcing from the [`crest_factor`] of the first
+    /// record whose force is not flat (a hammer hit that did not register says nothing of the
+    /// excitation) and, below the impact level, whether the first record's force repeats
+    /// ([`Excitation::from_record`]).
     ///
     /// # Errors
     /// [`Error::NoRecords`] for no records; [`Error::DeadChannel`] naming the first record's
@@ -211,7 +236,7 @@ impl Excitation {
     /// ```
     pub fn detect(records: &[Record]) -> Result<Excitation> {
         let crest = deciding_crest_factor(records.iter().map(Ok::<_, Error>))?;
-        Ok(Excitation::from_crest_factor(crest))
+        Ok(Excitation::from_record(crest, &records[0]))
     }
 
     /// The impedance estimator for this kind, or the `chosen` one: random forcing H1, periodic
@@ -241,12 +266,13 @@ impl Excitation {
     /// records like `record`:
     /// - random forcing: Welch segments of [`welch_len`] samples, or the whole record for
     ///   paired sets;
-    /// - periodic forcing: whole periods of `round(period_s · f_s)` samples;
+    /// - periodic forcing: whole periods of `round(period_s · f_s)` samples, the period found
+    ///   in the record ([`find_period`]) when `period_s` is `None`;
     /// - the others: the whole record.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] named `"period"` for periodic forcing without `period_s`
-    /// (value NaN) or with a period of fewer than 8 samples or more than the record.
+    /// and no period in the record (value NaN) or with a period of fewer than 8 samples or more than the record.
     ///
     /// # Examples
     /// ```
@@ -257,6 +283,7 @@ impl Excitation {
     /// assert_eq!(periods, Segmentation::Periods { len: 50 });
     /// let welch = Excitation::Random.segmentation(Estimator::H1, &r, None)?;
     /// assert_eq!(welch, Segmentation::Welch { len: 64 });
+    /// // A flat record has no period of its own to fall back on.
     /// assert!(Excitation::Periodic.segmentation(Estimator::H1, &r, None).is_err());
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
@@ -272,11 +299,14 @@ impl Excitation {
                 len: welch_len(record.len()),
             },
             Excitation::Periodic => {
-                let period = period_s.ok_or(Error::InvalidParameter {
-                    name: "period",
-                    value: f64::NAN,
-                    expected: "a period (s) for periodic excitation",
-                })?;
+                let period =
+                    period_s
+                        .or_else(|| find_period(record))
+                        .ok_or(Error::InvalidParameter {
+                            name: "period",
+                            value: f64::NAN,
+                            expected: "a period (s) for periodic excitation",
+                        })?;
                 let len = (period * record.sample_rate()).round();
                 if !(len >= MIN_SEGMENT as f64 && len <= record.len() as f64) {
                     return Err(Error::InvalidParameter {

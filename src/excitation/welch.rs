@@ -4,14 +4,16 @@
 
 use super::{MIN_SEGMENT, welch_len};
 use crate::error::{Error, Result};
-use crate::gate::leakage_bias;
+use crate::gate::{BiasSource, leaked_flexibility, predicted_bias};
 use crate::identify::Identifier;
 use crate::records::Record;
+use crate::solve::IvfOptions;
 use crate::spectra::Segmentation;
+use crate::tolerance::BIAS_SIGMAS;
 
-/// Lines per half-power bandwidth `2ζf_n` of the lightest mode that [`choose_welch`] aims
-/// for: the predicted leakage bias of the peak ([`leakage_bias`]) is then
-/// `(1/8)²/3 ≈ 0.5 %`, and less on coefficients fitted over the whole band.
+/// Fewest lines per half-power bandwidth `2ζf_n` of the lightest mode that [`choose_welch`]
+/// aims for: the peak's leakage bias ([`leakage_bias`](crate::gate::leakage_bias)) is then
+/// about `(1/8)²/3 ≈ 0.5 %`; the damping's, predicted from the model, decides beyond.
 pub const LINES_PER_BANDWIDTH: f64 = 8.0;
 
 /// Fewest Welch segments over all records (Hann, 50 % overlap) [`choose_welch`] leaves: the
@@ -32,22 +34,29 @@ pub struct WelchChoice {
     /// Half-power bandwidth `2ζf_n` of the lightest mode in the band from the first fit (Hz);
     /// `None` if no mode lies in the band (the default length is kept).
     pub lightest_bandwidth_hz: Option<f64>,
-    /// Predicted relative leakage bias of that mode's resonance peak (its damping comes out
-    /// high by about as much), [`leakage_bias`]: `(Δf / 2ζf_n)²/3`.
+    /// Predicted relative leakage bias of the damping at the chosen length (the largest over
+    /// the diagonal of `C`, the coefficient leakage biases most), from the first fit's model
+    /// ([`leaked_flexibility`]); `None` when it could not be predicted.
     pub predicted_bias: Option<f64>,
-    /// Whether the records were too short for [`LINES_PER_BANDWIDTH`] lines with
-    /// [`MIN_AVERAGES`] segments (the segment is then the longest that leaves them).
+    /// The largest predicted leakage bias of any coefficient at the chosen length, in the
+    /// first fit's standard deviations; `None` when it could not be predicted.
+    pub predicted_sigmas: Option<f64>,
+    /// Whether the records were too short for [`LINES_PER_BANDWIDTH`] lines, or for a
+    /// predicted bias below [`BIAS_SIGMAS`] standard deviations, with [`MIN_AVERAGES`]
+    /// segments (the segment is then the longest that leaves them).
     pub record_limited: bool,
 }
 
 /// The Welch segment length for random `records` (all of one length) identified with
-/// `identifier`: a first fit with [`welch_len`] segments gives the modes; the lightest in the
-/// band (half-power bandwidth `B = 2ζf_n`) sets the line spacing `Δf ≤ B /`
-/// [`LINES_PER_BANDWIDTH`]; the segment is the shortest power of two that gives it (as many
-/// averages as the records allow), halved while the records give fewer than
-/// [`MIN_AVERAGES`] segments, and never shorter than the default (shorter segments trade
-/// lines for averages at about the same information, and leak more). Use it with
-/// [`Identifier::segmentation`]; an explicit length (`--nperseg`) overrides it.
+/// `identifier`: a first fit with [`welch_len`] segments gives the model and its standard
+/// deviations; the lightest mode in the band (half-power bandwidth `B = 2ζf_n`) sets the line
+/// spacing `Δf ≤ B /` [`LINES_PER_BANDWIDTH`]; the segment is then doubled while the leakage
+/// bias predicted from the model ([`leaked_flexibility`], [`predicted_bias`]) exceeds
+/// [`BIAS_SIGMAS`] standard deviations on some coefficient. Each length is the shortest power
+/// of two that meets these, never shorter than the default (shorter segments trade lines for
+/// averages at about the same information, and leak more), and halved back while the records
+/// give fewer than [`MIN_AVERAGES`] segments. Use it with [`Identifier::segmentation`]; an
+/// explicit length (`--nperseg`) overrides it.
 ///
 /// # Errors
 /// [`Error::NoRecords`] for no records; the errors of the first fit.
@@ -62,7 +71,7 @@ pub struct WelchChoice {
 /// let id = Identifier::new(8.0, 49.0).estimator(Estimator::H1).window(Window::Hann);
 /// let choice = choose_welch(&records, &id)?;
 /// // ζ ≈ 0.08 at 28 Hz: B ≈ 4.5 Hz, Δf ≤ 0.56 Hz wants 1024 samples; the default (2048)
-/// // is finer already and is kept.
+/// // is finer already, leaks little against one record's scatter, and is kept.
 /// assert_eq!(choice.nperseg, welch_len(16_384));
 /// assert!(choice.predicted_bias.unwrap() < 0.005);
 /// # Ok::<(), bearing_ident::Error>(())
@@ -86,26 +95,63 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
         .reduce(f64::min);
     let averages =
         |seg: usize| Segmentation::Welch { len: seg }.starts(len).count() * records.len();
+    let allowed = |seg: usize| seg <= len && averages(seg) >= MIN_AVERAGES;
+    // The leakage bias a segment length would add, predicted from the first fit: the
+    // damping's (relative, largest over the diagonal) and the worst in standard deviations.
+    let predicted = |seg: usize| -> Option<(f64, f64)> {
+        let freqs: Vec<f64> = band
+            .lines(rate, seg)
+            .ok()?
+            .iter()
+            .map(|&k| k as f64 * rate / seg as f64)
+            .collect();
+        let model = fit.coefficients();
+        let leaked = leaked_flexibility(model, &freqs, seg, rate).ok()?;
+        let bias = predicted_bias(
+            model,
+            &freqs,
+            leaked,
+            identifier.check().ok()?.method(),
+            &IvfOptions::default(),
+            BiasSource::Leakage,
+        )
+        .ok()?;
+        let damping = (0..model.dofs())
+            .map(|i| (bias.bias.damping()[(i, i)] / model.damping()[(i, i)]).abs())
+            .fold(0.0, f64::max);
+        let sigmas = fit.std_dev().and_then(|s| bias.worst_in(s)).map(|w| w.3)?;
+        Some((damping, sigmas))
+    };
     let (nperseg, record_limited) = match lightest {
         None => (default, false),
         Some(b) => {
             let wanted = (rate * LINES_PER_BANDWIDTH / b).ceil() as usize;
             let mut seg = wanted.max(MIN_SEGMENT).next_power_of_two().max(default);
             let mut limited = false;
-            while seg > default && (seg > len || averages(seg) < MIN_AVERAGES) {
+            while seg > default && !allowed(seg) {
                 seg /= 2;
                 limited = true;
+            }
+            // Longer while the predicted bias stands out of the random error.
+            while !limited && predicted(seg).is_some_and(|(_, z)| z > BIAS_SIGMAS) {
+                if allowed(2 * seg) {
+                    seg *= 2;
+                } else {
+                    limited = true;
+                }
             }
             (seg, limited)
         }
     };
     let resolution_hz = rate / nperseg as f64;
+    let prediction = lightest.and(predicted(nperseg));
     Ok(WelchChoice {
         nperseg,
         resolution_hz,
         segments_per_record: Segmentation::Welch { len: nperseg }.starts(len).count(),
         lightest_bandwidth_hz: lightest,
-        predicted_bias: lightest.map(|b| leakage_bias(resolution_hz, b)),
+        predicted_bias: prediction.map(|p| p.0),
+        predicted_sigmas: prediction.map(|p| p.1),
         record_limited,
     })
 }

@@ -10,6 +10,7 @@ use faer::c64;
 use super::contribution::{Contribution, contribute, dead_channel, overflow_check};
 use super::conversion::to_displacement;
 use super::sets::SetTable;
+use super::transfer::ChannelTransfers;
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Channel, Error, Result, SpectrumKind};
 use crate::records::{Record, check_against, common_shape};
@@ -35,6 +36,9 @@ pub(super) struct Plan {
     /// Per band line, the factors $1/s^p$ that turn a response of order `p` (displacement,
     /// velocity, acceleration) into displacement ([`Response::to_displacement`]).
     pub(super) to_displacement: Vec<[Option<c64>; 3]>,
+    /// Per band line, the known channel characteristics divided out, `[line][2n]` (forces,
+    /// then responses; [`ChannelTransfers`]); empty when no channel is corrected.
+    pub(super) corrections: Vec<c64>,
 }
 
 impl Plan {
@@ -83,6 +87,12 @@ pub struct FrfBuilder {
     pub(super) window: Window,
     pub(super) dofs: Option<usize>,
     pub(super) force_gate: Option<ForceGate>,
+    pub(super) transfers: ChannelTransfers,
+    /// Whether every record pushed had displacement responses only.
+    pub(super) all_displacement: bool,
+    /// Whole records: the time of each record's largest dominant-force sample (s), where an
+    /// impact's response starts.
+    pub(super) force_peaks_s: Vec<f64>,
     pub(super) plan: Option<(Plan, SpectralEstimator)>,
     pub(super) gathered: Vec<Gathered>,
     /// Cross-spectral totals, merged record by record.
@@ -118,6 +128,9 @@ impl FrfBuilder {
             window,
             dofs: None,
             force_gate: None,
+            transfers: ChannelTransfers::new(),
+            all_displacement: true,
+            force_peaks_s: Vec::new(),
             plan: None,
             gathered: Vec::new(),
             sff: Vec::new(),
@@ -139,6 +152,43 @@ impl FrfBuilder {
     /// Gates every force channel with `gate` ([`ForceGate`]) before its transform.
     pub fn force_gate(mut self, gate: ForceGate) -> Self {
         self.force_gate = Some(gate);
+        self
+    }
+
+    /// Divides the channels' known transfer characteristics ([`ChannelTransfers`]: a delay, AC
+    /// coupling) out of every spectrum at the band lines, before any sum or average. Default:
+    /// none. Checked against the first record (see [`FrfBuilder::push`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::{Assignment, Band, ChannelTransfer, ChannelTransfers, Estimator, FrfBuilder};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// use bearing_ident::spectra::{Segmentation, Window};
+    /// use bearing_ident::{Channel, Record};
+    /// let records = ImpactTest { per_direction: 1, noise: 0.0, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// let frf = |records: &[Record], transfers: ChannelTransfers| {
+    ///     let mut b = FrfBuilder::new(Estimator::PairedSets, Band::new(8.0, 49.0)?,
+    ///         Segmentation::WholeRecord, Window::Rectangular).channel_transfers(transfers);
+    ///     b.push_all(records)?;
+    ///     b.finish(&Assignment::DominantForce)
+    /// };
+    /// // The responses delayed by 4 samples (a whole number: exact on the DFT), then corrected.
+    /// let delayed: Vec<Record> = records.iter().map(|r| {
+    ///     let shift = |x: &[f64]| [&x[x.len() - 4..], &x[..x.len() - 4]].concat();
+    ///     Record::new(r.label(), r.sample_rate(), vec![r.force(0).to_vec(), r.force(1).to_vec()],
+    ///         vec![shift(r.displacement(0)), shift(r.displacement(1))])
+    /// }).collect::<Result<_, _>>()?;
+    /// let tau = 4.0 / records[0].sample_rate();
+    /// let t = ChannelTransfers::new()
+    ///     .with(Channel::Displacement(0), ChannelTransfer::delay(tau))
+    ///     .with(Channel::Displacement(1), ChannelTransfer::delay(tau));
+    /// let (truth, corrected) = (frf(&records, ChannelTransfers::new())?, frf(&delayed, t)?);
+    /// let (a, b) = (truth.impedance(10)[(0, 0)], corrected.impedance(10)[(0, 0)]);
+    /// assert!((a - b).norm() < 1e-9 * a.norm());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn channel_transfers(mut self, transfers: ChannelTransfers) -> Self {
+        self.transfers = transfers;
         self
     }
 
@@ -179,6 +229,27 @@ impl FrfBuilder {
         } else {
             Ok(self.finish_cross(plan, Some(weights)))
         }
+    }
+
+    /// The record length, segment length (samples) and sampling rate fixed by the first
+    /// record; `None` before it.
+    pub(crate) fn lengths(&self) -> Option<(usize, usize, f64)> {
+        self.plan
+            .as_ref()
+            .map(|(p, _)| (p.len, p.seg_len, p.sample_rate))
+    }
+
+    /// Whole records: the median time of the records' largest dominant-force samples (s),
+    /// where an impact's response starts; `None` for segmented records or none pushed.
+    pub(crate) fn force_peak_s(&self) -> Option<f64> {
+        let mut t = self.force_peaks_s.clone();
+        t.sort_by(f64::total_cmp);
+        t.get(t.len() / 2).copied()
+    }
+
+    /// Whether every record pushed had displacement responses only.
+    pub(crate) fn all_displacement(&self) -> bool {
+        self.all_displacement
     }
 
     /// Number of records pushed.
@@ -247,8 +318,12 @@ impl FrfBuilder {
                 let seg_len = self.segmentation.segment_len(record.len())?;
                 let lines = self.band.lines(record.sample_rate(), seg_len)?;
                 let spectral = SpectralEstimator::new(seg_len, record.sample_rate(), self.window)?;
+                self.transfers.check(Some(n))?;
                 let to_displacement =
                     to_displacement(&lines, spectral.resolution_hz(), self.window);
+                let corrections =
+                    self.transfers
+                        .corrections(n, &lines, spectral.resolution_hz(), self.window);
                 let plan = Plan {
                     n,
                     sample_rate: record.sample_rate(),
@@ -257,6 +332,7 @@ impl FrfBuilder {
                     resolution_hz: spectral.resolution_hz(),
                     lines,
                     to_displacement,
+                    corrections,
                 };
                 let size = plan.lines.len() * n * n;
                 if self.estimator.is_cross_spectral() {
@@ -282,7 +358,7 @@ impl FrfBuilder {
     /// against the first record (rates compared by
     /// [`sample_rates_agree`](crate::records::sample_rates_agree)); on the first record,
     /// [`Error::BandAboveNyquist`] and [`Error::InvalidParameter`] for a bad Welch segment
-    /// length; [`Error::SpectrumOverflow`] naming the record, channel and line when its
+    /// length or channel characteristic ([`ChannelTransfers::check`]); [`Error::SpectrumOverflow`] naming the record, channel and line when its
     /// spectra or cross-spectra (or the running totals) overflow.
     pub fn push(&mut self, record: &Record) -> Result<()> {
         self.check(record)?;
@@ -338,6 +414,12 @@ impl FrfBuilder {
     fn merge(&mut self, record: &Record, contribution: Contribution) -> Result<()> {
         if self.dead.is_none() {
             self.dead = dead_channel(record);
+        }
+        self.all_displacement &= record.is_displacement();
+        if self.segmentation == Segmentation::WholeRecord {
+            let f = record.force(record.dominant_force());
+            let peak = (0..f.len()).fold(0, |p, m| if f[m].abs() > f[p].abs() { m } else { p });
+            self.force_peaks_s.push(peak as f64 / record.sample_rate());
         }
         let contribution = match contribution {
             Contribution::Cross {

@@ -62,6 +62,14 @@ pub(super) fn contribute(
                 };
             }
         }
+        // The channels' known characteristics divided out, before any sum.
+        for (l, correction) in plan.corrections.chunks_exact(2 * n).enumerate() {
+            let (f, x) = correction.split_at(n);
+            for c in 0..n {
+                forces[l * n + c] *= f[c];
+                displacements[l * n + c] *= x[c];
+            }
+        }
         for (values, channel) in [
             (&*forces, Channel::Force as fn(usize) -> Channel),
             (&*displacements, Channel::Displacement),

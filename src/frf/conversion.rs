@@ -85,6 +85,7 @@ mod tests {
             lines: vec![0, 1],
             resolution_hz: 1.0,
             to_displacement: to_displacement(&[0, 1], 1.0, Window::Rectangular),
+            corrections: Vec::new(),
         };
         let e = contribute(
             Estimator::PairedSets,

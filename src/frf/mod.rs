@@ -43,6 +43,7 @@ mod paired;
 mod replicates;
 mod sets;
 mod statistics;
+mod transfer;
 mod variance;
 
 use crate::error::Quantity;
@@ -59,6 +60,7 @@ pub use paired::paired_sets;
 pub(crate) use paired::{PairedKernel, Share};
 pub(crate) use replicates::Replicates;
 pub(crate) use statistics::PeriodStatistics;
+pub use transfer::{ChannelTransfer, ChannelTransfers, MAX_HIGH_PASS_ORDER};
 
 use crate::error::{Error, Result};
 use crate::linalg;

@@ -94,6 +94,14 @@ impl Settings {
         let band = self.band;
         let mut out = self.gate.poor_fit(frf, r2);
         out.extend(gate::physics(model));
+        out.extend(gate::negative_diagonal_causes(
+            frf,
+            model,
+            self.method,
+            &self.ivf,
+            builder.is_some_and(FrfBuilder::all_displacement)
+                && self.window.decay_per_s().is_none(),
+        ));
         out.extend(gate::window(self.window, band));
         if builder.is_some() {
             if let Some(spacing) = line_spacing(frf.freqs_hz()) {

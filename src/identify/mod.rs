@@ -24,10 +24,12 @@
 //! | `serialize.rs` | the JSON form of an [`Identification`] (feature `serde`) |
 
 mod baseline;
+mod bias;
 mod calibration;
 mod derived;
 mod diagnostics;
 mod model_check;
+mod periodic;
 mod pipeline;
 mod result;
 mod screen;
@@ -47,7 +49,7 @@ pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
 use crate::error::Result;
-use crate::frf::{Assignment, Estimator};
+use crate::frf::{Assignment, ChannelTransfers, Estimator};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;
 use crate::solve::{IvfOptions, Method};
@@ -87,6 +89,8 @@ pub struct Identifier {
     screening: Screening,
     gate: FitGate,
     calibration: Calibration,
+    transfers: ChannelTransfers,
+    drop_periods: usize,
 }
 
 impl Identifier {
@@ -113,6 +117,8 @@ impl Identifier {
             screening: Screening::default(),
             gate: FitGate::default(),
             calibration: Calibration::default(),
+            transfers: ChannelTransfers::new(),
+            drop_periods: 0,
         }
     }
 
@@ -198,6 +204,67 @@ impl Identifier {
     /// noise, which the gate keeps out of the spectra. The response is not gated.
     pub fn force_gate(mut self, gate: ForceGate) -> Self {
         self.force_gate = Some(gate);
+        self
+    }
+
+    /// The channels' known transfer characteristics ([`ChannelTransfers`]: a delay such as a
+    /// multiplexed acquisition's skew, an AC-coupling corner), divided out of every spectrum
+    /// at the band lines before any average, so the fit sees the signals themselves. Default:
+    /// none. Not applied to [`Identifier::identify_stepped_sine`] nor to a ready-made FRF.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::{ChannelTransfer, ChannelTransfers};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// use bearing_ident::{Channel, Identifier, Record};
+    /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// // The force channels sampled 3 samples late (whole-record DFT: a circular shift).
+    /// let late: Vec<Record> = records.iter().map(|r| {
+    ///     let shift = |x: &[f64]| [&x[x.len() - 3..], &x[..x.len() - 3]].concat();
+    ///     Record::new(r.label(), r.sample_rate(), vec![shift(r.force(0)), shift(r.force(1))],
+    ///         vec![r.displacement(0).to_vec(), r.displacement(1).to_vec()])
+    /// }).collect::<Result<_, _>>()?;
+    /// let tau = 3.0 / records[0].sample_rate();
+    /// let transfers = (0..2).fold(ChannelTransfers::new(), |t, c| {
+    ///     t.with(Channel::Force(c), ChannelTransfer::delay(tau))
+    /// });
+    /// let id = Identifier::new(8.0, 49.0).channel_transfers(transfers).identify(&late)?;
+    /// assert!((id.coefficients().damping()[(0, 0)] / 131.98 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn channel_transfers(mut self, transfers: ChannelTransfers) -> Self {
+        self.transfers = transfers;
+        self
+    }
+
+    /// Periodic records ([`Segmentation::Periods`]): leaves the first `periods` periods of
+    /// every record out (a start-up transient, [`Warning::StartTransient`](crate::Warning::StartTransient)).
+    /// Default 0; ignored for other segmentations. With [`Segmentation::Periods`], the records
+    /// are also checked against the period ([`PeriodCheck`](crate::screening::PeriodCheck):
+    /// [`Warning::PeriodMismatch`](crate::Warning::PeriodMismatch), `StartTransient`).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, multisine, seed_rig};
+    /// use bearing_ident::{Estimator, Identifier, Segmentation};
+    /// let mut sim = Simulator::new(&seed_rig(), 500.0, 3000, AntiAlias::default())?;
+    /// // 6 periods of a 1 s multisine from rest on each axis in turn: the first is transient.
+    /// let records = (0..2).map(|d| {
+    ///     let f: Vec<Vec<f64>> = (0..2).map(|c| multisine(500, 8..=49, if c == d { 20.0 } else { 5.0 }, 3000, c as u64 + 1))
+    ///         .collect::<Result<_, _>>()?;
+    ///     sim.held_record(format!("ms{d}"), &f)
+    /// }).collect::<Result<Vec<_>, _>>()?;
+    /// let id = |drop| Identifier::new(8.0, 49.0).estimator(Estimator::H1)
+    ///     .segmentation(Segmentation::Periods { len: 500 }).drop_periods(drop).identify(&records);
+    /// assert!(id(0)?.warnings().iter().any(|w| w.kind() == "start_transient"));
+    /// let steady = id(1)?;
+    /// assert!(steady.warnings().iter().all(|w| w.kind() != "start_transient"));
+    /// assert_eq!(steady.periods_dropped(), 1);
+    /// assert!((steady.coefficients().stiffness()[(0, 0)] / 146.3e3 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn drop_periods(mut self, periods: usize) -> Self {
+        self.drop_periods = periods;
         self
     }
 
@@ -299,7 +366,8 @@ impl Identifier {
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for an ML uncertainty other than none, sandwich or auto,
     /// fewer than 20 bootstrap replicates, a minimum coherence outside `[0, 1)`, an
     /// exponential window's decay not finite and `≥ 0`, the IVF tolerance and iteration limit,
-    /// the fit gate ([`FitGate::check`]), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
+    /// the fit gate ([`FitGate::check`]), the channel characteristics
+    /// ([`ChannelTransfers::check`] against the [`Identifier::dofs`] if given), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
     /// condition limits (`1 ≤ warn ≤ refuse`); [`Error::TooLarge`](crate::Error::TooLarge) for more than
     /// [`MAX_BOOTSTRAP_DRAWS`] bootstrap replicates; [`Error::InvalidParameter`](crate::Error::InvalidParameter) for ML
     /// options out of range.

@@ -175,10 +175,16 @@ impl Settings {
         let start = Instant::now();
         let mut t = Timings::default();
         let mut builder = self.builder();
-        let pulses = timed(&mut t.screen, || self.pulse_warning(records));
+        let steady = self.steady_all(records)?;
+        let records = &*steady;
+        let mut pulses: Vec<Warning> = timed(&mut t.screen, || {
+            let mut found: Vec<Warning> = self.pulse_warning(records).into_iter().collect();
+            found.extend(self.period_warnings(records));
+            found
+        });
         let Some((checks, reject)) = self.screening else {
             timed(&mut t.spectra, || builder.push_all(records))?;
-            return self.finish(builder, pulses.into_iter().collect(), t, start);
+            return self.finish(builder, std::mem::take(&mut pulses), t, start);
         };
         // Every record is at hand: decide all but the per-line test before the spectra.
         let (kept, mut warnings) = timed(&mut t.screen, || screen_batch(records, checks, reject));
@@ -199,18 +205,24 @@ impl Settings {
         let mut t = Timings::default();
         let mut builder = self.builder();
         let mut pulses = self.pulse_check();
+        let mut periods = self.period_check();
+        let records = records
+            .into_iter()
+            .map(|r| r.and_then(|r| self.steady(r)))
+            .inspect(|r| {
+                if let (Ok(r), Some(p)) = (r, periods.as_mut()) {
+                    p.record(r);
+                }
+            });
         let Some((checks, reject)) = self.screening else {
             for r in records {
                 let r = r?;
                 timed(&mut t.screen, || observe(&r, &mut pulses));
                 timed(&mut t.spectra, || builder.push(&r))?;
             }
-            return self.finish(
-                builder,
-                pulses.and_then(|p| p.warning()).into_iter().collect(),
-                t,
-                start,
-            );
+            let mut found: Vec<Warning> = pulses.and_then(|p| p.warning()).into_iter().collect();
+            found.extend(periods.iter().flat_map(|p| p.warnings()));
+            return self.finish(builder, found, t, start);
         };
         if reject {
             // Records found faulty only once all have arrived must come out again.
@@ -246,6 +258,7 @@ impl Settings {
         t.screen += screen_start.elapsed();
         self.screen_sets(&mut builder, &checks, reject, &mut warnings, &mut t)?;
         warnings.extend(pulses.and_then(|p| p.warning()));
+        warnings.extend(periods.iter().flat_map(|p| p.warnings()));
         self.finish(builder, warnings, t, start)
     }
 
@@ -395,6 +408,8 @@ impl Settings {
             let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
             mode_std(fit.coefficients(), &cov).ok()
         });
+        let predicted_bias =
+            self.predicted_bias(&frf, builder, &fit, bars.std_dev.as_ref(), &mut warnings);
         t.total = start.elapsed();
         Ok(Identification {
             ml,
@@ -420,6 +435,16 @@ impl Settings {
             excitations,
             warnings,
             timings: Untimed(t),
+            predicted_bias,
+            period_s: match (self.segmentation, builder.and_then(FrfBuilder::lengths)) {
+                (Segmentation::Periods { .. }, Some((_, len, rate))) => Some(len as f64 / rate),
+                _ => None,
+            },
+            periods_dropped: if builder.is_some() {
+                self.drop_periods
+            } else {
+                0
+            },
         })
     }
 

@@ -38,9 +38,49 @@ pub struct Identification {
     pub(super) excitations: Vec<usize>,
     pub(super) warnings: Vec<Warning>,
     pub(super) timings: Untimed,
+    /// A bias the processing adds and the fit cannot see, predicted from the fitted model
+    /// when above half a standard deviation.
+    pub(super) predicted_bias: Option<crate::gate::PredictedBias>,
+    /// Periods left out at the start of every record ([`Identifier::drop_periods`](super::Identifier::drop_periods)).
+    pub(super) periods_dropped: usize,
+    /// The period of periodic records (s).
+    pub(super) period_s: Option<f64>,
 }
 
 impl Identification {
+    /// A bias of the coefficients predicted from the fitted model, when it exceeds half a
+    /// standard deviation of some coefficient ([`PredictedBias`](crate::gate::PredictedBias),
+    /// absolute, estimate minus truth, with its source): the Welch leakage of Hann segments
+    /// ([`crate::gate::leaked_flexibility`]) or the truncation of impact records whose
+    /// response has not decayed ([`crate::gate::truncated_flexibility`]). A warning names it
+    /// too ([`Warning::LeakageBias`], [`Warning::NotDecayed`]). It is not removed from the
+    /// coefficients nor added to their standard deviations: it is a model component of the
+    /// uncertainty budget, to be removed by the remedy the warning names.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// // Records cut to their first 0.2 s: the response is still ringing at their end.
+    /// let test = ImpactTest { per_direction: 3, noise: 0.02, ..ImpactTest::seed_rig() };
+    /// let records = test.run(&seed_rig())?.iter().map(|r| r.trimmed(0..1340))
+    ///     .collect::<Result<Vec<_>, _>>()?;
+    /// let id = Identifier::new(5.0, 50.0).identify(&records)?;
+    /// assert!(id.warnings().iter().any(|w| w.kind() == "not_decayed"));
+    /// let bias = id.predicted_bias().expect("predicted");
+    /// assert_eq!(bias.source.name(), "truncation");
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn predicted_bias(&self) -> Option<&crate::gate::PredictedBias> {
+        self.predicted_bias.as_ref()
+    }
+
+    /// Periods left out at the start of every periodic record
+    /// ([`Identifier::drop_periods`](super::Identifier::drop_periods)); 0 for other records.
+    pub fn periods_dropped(&self) -> usize {
+        self.periods_dropped
+    }
+
     /// The window the spectra were taken with. Under [`Window::Exponential`] the
     /// coefficients, their standard deviations and the modes are already corrected back to
     /// the unwindowed system; the residual, history and `r²` are those of the windowed fit.

@@ -17,8 +17,9 @@ use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 /// `convergence`, `residual_norm`, `condition_number` (`min`, `median`, `max`),
 /// `condition_numbers` (per line), `fit` (per-element flexibility `r²`),
 /// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
-/// [`Warning::kind`] names, in the same order) and `history`
-/// (IVF iterations); `model_check` (`statistic`, `expected`, `dof`, `p_value`, `verdict`
+/// [`Warning::kind`] names, in the same order), `history`
+/// (IVF iterations), `predicted_bias` (`{source, M, C, K}`, absolute, or null; see
+/// [`Identification::predicted_bias`]), `period` and `periods_dropped`; `model_check` (`statistic`, `expected`, `dof`, `p_value`, `verdict`
 /// `fits`/`misfit`/`untested`, `reason`), `budget` (`random`, `model`, `calibration`, each
 /// with `M_std`, `C_std`, `K_std`; null without error bars; the top-level `*_std` are the
 /// combined standard uncertainties), `natural_frequencies_hz_std`, `damping_ratios_std`.
@@ -90,6 +91,30 @@ impl serde::Serialize for Identification {
         let kinds: Vec<&str> = self.warnings.iter().map(Warning::kind).collect();
         m.serialize_entry("warning_kinds", &kinds)?;
         m.serialize_entry("history", self.history())?;
+        // Periodic records (issue 25, item 5): the period (s) and the periods left out.
+        m.serialize_entry("period", &self.period_s)?;
+        m.serialize_entry("periods_dropped", &self.periods_dropped)?;
+        // Predicted bias (issue 25, item 8): `{source, M, C, K}`, absolute, or null.
+        let predicted = self.predicted_bias.as_ref().map(|p| {
+            let b = &p.bias;
+            let mut out = std::collections::BTreeMap::new();
+            out.insert("M", rows(b.mass()));
+            out.insert("C", rows(b.damping()));
+            out.insert("K", rows(b.stiffness()));
+            (p.source.name(), out)
+        });
+        match predicted {
+            Some((source, matrices)) => {
+                #[derive(serde::Serialize)]
+                struct Predicted<'a, T> {
+                    source: &'a str,
+                    #[serde(flatten)]
+                    matrices: T,
+                }
+                m.serialize_entry("predicted_bias", &Predicted { source, matrices })?;
+            }
+            None => m.serialize_entry("predicted_bias", &None::<()>)?,
+        }
         // The model check, the uncertainty budget, the derived quantities' error bars.
         m.serialize_entry("model_check", &self.model_check)?;
         m.serialize_entry("budget", &self.budget)?;

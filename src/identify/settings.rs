@@ -10,7 +10,7 @@ use std::str::FromStr;
 
 use crate::conditioning::ConditionLimits;
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Band, Estimator, FrfBuilder};
+use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
@@ -127,6 +127,9 @@ pub struct Settings {
     pub(super) screening: Option<(Checks, bool)>,
     pub(super) gate: FitGate,
     pub(super) calibration: Calibration,
+    pub(super) transfers: ChannelTransfers,
+    /// Periods left out at the start of every record (periodic records only; 0 otherwise).
+    pub(super) drop_periods: usize,
 }
 
 impl Settings {
@@ -165,6 +168,7 @@ impl Settings {
         let window = id.window.checked()?;
         id.ivf.validate()?;
         id.gate.check()?;
+        id.transfers.check(id.dofs)?;
         let screening = match id.screening {
             Screening::Off => None,
             Screening::Warn(c) => Some((c, false)),
@@ -214,6 +218,11 @@ impl Settings {
             screening,
             gate: id.gate,
             calibration: id.calibration.clone(),
+            transfers: id.transfers.clone(),
+            drop_periods: match id.segmentation {
+                Segmentation::Periods { .. } => id.drop_periods,
+                _ => 0,
+            },
         })
     }
 
@@ -242,7 +251,8 @@ impl Settings {
     /// resamples or the method is ML).
     pub(super) fn builder(&self) -> FrfBuilder {
         let mut builder =
-            FrfBuilder::new(self.estimator, self.band, self.segmentation, self.window);
+            FrfBuilder::new(self.estimator, self.band, self.segmentation, self.window)
+                .channel_transfers(self.transfers.clone());
         if self.uncertainty.resamples() || self.method == Method::Ml {
             builder = builder.keeping_partials();
         }

@@ -267,8 +267,8 @@ impl Job {
 
     /// The kind of excitation of records whose first is `first`, with the crest factor it was
     /// decided by: the one given, or the one the crest factor of the first record with a
-    /// force says ([`Excitation::from_crest_factor`]), reading `rest` only as far as that
-    /// record. Also whether it was detected.
+    /// force and whether the first record repeats say ([`Excitation::from_record`]), reading
+    /// `rest` only as far as that record. Also whether it was detected.
     ///
     /// # Errors
     /// The errors of `rest`; [`Error::DeadChannel`] if no record has a force.
@@ -403,6 +403,8 @@ impl Job {
             .tolerance(o.tolerance)
             .max_iterations(o.max_iterations)
             .min_coherence(o.min_coherence)
+            .drop_periods(o.drop_periods)
+            .channel_transfers(o.channel_transfers.clone())
             .fit_gate(FitGate { min_r2: o.min_r2 })
             .uncertainty(o.uncertainty())
             .on_non_convergence(if o.allow_unconverged {

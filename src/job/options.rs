@@ -157,11 +157,18 @@ pub struct Options {
     /// calibration sheet states it: `force=1%,response=2%` per channel kind, or per channel
     /// by its name `fx=0.5%,x=2%` ([`crate::identify::Calibration::parse`]).
     pub calibration: Option<String>,
+    /// `drop-periods`: periodic records: the first periods of every record left out (a
+    /// start-up transient); default 0.
+    pub drop_periods: usize,
+    /// `delay`, `highpass`: the channels' known transfer characteristics (a delay, an AC
+    /// coupling), divided out of their spectra before any average. The command line reads
+    /// them from `--delay NAME=0.25ms` and `--highpass NAME=3Hz`.
+    pub channel_transfers: crate::frf::ChannelTransfers,
 }
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 20] = [
+    pub const NAMES: [&'static str; 21] = [
         "band",
         "method",
         "excitation",
@@ -182,6 +189,7 @@ impl Options {
         "allow-unconverged",
         "baseline",
         "calibration",
+        "drop-periods",
     ];
 
     /// The defaults of the `identify` command over the band `low_hz`–`high_hz`.
@@ -207,6 +215,8 @@ impl Options {
             allow_unconverged: false,
             baseline: None,
             calibration: None,
+            drop_periods: 0,
+            channel_transfers: crate::frf::ChannelTransfers::new(),
         }
     }
 
@@ -269,6 +279,7 @@ impl Options {
             "allow-unconverged" => self.allow_unconverged = flag()?,
             "baseline" => self.baseline = Some(PathBuf::from(value)),
             "calibration" => self.calibration = Some(value.to_owned()),
+            "drop-periods" => self.drop_periods = count()?,
             _ => unreachable!("every name of NAMES has its arm"),
         }
         Ok(())
@@ -335,6 +346,7 @@ mod tests {
             ("allow-unconverged", "true"),
             ("baseline", "dry/"),
             ("calibration", "force=1%"),
+            ("drop-periods", "1"),
         ];
         assert_eq!(values.len(), Options::NAMES.len());
         let mut o = Options::new(8.0, 49.0);

@@ -82,11 +82,13 @@
 //! ```
 
 mod outliers;
+mod periods;
 mod screener;
 mod summary;
 
 pub(crate) use outliers::outlier_sets_by;
 pub use outliers::{OutlierSet, outlier_sets};
+pub use periods::{PeriodCheck, find_period};
 pub use screener::Screener;
 pub use summary::Summary;
 

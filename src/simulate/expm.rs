@@ -5,7 +5,7 @@ use faer::{Accum, Mat, Par};
 
 /// Matrix exponential by scaling and squaring with a 16-term Taylor series
 /// (truncation below `10⁻²⁰` after scaling to norm ≤ 1/2).
-pub(super) fn expm(a: &Mat<f64>) -> Mat<f64> {
+pub(crate) fn expm(a: &Mat<f64>) -> Mat<f64> {
     let d = a.nrows();
     let norm = (0..d)
         .map(|i| (0..d).map(|j| a[(i, j)].abs()).sum::<f64>())

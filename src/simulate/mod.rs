@@ -18,7 +18,7 @@
 //! response to decay, or the DFT leaks (see [`ImpactTest::run`], which checks this).
 
 mod anti_alias;
-mod expm;
+pub(crate) mod expm;
 mod impact;
 mod noise;
 mod nonlinear;

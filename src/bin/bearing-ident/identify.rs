@@ -31,7 +31,8 @@ pub enum MethodArg {
 
 #[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
 pub enum ExcitationArg {
-    /// Decide from the force signals' crest factor.
+    /// Decide from the force signals: impacts by their crest factor, periodic records by their
+    /// autocorrelation (the period found too), else random.
     Auto,
     /// Impacts: paired sets, whole-record DFT, no window.
     Impact,
@@ -119,9 +120,14 @@ pub struct IdentifyArgs {
     /// taper over a fifth of that; the quiet force after an impact is noise only.
     #[arg(long)]
     force_gate: Option<f64>,
-    /// Period of periodic excitation (s), for `--excitation periodic`.
+    /// Period of periodic excitation (s), for `--excitation periodic`; found in the records
+    /// when not given (and with `--excitation auto`, which recognises periodic records).
     #[arg(long)]
     period: Option<f64>,
+    /// Periodic excitation: leave the first N periods of every record out (a start-up
+    /// transient; JSON `periods_dropped`).
+    #[arg(long, default_value_t = 0)]
+    drop_periods: usize,
     /// Drive frequencies closer than this (Hz) are one step of a stepped-sine test.
     #[arg(long, default_value_t = 0.01)]
     step_tolerance: f64,
@@ -178,6 +184,16 @@ pub struct IdentifyArgs {
     /// Time column (s).
     #[arg(long, default_value = "t")]
     time: String,
+    /// Known delay of channels, divided out of their spectra before any average: `NAME=0.25ms`
+    /// (units s, ms, us), NAME a `--force`/`--disp` column or `force`/`response` for every
+    /// channel of that kind (e.g. a multiplexed acquisition's skew); comma list.
+    #[arg(long, value_delimiter = ',')]
+    delay: Vec<String>,
+    /// Known AC coupling of channels, divided out of their spectra before any average:
+    /// `NAME=3Hz` (a first-order high-pass with that corner) or `NAME=3Hz:2` (order 2), NAME as
+    /// for `--delay`; comma list.
+    #[arg(long, value_delimiter = ',')]
+    highpass: Vec<String>,
     /// IVF tolerance on the block-wise relative change.
     #[arg(long, default_value_t = 1e-8)]
     tolerance: f64,
@@ -271,8 +287,9 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
     })
 }
 
-/// The library's options from the command line.
-fn options(args: &IdentifyArgs) -> Result<Options, Failure> {
+/// The library's options from the command line (`channels`: the column names `--delay` and
+/// `--highpass` name).
+fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure> {
     let (lo, hi) = bearing_ident::job::parse_band(&args.band)?;
     let mut o = Options::new(lo, hi);
     o.method = library::<Method>(args.method)?;
@@ -294,6 +311,13 @@ fn options(args: &IdentifyArgs) -> Result<Options, Failure> {
     o.allow_unconverged = args.allow_unconverged;
     o.baseline.clone_from(&args.baseline);
     o.calibration.clone_from(&args.calibration);
+    o.drop_periods = args.drop_periods;
+    o.channel_transfers = crate::channels::transfers(
+        &args.delay,
+        &args.highpass,
+        &channels.csv.forces,
+        &channels.csv.displacements,
+    )?;
     Ok(o)
 }
 
@@ -318,7 +342,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         return nonlinear::run(args, terms, &channels);
     }
     nonlinear::linear_only(args)?;
-    let job = Job::new(options(args)?, channels);
+    let job = Job::new(options(args, &channels)?, channels);
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(args.files.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),

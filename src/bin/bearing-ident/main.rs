@@ -9,6 +9,7 @@
 //! failure type and stdout in `failure.rs`, and the table, JSON and figures in `output.rs`
 //! and `report.rs`.
 
+mod channels;
 mod demo;
 mod export;
 mod failure;
