@@ -1288,7 +1288,10 @@ fn messages_name_the_cause_and_quote_safely() {
         (&["--rate", "nan"][..], "--rate NaN"),
         (&["--impacts", "0"][..], "--impacts 0"),
         (&["--kind", "random", "--records", "0"][..], "--records 0"),
-        (&["--kind", "multisine", "--periods", "0"][..], "--periods 0"),
+        (
+            &["--kind", "multisine", "--periods", "0"][..],
+            "--periods 0",
+        ),
         (&["--kind", "random", "--coulomb=-5"][..], "--coulomb -5"),
     ] {
         let (kind, m) = json_error(&[&["simulate", "--json", "--out", out], extra].concat());
@@ -1303,11 +1306,78 @@ fn messages_name_the_cause_and_quote_safely() {
     for args in [
         vec!["identify", "--json", "--band", &band, &header],
         vec!["identify", "--json", &long_path],
-        vec!["identify", "--json", "--force", "fx", "--disp", "x", &header],
+        vec![
+            "identify", "--json", "--force", "fx", "--disp", "x", &header,
+        ],
     ] {
         let (_, m) = json_error(&args);
         let longest = m.split(' ').map(|w| w.chars().count()).max().unwrap_or(0);
         assert!(longest <= 100 && !m.contains(&huge), "{m}");
         assert!(!m.contains('\u{1b}'), "{m}");
     }
+}
+
+/// Three multisine records, one driving x and two driving y, with `--excitation periodic`:
+/// before, the run failed as `bad_band` "the band holds 0 usable frequency lines" — the cause
+/// was the jackknife, whose refit without the lone x record has no excitation in x. Now the fit
+/// is given with sandwich error bars and the `jackknife_unavailable` warning.
+#[test]
+fn a_direction_excited_by_one_record_falls_back_to_the_sandwich() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--kind", "multisine", "--records", "2"]);
+    let chosen: Vec<String> = files
+        .iter()
+        .filter(|f| !f.ends_with("d0-1.csv"))
+        .cloned()
+        .collect();
+    assert_eq!(chosen.len(), 3, "{files:?}");
+    let v = identify_json(
+        &[
+            "--band",
+            "8,49",
+            "--excitation",
+            "periodic",
+            "--period",
+            "1",
+        ],
+        &chosen,
+    );
+    let kinds: Vec<&str> = v["warning_kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert!(kinds.contains(&"jackknife_unavailable"), "{kinds:?}");
+    let c = matrix(&v, "C");
+    assert!((c[0][0] / 131.98 - 1.0).abs() < 1e-3, "{c:?}");
+}
+
+/// A `--min-coherence` the records never reach leaves no lines: the error names the minimum
+/// (`invalid_argument`), not the excitations (before: `rank_deficient` "span 1 of 2
+/// directions") or the band.
+#[test]
+fn a_coherence_minimum_too_high_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "2", "--noise", "0.05"]);
+    let refs: Vec<&str> = files.iter().map(String::as_str).collect();
+    let o = run(&[
+        &[
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            "--min-coherence",
+            "0.9999999",
+        ],
+        &refs[..],
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "invalid_argument", "{v}");
+    assert!(
+        v["message"].as_str().unwrap().contains("min_coherence"),
+        "{v}"
+    );
 }

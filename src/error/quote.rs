@@ -60,7 +60,11 @@ pub fn bounded(message: &str) -> String {
         if run.chars().count() > QUOTE_CHARS {
             let number = run.trim_end_matches(['.', ',', ';', ':', ')']);
             match number.parse::<f64>() {
-                Ok(v) if number.bytes().all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b)) => {
+                Ok(v)
+                    if number
+                        .bytes()
+                        .all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b)) =>
+                {
                     out.push_str(&format!("{v:.6e}"));
                     out.push_str(&run[number.len()..]);
                 }
@@ -103,7 +107,11 @@ pub fn excerpt_bytes(bytes: &[u8]) -> String {
     };
     match text.char_indices().nth(QUOTE_CHARS) {
         None if head.len() == bytes.len() => visible(&text),
-        None => format!("{}… ({} more bytes)", visible(&text), bytes.len() - head.len()),
+        None => format!(
+            "{}… ({} more bytes)",
+            visible(&text),
+            bytes.len() - head.len()
+        ),
         Some((cut, _)) => {
             let shown = &text[..cut];
             // Input bytes behind the shown characters (exact for UTF-8 input).
@@ -147,7 +155,10 @@ mod tests {
         );
         let path = format!("/{}/r.csv", "p".repeat(4000));
         let m = bounded(&format!("{path}, line 3: bad\nline"));
-        assert!(m.starts_with(&path[..80]) && m.ends_with(" line 3: bad\\nline"), "{m}");
+        assert!(
+            m.starts_with(&path[..80]) && m.ends_with(" line 3: bad\\nline"),
+            "{m}"
+        );
         assert!(m.chars().count() < 130, "{m}");
         assert_eq!(bounded("short stays as it is"), "short stays as it is");
     }

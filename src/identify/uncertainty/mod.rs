@@ -157,7 +157,26 @@ impl Settings {
         };
         let (std_dev, interval_factor) = match (uncertainty, &shared) {
             (Uncertainty::Jackknife, Some(shared)) => {
-                let (std, distinct) = self.jackknife(shared)?;
+                // A replicate that alone excites a direction (one x record among y records)
+                // cannot be left out: the refit without it has no lines to fit.
+                let (std, distinct) = match self.jackknife(shared) {
+                    Err(
+                        e @ (Error::TooFewLines { .. }
+                        | Error::RankDeficient { .. }
+                        | Error::Singular { .. }
+                        | Error::SingularFit { .. }),
+                    ) => {
+                        warnings.push(Warning::JackknifeUnavailable {
+                            reason: e.to_string(),
+                        });
+                        return Ok(ErrorBars {
+                            uncertainty: Uncertainty::Sandwich,
+                            std_dev: fit.std_dev().cloned(),
+                            interval_factor: t975(0),
+                        });
+                    }
+                    other => other?,
+                };
                 if distinct < replicates {
                     warnings.push(Warning::DependentReplicates {
                         replicates,

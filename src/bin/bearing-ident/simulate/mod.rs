@@ -123,7 +123,8 @@ fn check_counts(args: &SimulateArgs) -> Result<(), Failure> {
         KindArg::Impact => (args.impacts == 0).then_some("--impacts 0"),
         _ => (args.records == 0).then_some("--records 0"),
     };
-    let zero = zero.or((args.kind == KindArg::Multisine && args.periods == 0).then_some("--periods 0"));
+    let zero =
+        zero.or((args.kind == KindArg::Multisine && args.periods == 0).then_some("--periods 0"));
     if let Some(flag) = zero {
         return Err(invalid(format!(
             "{flag}: at least 1 is needed, or nothing would be written"
