@@ -89,11 +89,13 @@ pub fn interference_lines(force: &[Vec<f64>], coherence: &[f64]) -> Vec<Interfer
     let mut found: Vec<Interference> = Vec::new();
     for k in 0..lines {
         let (channel, r) = best(k);
-        if !(r >= INTERFERENCE_RATIO) {
+        let stands_out = r >= INTERFERENCE_RATIO;
+        if !stands_out {
             continue;
         }
         let mut around: Vec<f64> = neighbours(k).map(|j| coherence[j]).collect();
-        if !(coherence[k] < INTERFERENCE_COHERENCE_DIP * median(&mut around)) {
+        let dips = coherence[k] < INTERFERENCE_COHERENCE_DIP * median(&mut around);
+        if !dips {
             continue;
         }
         if let Some(last) = found.last_mut()
