@@ -11,11 +11,11 @@
 //!
 //! $$\max_c r_c(k) \ge R \quad\text{and}\quad \gamma^2(k) < D \cdot \operatorname{median}_{\text{neighbours}} \gamma^2,$$
 //!
-//! `R` = [`INTERFERENCE_RATIO`](crate::tolerance::INTERFERENCE_RATIO), `D` =
-//! [`INTERFERENCE_COHERENCE_DIP`](crate::tolerance::INTERFERENCE_COHERENCE_DIP). The window
+//! `R` = [`INTERFERENCE_RATIO`], `D` =
+//! [`INTERFERENCE_COHERENCE_DIP`]. The window
 //! spreads a sine over adjacent lines: next to a line found, lines whose force ratio is still
-//! above [`INTERFERENCE_SPREAD`](crate::tolerance::INTERFERENCE_SPREAD) go with it, and
-//! [`INTERFERENCE_GUARD`](crate::tolerance::INTERFERENCE_GUARD) lines beyond them on each side
+//! above [`INTERFERENCE_SPREAD`] go with it, and
+//! [`INTERFERENCE_GUARD`] lines beyond them on each side
 //! (a sine's leakage there is below its random scatter, yet biased).
 
 use crate::tolerance::{
