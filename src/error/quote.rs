@@ -151,10 +151,10 @@ mod tests {
     #[test]
     fn quotes_are_visible_and_runs_bounded() {
         assert_eq!(excerpt("a\u{1b}[2Jb\nc"), "a\\u{1b}[2Jb\\nc");
-        // Escapes count as what they show: 80 NUL bytes quote 13 of them (6 characters each).
+        // Escapes count as what they show: 80 NUL bytes quote 16 of them (5 characters each).
         let nul = excerpt_bytes(&[0u8; 80]);
         assert!(
-            nul.starts_with(&"\\u{0}".repeat(13)) && nul.ends_with("(67 more bytes)"),
+            nul.starts_with(&"\\u{0}".repeat(16)) && nul.ends_with("(64 more bytes)"),
             "{nul}"
         );
         assert!(nul.chars().count() < 100, "{nul}");
