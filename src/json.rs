@@ -75,7 +75,8 @@ impl Baseline {
             let limit = crate::tolerance::COEFFICIENT_MAGNITUDE;
             for i in 0..m.nrows() {
                 for j in 0..m.ncols() {
-                    if !(m[(i, j)].abs() <= limit) {
+                    let within = m[(i, j)].abs() <= limit;
+                    if !within {
                         return Err(bad(format!(
                             "`{key}`[{i}][{j}] = {:e} is past the largest coefficient \
                              magnitude accepted, {limit:e}",

@@ -296,7 +296,12 @@ pub const INTERFERENCE_COHERENCE_DIP: f64 = 0.5;
 /// Lines next to an interference line whose force auto-spectrum is still this many times its
 /// neighbours' median are the window's spread of the same sine (a Hann window puts a sine
 /// between two lines into four) and are left out with it.
-pub const INTERFERENCE_SPREAD: f64 = 2.0;
+pub const INTERFERENCE_SPREAD: f64 = 1.5;
+
+/// Lines left out beyond an interference line's spread on each side: there a sine's leakage
+/// (a Hann window's third line: −31 dB, times a hum 30 times the force's line power, is 2 %
+/// of it) is within the force's random scatter, so not seen, yet it biases the line.
+pub const INTERFERENCE_GUARD: usize = 2;
 
 /// The model check ([`ModelCheck`](crate::identify::ModelCheck)) calls a fit a misfit when
 /// the lack-of-fit statistic has an upper-tail probability below this under a right model.

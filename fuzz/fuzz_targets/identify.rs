@@ -229,8 +229,8 @@ fuzz_target!(|input: Input| {
     };
     let screening = match input.screening {
         ScreeningIn::Off => Screening::Off,
-        ScreeningIn::Warn(a, b, c) => Screening::Warn(checks(a, b, c)),
-        ScreeningIn::Reject(a, b, c) => Screening::Reject(checks(a, b, c)),
+        ScreeningIn::Warn(a, b, c) => Screening::Warn(checks(a, b, c).into()),
+        ScreeningIn::Reject(a, b, c) => Screening::Reject(checks(a, b, c).into()),
     };
     let estimator = [
         Estimator::PairedSets,

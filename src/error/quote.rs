@@ -17,16 +17,32 @@ pub const QUOTE_CHARS: usize = 80;
 /// assert_eq!(excerpt(&long), format!("{}… (920 more bytes)", "a".repeat(80)));
 /// ```
 pub fn excerpt(text: &str) -> String {
+    let (shown, used) = visible_prefix(text);
+    if used == text.len() {
+        shown
+    } else {
+        format!("{shown}… ({} more bytes)", text.len() - used)
+    }
+}
+
+/// The longest prefix of `text` whose visible form (control characters escaped) is at most
+/// [`QUOTE_CHARS`] characters, and the bytes of `text` it takes.
+fn visible_prefix(text: &str) -> (String, usize) {
     let mut out = String::new();
     let mut shown = 0;
     for (at, c) in text.char_indices() {
-        if shown == QUOTE_CHARS {
-            return format!("{out}… ({} more bytes)", text.len() - at);
+        let width = if c.is_control() {
+            c.escape_default().count()
+        } else {
+            1
+        };
+        if shown + width > QUOTE_CHARS {
+            return (out, at);
         }
         push_visible(&mut out, c);
-        shown += 1;
+        shown += width;
     }
-    out
+    (out, text.len())
 }
 
 /// Pushes `c`, or for a control character (ESC, a newline, …) its escape (`\u{1b}`, `\n`),
@@ -100,25 +116,13 @@ pub fn excerpt_bytes(bytes: &[u8]) -> String {
     // 4 bytes per character at most: this prefix holds the quoted characters.
     let head = &bytes[..bytes.len().min(4 * QUOTE_CHARS + 4)];
     let text = String::from_utf8_lossy(head);
-    let visible = |s: &str| {
-        let mut out = String::with_capacity(s.len());
-        s.chars().for_each(|c| push_visible(&mut out, c));
-        out
-    };
-    match text.char_indices().nth(QUOTE_CHARS) {
-        None if head.len() == bytes.len() => visible(&text),
-        None => format!(
-            "{}… ({} more bytes)",
-            visible(&text),
-            bytes.len() - head.len()
-        ),
-        Some((cut, _)) => {
-            let shown = &text[..cut];
-            // Input bytes behind the shown characters (exact for UTF-8 input).
-            let behind = bytes.len().saturating_sub(shown.len());
-            format!("{}… ({behind} more bytes)", visible(shown))
-        }
+    let (shown, used) = visible_prefix(&text);
+    if used == text.len() && head.len() == bytes.len() {
+        return shown;
     }
+    // Input bytes behind the shown characters (exact for UTF-8 input).
+    let behind = bytes.len().saturating_sub(used);
+    format!("{shown}… ({behind} more bytes)")
 }
 
 #[cfg(test)]
@@ -147,6 +151,13 @@ mod tests {
     #[test]
     fn quotes_are_visible_and_runs_bounded() {
         assert_eq!(excerpt("a\u{1b}[2Jb\nc"), "a\\u{1b}[2Jb\\nc");
+        // Escapes count as what they show: 80 NUL bytes quote 16 of them (5 characters each).
+        let nul = excerpt_bytes(&[0u8; 80]);
+        assert!(
+            nul.starts_with(&"\\u{0}".repeat(16)) && nul.ends_with("(64 more bytes)"),
+            "{nul}"
+        );
+        assert!(nul.chars().count() < 100, "{nul}");
         let number = format!("{}", -1e308);
         assert_eq!(number.len(), 310);
         assert_eq!(

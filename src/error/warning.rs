@@ -44,6 +44,13 @@ pub enum Warning {
         /// Lines left out (the line and its spread).
         lines: usize,
     },
+    /// The jackknife could not leave some replicate out (it alone excites a direction, e.g.
+    /// the one x record among y records: the refit without it has nothing to fit); the
+    /// sandwich standard deviations are reported instead.
+    JackknifeUnavailable {
+        /// Why the refit failed.
+        reason: String,
+    },
     /// The jackknife had fewer than 3 replicates; the sandwich standard deviations are
     /// reported instead.
     FewReplicates {
@@ -451,6 +458,7 @@ impl Warning {
             Warning::LowCoherence { .. } => "low_coherence",
             Warning::InterferenceLine { .. } => "interference_line",
             Warning::FewReplicates { .. } => "few_replicates",
+            Warning::JackknifeUnavailable { .. } => "jackknife_unavailable",
             Warning::DroppedLines { .. } => "dropped_lines",
             Warning::UnpairedRecords { .. } => "unpaired_records",
             Warning::NotConverged { .. } => "not_converged",

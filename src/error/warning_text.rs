@@ -32,6 +32,12 @@ impl fmt::Display for Warning {
                 "{channel} has a line at {freq_hz} Hz {ratio:.0} times its neighbours with no \
                  response to match (interference such as mains hum): {lines} lines left out"
             ),
+            Warning::JackknifeUnavailable { reason } => write!(
+                f,
+                "the jackknife cannot leave out a replicate that alone excites a direction (a \
+                 refit without it: {reason}): sandwich standard deviations reported; give two \
+                 or more records per direction for the jackknife"
+            ),
             Warning::FewReplicates { replicates } => write!(
                 f,
                 "only {replicates} replicates for the jackknife (3 needed): sandwich standard deviations reported"

@@ -11,12 +11,16 @@
 //!
 //! $$\max_c r_c(k) \ge R \quad\text{and}\quad \gamma^2(k) < D \cdot \operatorname{median}_{\text{neighbours}} \gamma^2,$$
 //!
-//! `R` = [`INTERFERENCE_RATIO`](crate::tolerance::INTERFERENCE_RATIO), `D` =
-//! [`INTERFERENCE_COHERENCE_DIP`](crate::tolerance::INTERFERENCE_COHERENCE_DIP). The window
+//! `R` = [`INTERFERENCE_RATIO`], `D` =
+//! [`INTERFERENCE_COHERENCE_DIP`]. The window
 //! spreads a sine over adjacent lines: next to a line found, lines whose force ratio is still
-//! above [`INTERFERENCE_SPREAD`](crate::tolerance::INTERFERENCE_SPREAD) go with it.
+//! above [`INTERFERENCE_SPREAD`] go with it, and
+//! [`INTERFERENCE_GUARD`] lines beyond them on each side
+//! (a sine's leakage there is below its random scatter, yet biased).
 
-use crate::tolerance::{INTERFERENCE_COHERENCE_DIP, INTERFERENCE_RATIO, INTERFERENCE_SPREAD};
+use crate::tolerance::{
+    INTERFERENCE_COHERENCE_DIP, INTERFERENCE_GUARD, INTERFERENCE_RATIO, INTERFERENCE_SPREAD,
+};
 
 /// Lines on each side of a line whose medians it is compared with.
 pub const INTERFERENCE_NEIGHBOURS: usize = 8;
@@ -85,11 +89,13 @@ pub fn interference_lines(force: &[Vec<f64>], coherence: &[f64]) -> Vec<Interfer
     let mut found: Vec<Interference> = Vec::new();
     for k in 0..lines {
         let (channel, r) = best(k);
-        if !(r >= INTERFERENCE_RATIO) {
+        let stands_out = r >= INTERFERENCE_RATIO;
+        if !stands_out {
             continue;
         }
         let mut around: Vec<f64> = neighbours(k).map(|j| coherence[j]).collect();
-        if !(coherence[k] < INTERFERENCE_COHERENCE_DIP * median(&mut around)) {
+        let dips = coherence[k] < INTERFERENCE_COHERENCE_DIP * median(&mut around);
+        if !dips {
             continue;
         }
         if let Some(last) = found.last_mut()
@@ -121,6 +127,8 @@ pub fn interference_lines(force: &[Vec<f64>], coherence: &[f64]) -> Vec<Interfer
         while hi + 1 < lines && spread(hi + 1) {
             hi += 1;
         }
+        let lo = lo.saturating_sub(INTERFERENCE_GUARD);
+        let hi = (hi + INTERFERENCE_GUARD).min(lines - 1);
         run.lines = (lo..=hi).collect();
     }
     found
@@ -145,7 +153,11 @@ mod tests {
         let found = interference_lines(&force, &coherence);
         assert_eq!(found.len(), 1);
         assert_eq!((found[0].peak, found[0].channel), (12, 1));
-        assert_eq!(found[0].lines, [11, 12, 13]);
+        let guard = INTERFERENCE_GUARD;
+        assert_eq!(
+            found[0].lines,
+            (11 - guard..=13 + guard).collect::<Vec<_>>()
+        );
         // Too few lines to judge.
         assert!(interference_lines(&force[..16], &coherence[..16]).is_empty());
     }

@@ -373,15 +373,29 @@ impl Settings {
         start: Instant,
     ) -> Result<Identification> {
         let (frf, low_coherence) = timed(&mut t.frf, || self.select_coherent(frf));
+        // Lines left too few, or too few to span the directions, by the coherence minimum:
+        // that minimum is the cause, not the band or the excitations.
+        let coherence_cause = |e: Error| match e {
+            Error::TooFewLines { .. } | Error::RankDeficient { .. } if low_coherence > 0 => {
+                Error::InvalidParameter {
+                    name: "min_coherence",
+                    value: self.min_coherence,
+                    expected: "a multiple coherence the records reach: the lines below it \
+                               leave too few to fit",
+                }
+            }
+            e => e,
+        };
         let (frf, interference) = match builder {
             Some(b) => timed(&mut t.frf, || without_interference(frf, b)),
             None => (frf, Vec::new()),
         };
         warnings.extend(interference);
-        require_lines(&frf)?;
+        require_lines(&frf).map_err(coherence_cause)?;
         let conditioning = timed(&mut t.conditioning, || {
             Conditioning::assess(&frf, self.limits)
-        })?;
+        })
+        .map_err(coherence_cause)?;
         let solve_start = Instant::now();
         let (fit, ml) = match self.method {
             Method::Ml => self.fit_ml(&frf, builder, &mut warnings)?,

@@ -412,7 +412,7 @@ fn record_of_case(
         .map(|&f| channel(f))
         .collect::<Result<Vec<_>>>()?;
     let dx = dx_common.unwrap_or(f64::NAN);
-    let (force_channels, displacement_channels) =
+    let [force_channels, displacement_channels] =
         aligned(force_channels, displacement_channels, dx, |k| {
             let f = if k < forces.len() {
                 forces[k]
@@ -439,12 +439,12 @@ fn aligned(
     responses: Vec<(f64, Vec<f64>)>,
     dx: f64,
     dof: impl Fn(usize) -> (i64, i64),
-) -> std::result::Result<(Vec<Vec<f64>>, Vec<Vec<f64>>), String> {
+) -> std::result::Result<[Vec<Vec<f64>>; 2], String> {
     let first = forces.first().map_or(0.0, |c| c.0);
     let all = || forces.iter().chain(&responses);
     if all().all(|c| c.0.to_bits() == first.to_bits()) {
         let strip = |v: Vec<(f64, Vec<f64>)>| v.into_iter().map(|c| c.1).collect();
-        return Ok((strip(forces), strip(responses)));
+        return Ok([strip(forces), strip(responses)]);
     }
     // Offsets in whole steps from the first force channel's start.
     let mut steps = Vec::new();
@@ -482,10 +482,10 @@ fn aligned(
             .collect()
     };
     let n_forces = forces.len();
-    Ok((
+    Ok([
         trim(forces, &steps[..n_forces]),
         trim(responses, &steps[n_forces..]),
-    ))
+    ])
 }
 
 /// The time histories of a load case as `NODE±DIR` (`id`), for a message.

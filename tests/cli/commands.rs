@@ -1491,3 +1491,68 @@ fn calibration_enters_the_budget_and_bad_values_are_refused() {
         );
     }
 }
+
+/// Three multisine records, one driving x and two driving y, with `--excitation periodic`:
+/// before, the run failed as `bad_band` "the band holds 0 usable frequency lines" — the cause
+/// was the jackknife, whose refit without the lone x record has no excitation in x. Now the fit
+/// is given with sandwich error bars and the `jackknife_unavailable` warning.
+#[test]
+fn a_direction_excited_by_one_record_falls_back_to_the_sandwich() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--kind", "multisine", "--records", "2"]);
+    let chosen: Vec<String> = files
+        .iter()
+        .filter(|f| !f.ends_with("d0-1.csv"))
+        .cloned()
+        .collect();
+    assert_eq!(chosen.len(), 3, "{files:?}");
+    let v = identify_json(
+        &[
+            "--band",
+            "8,49",
+            "--excitation",
+            "periodic",
+            "--period",
+            "1",
+        ],
+        &chosen,
+    );
+    let kinds: Vec<&str> = v["warning_kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert!(kinds.contains(&"jackknife_unavailable"), "{kinds:?}");
+    let c = matrix(&v, "C");
+    assert!((c[0][0] / 131.98 - 1.0).abs() < 1e-3, "{c:?}");
+}
+
+/// A `--min-coherence` the records never reach leaves no lines: the error names the minimum
+/// (`invalid_argument`), not the excitations (before: `rank_deficient` "span 1 of 2
+/// directions") or the band.
+#[test]
+fn a_coherence_minimum_too_high_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "2", "--noise", "0.05"]);
+    let refs: Vec<&str> = files.iter().map(String::as_str).collect();
+    let o = run(&[
+        &[
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            "--min-coherence",
+            "0.9999999",
+        ],
+        &refs[..],
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["error"], "invalid_argument", "{v}");
+    assert!(
+        v["message"].as_str().unwrap().contains("min_coherence"),
+        "{v}"
+    );
+}

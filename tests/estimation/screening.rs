@@ -746,26 +746,30 @@ fn mains_hum_on_a_force_channel_is_left_out() {
     };
     assert!((freq_hz - hum_hz).abs() <= 0.5, "{freq_hz}");
     assert_eq!(*channel, Channel::Force(0));
-    assert!((2..=6).contains(lines), "{lines}");
-    // Against the hum-free fit, in its own standard deviations.
+    assert!((5..=12).contains(lines), "{lines}");
+    // Against the hum-free fit: each block's largest change relative to its largest entry
+    // (before, the hum moved C by 2.3 % and K_xy by 5.8 % of K_xx), and in σ.
     let (c0, c1) = (reference.coefficients(), id.coefficients());
     let std = reference.std_dev().expect("error bars");
-    let mut worst: f64 = 0.0;
-    for (a, b, s) in [
-        (c0.damping(), c1.damping(), std.damping()),
-        (c0.stiffness(), c1.stiffness(), std.stiffness()),
-        (c0.mass(), c1.mass(), std.mass()),
+    for (name, a, b, s) in [
+        ("C", c0.damping(), c1.damping(), std.damping()),
+        ("K", c0.stiffness(), c1.stiffness(), std.stiffness()),
+        ("M", c0.mass(), c1.mass(), std.mass()),
     ] {
+        let scale = (0..2)
+            .flat_map(|i| (0..2).map(move |j| a[(i, j)].abs()))
+            .fold(0.0, f64::max);
+        let (mut change, mut sigmas): (f64, f64) = (0.0, 0.0);
         for i in 0..2 {
             for j in 0..2 {
-                worst = worst.max((a[(i, j)] - b[(i, j)]).abs() / s[(i, j)]);
+                change = change.max((a[(i, j)] - b[(i, j)]).abs() / scale);
+                sigmas = sigmas.max((a[(i, j)] - b[(i, j)]).abs() / s[(i, j)]);
             }
         }
+        println!(
+            "hum left out: {name} within {:.3} % of the hum-free fit ({sigmas:.1} σ)",
+            100.0 * change
+        );
+        assert!(change < 2e-3, "{name}: {change}");
     }
-    println!(
-        "hum: C_xx {:.4} vs {:.4} without hum; worst difference {worst:.3} σ",
-        c1.damping()[(0, 0)],
-        c0.damping()[(0, 0)]
-    );
-    assert!(worst < 0.5, "{worst}");
 }

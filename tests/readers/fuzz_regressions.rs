@@ -115,3 +115,25 @@ fn force_gate_longer_than_the_record_is_open_throughout() {
         assert!((k / k0 - 1.0).abs() < 1e-9, "{k} vs {k0}");
     }
 }
+
+/// Found by the `uff` target (issue 29's run): a value field of NUL bytes was quoted by 80
+/// characters, each shown escaped as `\u{0}`, and the message grew to 429 characters. Escapes
+/// now count as the characters they show: the quote stays within 80 of them.
+#[test]
+fn escaped_quotes_stay_within_their_limit() {
+    let mut text = b"    -1\n    58\nID 1\nID 2\nID 3\nID 4\nID 5\n\
+        \x20   1         0    0         0 NONE               3   2 NONE               0   0\n\
+        \x20        2         3         1  0.00000E+00  1.00000E-03  0.00000E+00\n\
+        \x20       17    0    0    0 Time                 s\n\
+        \x20       13    0    0    0 Force                N\n\
+        \x20        0    0    0    0 NONE                 NONE\n\
+        \x20        0    0    0    0 NONE                 NONE\n\
+        6.63404253"
+        .to_vec();
+    text.extend([0u8; 150]);
+    text.extend(b"\n    -1\n");
+    let e = bearing_ident::uff::parse(&text, "fuzz.uff").unwrap_err();
+    let message = e.to_string();
+    assert!(message.chars().count() <= 200, "{message}");
+    assert!(!message.contains('\0'), "{message}");
+}

@@ -151,7 +151,7 @@ impl Settings {
             _ => None,
         };
         let replicates = shared.as_ref().map_or(0, Replicates::count);
-        let uncertainty = match self.uncertainty {
+        let mut uncertainty = match self.uncertainty {
             Uncertainty::Auto if self.method == Method::Ml => Uncertainty::Sandwich,
             Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
             Uncertainty::Auto => Uncertainty::Sandwich,
@@ -163,16 +163,39 @@ impl Settings {
         };
         let (std_dev, interval_factor) = match (uncertainty, &shared) {
             (Uncertainty::Jackknife, Some(shared)) => {
-                let (std, distinct) = self.jackknife(shared)?;
-                if distinct < replicates {
-                    warnings.push(Warning::DependentReplicates {
-                        replicates,
-                        distinct,
-                    });
-                } else {
-                    warnings.extend(gate::zero_spread(&std, fit.coefficients()));
+                // A replicate that alone excites a direction (one x record among y records)
+                // cannot be left out: the refit without it has no lines to fit.
+                let (std, distinct) = match self.jackknife(shared) {
+                    Err(
+                        e @ (Error::TooFewLines { .. }
+                        | Error::RankDeficient { .. }
+                        | Error::Singular { .. }
+                        | Error::SingularFit { .. }),
+                    ) => {
+                        warnings.push(Warning::JackknifeUnavailable {
+                            reason: e.to_string(),
+                        });
+                        uncertainty = Uncertainty::Sandwich;
+                        (None, 0)
+                    }
+                    Ok((std, distinct)) => (Some(std), distinct),
+                    Err(e) => return Err(e),
+                };
+                match std {
+                    // The sandwich the fit carries, with normal intervals.
+                    None => (fit.std_dev().cloned(), t975(0)),
+                    Some(std) => {
+                        if distinct < replicates {
+                            warnings.push(Warning::DependentReplicates {
+                                replicates,
+                                distinct,
+                            });
+                        } else {
+                            warnings.extend(gate::zero_spread(&std, fit.coefficients()));
+                        }
+                        (Some(std), t975(replicates - 1))
+                    }
                 }
-                (Some(std), t975(replicates - 1))
             }
             (
                 Uncertainty::Bootstrap {
