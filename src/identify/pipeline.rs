@@ -422,8 +422,16 @@ impl Settings {
             let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
             mode_std(fit.coefficients(), &cov).ok()
         });
-        let predicted_bias =
-            self.predicted_bias(&frf, builder, &fit, bars.std_dev.as_ref(), &mut warnings);
+        // A bias is judged against the random error: the model component may already be
+        // widened by the very misfit the bias makes.
+        let random = bars.budget.as_ref().map(|b| &b.random);
+        let predicted_bias = self.predicted_bias(
+            &frf,
+            builder,
+            &fit,
+            random.or(bars.std_dev.as_ref()),
+            &mut warnings,
+        );
         t.total = start.elapsed();
         Ok(Identification {
             ml,

@@ -494,10 +494,16 @@ fn errors_name_block_and_line() {
     let text = String::from_utf8_lossy(&bytes).replacen("          32", "   999999999", 1);
     let (_, _, m) = uff_error(text.as_bytes());
     assert!(m.contains("999999999 bytes"), "{m}");
-    // A huge count of points in record 7 allocates nothing: the values are not there.
+    // A huge count of points in record 7 allocates nothing: a count past the readers' size
+    // rule is refused from the header, before any value is read.
     let r7 = R7_REAL4.replacen("         4", "2000000000", 1);
+    let e = uff::parse(block(&r7, " 1 2 3 4\n").as_bytes(), "bad.uff").unwrap_err();
+    assert_eq!(e.kind(), "too_large", "{e}");
+    assert!(e.to_string().contains("bad.uff"), "{e}");
+    // A count within the rule but past the values there names what is missing.
+    let r7 = R7_REAL4.replacen("         4", "  20000000", 1);
     let (_, _, m) = uff_error(block(&r7, " 1 2 3 4\n").as_bytes());
-    assert!(m.contains("4 of the 2000000000"), "{m}");
+    assert!(m.contains("4 of the 20000000"), "{m}");
 }
 
 fn valid_file() -> Vec<u8> {
