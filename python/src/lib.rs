@@ -32,12 +32,18 @@ fn invalid(message: String) -> PyErr {
 fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
         // C order: each row is one run of memory, copied as such.
-        if let (Ok(all), &[_, n]) = (a.as_slice(), a.shape())
+        // (`as_slice` takes Fortran order too, whose runs are columns.)
+        if let (true, Ok(all), &[_, n]) = (a.is_c_contiguous(), a.as_slice(), a.shape())
             && n > 0
         {
             return Ok(all.chunks_exact(n).map(<[f64]>::to_vec).collect());
         }
-        return Ok(a.as_array().rows().into_iter().map(|r| r.to_vec()).collect());
+        return Ok(a
+            .as_array()
+            .rows()
+            .into_iter()
+            .map(|r| r.to_vec())
+            .collect());
     }
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
         return Ok(a
@@ -232,7 +238,8 @@ fn simulate(
                 let mut sim = Simulator::new(&truth, rate, n, AntiAlias::default())?;
                 (0..count)
                     .map(|r| {
-                        let rec = sim.random_record(format!("random-{r}"), 50.0, seed + r as u64)?;
+                        let rec =
+                            sim.random_record(format!("random-{r}"), 50.0, seed + r as u64)?;
                         if noise > 0.0 {
                             bearing_ident::simulate::add_noise(&rec, noise, &mut rng)
                         } else {

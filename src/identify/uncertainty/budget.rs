@@ -11,7 +11,8 @@
 //!   spread of refits with the band's edges moved inward by [`BAND_SHIFT_LINES`] lines (low
 //!   edge, high edge, both): $\sigma_b^2 = \frac13\sum_r (\theta_r - \hat\theta)^2$. A fit
 //!   that leans on lines the model does not describe moves when they go; a right model's
-//!   moves by a small fraction of `σ_r` (the refits share most of the data).
+//!   moves by its random error alone, so the band part is carried only when the model
+//!   check does not say the model fits (misfit, or untested for want of replicates).
 //!   Maximum likelihood refits by IVF and takes the change of IVF's estimate.
 //! - **calibration**: the stated gain uncertainties ([`Calibration::std_dev`]).
 //!
@@ -28,6 +29,7 @@ use crate::model::Coefficients;
 use crate::solve::{self, Method};
 use crate::tolerance::BAND_SHIFT_LINES;
 
+use super::super::model_check::Verdict;
 use super::super::{Calibration, ModelCheck, Settings};
 #[cfg(doc)]
 use super::Uncertainty;
@@ -109,7 +111,13 @@ impl Settings {
         frf: &Frf,
     ) -> Result<Budget> {
         let birge = check.birge_factor().powi(2) - 1.0;
-        let band = self.band_spread(fitted, frf);
+        // The band sensitivity is carried only where the model is not shown to fit: moving
+        // the edges of a right model's band moves the estimate by its random error alone
+        // (for ML, by IVF's, twice ML's), which the random component already holds.
+        let band = match check.verdict {
+            Verdict::Fits => None,
+            _ => self.band_spread(fitted, frf),
+        };
         let r = random.stacked();
         let model = Mat::from_fn(r.nrows(), r.ncols(), |i, j| {
             let b = band.as_ref().map_or(0.0, |b| b[(i, j)]);
