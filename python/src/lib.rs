@@ -17,6 +17,18 @@ pyo3::create_exception!(
     "An error of the crate: args are (kind, message)."
 );
 
+/// A record as Python hands it over: `(force, response, fs, label, response_kinds)`.
+type PyRecordIn<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    f64,
+    String,
+    Vec<String>,
+);
+
+/// A record as Python gets it back: `(force rows, response rows, fs, label, response_kinds)`.
+type PyRecordOut = (Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>);
+
 /// The crate's error as `NativeError(kind, message)`, which the package turns into the
 /// exception class of that kind.
 fn raise(e: &Error) -> PyErr {
@@ -129,7 +141,7 @@ impl NativeResult {
 #[pyo3(signature = (records, options, per_frequency=false))]
 fn identify(
     py: Python<'_>,
-    records: Vec<(Bound<'_, PyAny>, Bound<'_, PyAny>, f64, String, Vec<String>)>,
+    records: Vec<PyRecordIn<'_>>,
     options: Vec<(String, String)>,
     per_frequency: bool,
 ) -> PyResult<NativeResult> {
@@ -164,7 +176,7 @@ fn read_files(
     disp: Vec<String>,
     time: String,
     response: Vec<String>,
-) -> PyResult<Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>)>> {
+) -> PyResult<Vec<PyRecordOut>> {
     let mut channels = Channels::default();
     channels.csv.time = time;
     if !force.is_empty() {
@@ -213,7 +225,7 @@ fn simulate(
     seed: u64,
     rate: f64,
     duration: Option<f64>,
-) -> PyResult<Vec<(Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>)>> {
+) -> PyResult<Vec<PyRecordOut>> {
     use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, seed_rig};
     let truth = seed_rig();
     let records: Vec<Record> = py
