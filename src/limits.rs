@@ -66,6 +66,7 @@ pub fn read_json_text(path: impl AsRef<Path>) -> Result<String> {
 /// Reads one line (up to and without its `\n`) into `line`, taking at most `limit + 1` bytes of
 /// the input: `Some(true)` for a line, `Some(false)` at the end of the input, `None` when the
 /// line is longer than `limit` (the caller names the file and line).
+#[cfg_attr(not(feature = "uff"), allow(dead_code))]
 pub(crate) fn read_line(
     reader: &mut impl std::io::BufRead,
     line: &mut Vec<u8>,
