@@ -120,6 +120,7 @@ fn force_gate_longer_than_the_record_is_open_throughout() {
 /// characters, each shown escaped as `\u{0}`, and the message grew to 429 characters. Escapes
 /// now count as the characters they show: the quote stays within 80 of them.
 #[test]
+#[cfg(feature = "uff")]
 fn escaped_quotes_stay_within_their_limit() {
     let mut text = b"    -1\n    58\nID 1\nID 2\nID 3\nID 4\nID 5\n\
         \x20   1         0    0         0 NONE               3   2 NONE               0   0\n\
