@@ -158,7 +158,7 @@ class Record:
         return self.force.shape[1]
 
     def _native(self):
-        kinds = [] if self.response_kind == ["displacement"] else self.response_kind
+        kinds = [] if all(k == "displacement" for k in self.response_kind) else self.response_kind
         return (self.force, self.response, self.fs, self.label, kinds)
 
     def __repr__(self) -> str:

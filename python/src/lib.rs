@@ -104,6 +104,18 @@ fn record(
     r.with_responses(kinds).map_err(|e| raise(&e))
 }
 
+/// A record handed back to Python, with what its responses measure.
+fn record_out(r: &Record) -> PyRecordOut {
+    let n = r.dofs();
+    (
+        (0..n).map(|i| r.force(i).to_vec()).collect(),
+        (0..n).map(|i| r.displacement(i).to_vec()).collect(),
+        r.sample_rate(),
+        r.label().to_owned(),
+        r.responses().iter().map(|k| k.name().to_owned()).collect(),
+    )
+}
+
 /// A finished run: the crate's [`Outcome`] behind the package's `Identification`.
 #[pyclass(frozen, module = "bearing_ident._native")]
 struct NativeResult {
@@ -198,17 +210,9 @@ fn read_files(
     channels.uff.kinds = channels.responses.clone();
     let mut out = Vec::new();
     for path in &paths {
-        for r in bearing_ident::job::read_file(path.as_ref(), &channels).map_err(|e| raise(&e))? {
-            let n = r.dofs();
-            let kinds = r.responses().iter().map(|k| k.name().to_owned()).collect();
-            out.push((
-                (0..n).map(|i| r.force(i).to_vec()).collect(),
-                (0..n).map(|i| r.displacement(i).to_vec()).collect(),
-                r.sample_rate(),
-                r.label().to_owned(),
-                kinds,
-            ));
-        }
+        let records =
+            bearing_ident::job::read_file(path.as_ref(), &channels).map_err(|e| raise(&e))?;
+        out.extend(records.iter().map(record_out));
     }
     Ok(out)
 }
@@ -267,19 +271,7 @@ fn simulate(
             }),
         })
         .map_err(|e| raise(&e))?;
-    Ok(records
-        .iter()
-        .map(|r| {
-            let n = r.dofs();
-            (
-                (0..n).map(|i| r.force(i).to_vec()).collect(),
-                (0..n).map(|i| r.displacement(i).to_vec()).collect(),
-                r.sample_rate(),
-                r.label().to_owned(),
-                Vec::new(),
-            )
-        })
-        .collect())
+    Ok(records.iter().map(record_out).collect())
 }
 
 /// Panics inside the crate's call, to show that a panic becomes an exception.

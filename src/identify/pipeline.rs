@@ -18,7 +18,9 @@ use crate::tolerance;
 
 use super::derived::{mode_std, scaled_covariance};
 use super::diagnostics::flexibility_r2;
-use super::screen::{kept_records, observe, reported, screen_batch};
+use super::screen::{
+    kept_records, observe, out_of_scale, reported, screen_batch, without_interference,
+};
 use super::timings::{Untimed, timed};
 use super::{Identification, Identifier, ModelCheck, Settings, Timings};
 #[cfg(doc)]
@@ -558,63 +560,4 @@ fn require_lines(frf: &Frf) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// The record and, in words, the finding of a screening warning that puts a record far out of
-/// scale with its siblings (a dead channel, a level outlier), if `w` is one.
-fn out_of_scale(w: &crate::Warning) -> Option<(String, String)> {
-    match w {
-        crate::Warning::DeadChannel {
-            record,
-            channel,
-            rms,
-            median_rms,
-        }
-        | crate::Warning::LevelOutlier {
-            record,
-            channel,
-            rms,
-            median_rms,
-            ..
-        } => Some((
-            record.clone(),
-            format!(
-                "{channel} has RMS {rms:.3e}, {:.1e} times the median {median_rms:.3e} of its \
-                 sibling records",
-                rms / median_rms
-            ),
-        )),
-        _ => None,
-    }
-}
-
-/// `frf` without its interference lines (a force line far above its neighbours that the
-/// responses do not follow: [`crate::frf::interference`]), and a
-/// [`Warning::InterferenceLine`] for each run of them.
-fn without_interference(frf: Frf, builder: &FrfBuilder) -> (Frf, Vec<Warning>) {
-    let Some(force) = builder.force_auto_spectra(&frf) else {
-        return (frf, Vec::new());
-    };
-    let coherence: Vec<f64> = (0..frf.line_count())
-        .map(|k| {
-            frf.multiple_coherence(k)
-                .map_or(1.0, |c| c.iter().copied().fold(f64::INFINITY, f64::min))
-        })
-        .collect();
-    let found = crate::frf::interference::interference_lines(&force, &coherence);
-    if found.is_empty() {
-        return (frf, Vec::new());
-    }
-    let out: Vec<usize> = found.iter().flat_map(|i| i.lines.iter().copied()).collect();
-    let warnings = found
-        .iter()
-        .map(|i| Warning::InterferenceLine {
-            freq_hz: frf.freqs_hz()[i.peak],
-            channel: crate::Channel::Force(i.channel),
-            ratio: i.ratio,
-            lines: i.lines.len(),
-        })
-        .collect();
-    let kept = frf.retain_lines(|k| !out.contains(&k));
-    (kept, warnings)
 }

@@ -1,12 +1,13 @@
 //! On the way to the spectra: record screening ([`crate::screening`]) for records at hand
 //! and for records that stream in, the per-line test of paired sets, and the force-gate check
-//! against the force pulses ([`ForceGateCheck`]).
+//! against the force pulses ([`ForceGateCheck`]); after the spectra, interference lines left out
+//! and the record a failed fit can blame (one far out of scale with its siblings).
 
 use std::borrow::Cow;
 use std::time::Instant;
 
 use crate::error::{Result, Warning};
-use crate::frf::FrfBuilder;
+use crate::frf::{Frf, FrfBuilder};
 use crate::gate::ForceGateCheck;
 use crate::records::Record;
 use crate::screening::{self, Checks, Screener};
@@ -142,4 +143,63 @@ pub(super) fn reported(
         }
     }
     warnings
+}
+
+/// The record and, in words, the finding of a screening warning that puts a record far out of
+/// scale with its siblings (a dead channel, a level outlier), if `w` is one.
+pub(super) fn out_of_scale(w: &crate::Warning) -> Option<(String, String)> {
+    match w {
+        crate::Warning::DeadChannel {
+            record,
+            channel,
+            rms,
+            median_rms,
+        }
+        | crate::Warning::LevelOutlier {
+            record,
+            channel,
+            rms,
+            median_rms,
+            ..
+        } => Some((
+            record.clone(),
+            format!(
+                "{channel} has RMS {rms:.3e}, {:.1e} times the median {median_rms:.3e} of its \
+                 sibling records",
+                rms / median_rms
+            ),
+        )),
+        _ => None,
+    }
+}
+
+/// `frf` without its interference lines (a force line far above its neighbours that the
+/// responses do not follow: [`crate::frf::interference`]), and a
+/// [`Warning::InterferenceLine`] for each run of them.
+pub(super) fn without_interference(frf: Frf, builder: &FrfBuilder) -> (Frf, Vec<Warning>) {
+    let Some(force) = builder.force_auto_spectra(&frf) else {
+        return (frf, Vec::new());
+    };
+    let coherence: Vec<f64> = (0..frf.line_count())
+        .map(|k| {
+            frf.multiple_coherence(k)
+                .map_or(1.0, |c| c.iter().copied().fold(f64::INFINITY, f64::min))
+        })
+        .collect();
+    let found = crate::frf::interference::interference_lines(&force, &coherence);
+    if found.is_empty() {
+        return (frf, Vec::new());
+    }
+    let out: Vec<usize> = found.iter().flat_map(|i| i.lines.iter().copied()).collect();
+    let warnings = found
+        .iter()
+        .map(|i| Warning::InterferenceLine {
+            freq_hz: frf.freqs_hz()[i.peak],
+            channel: crate::Channel::Force(i.channel),
+            ratio: i.ratio,
+            lines: i.lines.len(),
+        })
+        .collect();
+    let kept = frf.retain_lines(|k| !out.contains(&k));
+    (kept, warnings)
 }

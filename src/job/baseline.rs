@@ -10,9 +10,6 @@ use crate::error::{Error, Result};
 use crate::excitation::Excitation;
 use crate::identify::{Baseline, Identification, Identifier};
 
-/// Longest baseline JSON file read (16 MiB; a result is a few kilobytes).
-pub const MAX_BASELINE_BYTES: u64 = 1 << 24;
-
 impl Job {
     /// `system` less the baseline at `path`: a folder's CSV records identified with
     /// `identifier` as `excitation`, or a saved JSON result.
@@ -84,24 +81,13 @@ impl Job {
             path: path.display().to_string(),
             source: Box::new(e),
         };
-        // Read at most the limit (a sparse file or /dev/zero must not fill memory).
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(
-            &mut std::io::Read::take(
-                std::fs::File::open(path).map_err(io)?,
-                MAX_BASELINE_BYTES + 1,
-            ),
-            &mut bytes,
-        )
-        .map_err(io)?;
-        if bytes.len() as u64 > MAX_BASELINE_BYTES {
-            return Err(within(Error::TooLarge {
-                what: "bytes of a JSON result",
-                value: bytes.len() as f64,
-                limit: MAX_BASELINE_BYTES as f64,
-            }));
-        }
-        from_json(&String::from_utf8_lossy(&bytes)).map_err(within)
+        // At most the JSON readers' limit (a sparse file or /dev/zero must not fill memory);
+        // a file that cannot be read is named as it is, anything else as the baseline's.
+        let text = crate::limits::read_json_text(path).map_err(|e| match e {
+            Error::Io { .. } => e,
+            e => within(e),
+        })?;
+        from_json(&text).map_err(within)
     }
 }
 
