@@ -108,6 +108,8 @@
 #![forbid(unsafe_code)]
 #![deny(clippy::float_cmp)]
 
+#[cfg(feature = "campaign")]
+pub mod campaign;
 pub mod conditioning;
 pub mod error;
 pub mod excitation;

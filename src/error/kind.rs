@@ -107,7 +107,7 @@ impl Error {
             Error::UffRecord { .. } => "inconsistent_records",
             Error::ExportDofs { .. } => "invalid_argument",
             Error::SimulationDiverged { .. } => "non_finite",
-            Error::FieldInput { .. } => "invalid_input",
+            Error::FieldInput { .. } | Error::Plan { .. } => "invalid_input",
             Error::FieldNonFinite { .. } => "non_finite",
             Error::MissingResponse { .. } => "missing_response",
             Error::Underdetermined { .. } => "underdetermined",

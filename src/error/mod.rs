@@ -503,6 +503,16 @@ pub enum Error {
         /// Segments needed.
         required: usize,
     },
+    /// A campaign plan or geometry file that is not well formed, at `file:line`.
+    #[error("{file}:{line}: {message}")]
+    Plan {
+        /// The file.
+        file: String,
+        /// The line (from 1).
+        line: usize,
+        /// What is wrong there (input quoted by at most 80 characters).
+        message: String,
+    },
     // ---- Field identification (`crate::field`) ----
     /// Field identification ([`field`](crate::field)): a rotor model or test set that is not
     /// well formed (shapes, names, nodes, speeds, masses); the message names the key or record.

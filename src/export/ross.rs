@@ -404,14 +404,14 @@ impl BearingElement {
 
 /// `[a, b, …]` in the shortest round-trip form of each value (`146300.0`, `1e-7`, never a
 /// bare integer, which TOML would not mix with floats in one array).
-fn array(values: &[f64], separator: &str) -> String {
+pub(crate) fn array(values: &[f64], separator: &str) -> String {
     let items: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
     format!("[{}]", items.join(separator))
 }
 
 /// `text` as a double-quoted string that TOML and JSON both read: `"` and `\` escaped,
 /// control characters (and DEL) as `\u00XX`.
-fn quoted(text: &str) -> String {
+pub(crate) fn quoted(text: &str) -> String {
     let mut s = String::with_capacity(text.len() + 2);
     s.push('"');
     for c in text.chars() {

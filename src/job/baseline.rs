@@ -105,3 +105,23 @@ fn from_json(_: &str) -> Result<Baseline> {
         message: "a JSON baseline needs the `json` feature; give a folder of records".into(),
     })
 }
+
+impl super::Outcome {
+    /// Subtracts `baseline` (named `source` in the result) from the system's coefficients,
+    /// as [`super::Options::baseline`] would have: [`Outcome::bearing`](super::Outcome::bearing)
+    /// then holds the difference, the variances adding. A campaign subtracts another point
+    /// this way.
+    ///
+    /// # Errors
+    /// [`Identification::subtract_baseline`]'s: a baseline of other degrees of freedom, band,
+    /// lines, estimator or window.
+    pub fn subtract_baseline(&mut self, baseline: Baseline, source: &str) -> Result<()> {
+        let (coefficients, std_dev) = self.identification.subtract_baseline(baseline)?;
+        self.bearing = Some(Bearing {
+            coefficients,
+            std_dev,
+            source: source.to_owned(),
+        });
+        Ok(())
+    }
+}

@@ -11,6 +11,7 @@
 //! | `mod.rs` | [`Job`], [`Options`], [`Outcome`], the run |
 //! | `options.rs` | [`Options`] and [`WindowChoice`], their defaults and names |
 //! | `read.rs` | [`Channels`], [`read_file`], the read-ahead workers |
+//! | `geometry.rs` | [`Geometry`]: probe and force planes moved to the bearing plane |
 //! | `baseline.rs` | the baseline: a folder of records or a saved JSON result |
 //! | `json.rs` | the JSON of a run, as `identify --json` prints it (feature `json`) |
 //!
@@ -27,6 +28,7 @@
 //! ```
 
 mod baseline;
+mod geometry;
 #[cfg(feature = "json")]
 mod json;
 mod options;
@@ -36,10 +38,11 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+pub use geometry::Geometry;
 #[cfg(feature = "json")]
 pub use json::{Facts, json};
 pub use options::{Options, WindowChoice, parse_band};
-pub use read::{Channels, is_uff, read_file, read_first};
+pub use read::{Channels, is_uff, read_file, read_first, response_columns};
 
 use crate::error::{Error, Result};
 use crate::excitation::{

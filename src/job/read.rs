@@ -8,7 +8,9 @@ use std::sync::mpsc::{Receiver, sync_channel};
 use crate::error::{Error, Result};
 use crate::io::{self, CsvLayout};
 use crate::records::{Record, Response};
-use crate::uff::UffLayout;
+use crate::uff::{UffChannel, UffLayout};
+
+use super::Geometry;
 
 /// Where the forces and responses are in the record files, and what the responses measure.
 ///
@@ -29,6 +31,137 @@ pub struct Channels {
     /// CSV, the data type for Universal Files), one kind for all, or one per degree of
     /// freedom.
     pub responses: Vec<Response>,
+    /// Sensor planes moved to the bearing plane after reading ([`Geometry::apply`]), if the
+    /// probes are not at the bearing.
+    pub geometry: Option<Geometry>,
+}
+
+impl Channels {
+    /// The channels as `identify` names them: `force` and `disp` (CSV column names, or
+    /// Universal File channels `NODE+DIR` / `id:TEXT`; empty for the defaults), `responses`
+    /// (what the response channels measure: none, one for all, or one per degree of freedom;
+    /// the default CSV response columns follow it, `vx`, `ax`), the CSV `time` column, for
+    /// `files` (when one is a Universal File, `force` and `disp` are parsed as its channels
+    /// too; when all are, the kinds are checked by its reader against its channels).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for unequal numbers of force and response columns, a
+    /// Universal File channel that does not parse, or a number of response kinds that is
+    /// neither one nor one per response column.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Response;
+    /// use bearing_ident::job::Channels;
+    /// let files = [std::path::PathBuf::from("hit-1.csv")];
+    /// let c = Channels::named(&[], &[], &[Response::Velocity], "t", &files)?;
+    /// assert_eq!(c.csv.displacements, ["vx", "vy"]);
+    /// let e = Channels::named(&["fx".into()], &[], &[], "t", &files).unwrap_err();
+    /// assert_eq!(e.kind(), "invalid_argument");
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn named(
+        force: &[String],
+        disp: &[String],
+        responses: &[Response],
+        time: &str,
+        files: &[PathBuf],
+    ) -> Result<Self> {
+        let defaults = CsvLayout::default();
+        let pick = |given: &[String], default: Vec<String>| {
+            if given.is_empty() {
+                default
+            } else {
+                given.to_vec()
+            }
+        };
+        let csv = CsvLayout {
+            time: time.to_owned(),
+            forces: pick(force, defaults.forces),
+            displacements: pick(disp, response_columns(&defaults.displacements, responses)),
+        };
+        let invalid = |option, message| Error::InvalidOption { option, message };
+        if csv.forces.len() != csv.displacements.len() {
+            return Err(invalid(
+                "disp",
+                format!(
+                    "--force names {} columns and --disp {}: one of each per degree of freedom",
+                    csv.forces.len(),
+                    csv.displacements.len()
+                ),
+            ));
+        }
+        let uff_layout = if files.iter().any(|f| is_uff(f)) {
+            let parse = |given: &[String], option: &'static str| {
+                given
+                    .iter()
+                    .map(|c| {
+                        c.parse::<UffChannel>()
+                            .map_err(|e| invalid(option, format!("--{option}: {e}")))
+                    })
+                    .collect::<Result<Vec<_>>>()
+            };
+            UffLayout {
+                forces: parse(force, "force")?,
+                responses: parse(disp, "disp")?,
+                kinds: responses.to_vec(),
+            }
+        } else {
+            UffLayout::default()
+        };
+        if !responses.is_empty()
+            && responses.len() != 1
+            && responses.len() != csv.displacements.len()
+            && !files.iter().all(|f| is_uff(f))
+        {
+            return Err(invalid(
+                "response",
+                format!(
+                    "--response names {} kinds for {} response columns: give one for all or \
+                     one per degree of freedom",
+                    responses.len(),
+                    csv.displacements.len()
+                ),
+            ));
+        }
+        Ok(Channels {
+            csv,
+            uff: uff_layout,
+            responses: responses.to_vec(),
+            geometry: None,
+        })
+    }
+}
+
+/// Default CSV names of response columns: the displacement names (`x, y`) prefixed `v` for
+/// velocity and `a` for acceleration (`vx, vy`, `ax, ay`), by `kinds` (none: displacement; one
+/// for all; or one per column). What `simulate --response` writes and `identify --response`
+/// reads unless `--disp` names the columns.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Response;
+/// use bearing_ident::job::response_columns;
+/// let x = ["x".to_string(), "y".to_string()];
+/// assert_eq!(response_columns(&x, &[Response::Acceleration]), ["ax", "ay"]);
+/// assert_eq!(response_columns(&x, &[]), ["x", "y"]);
+/// ```
+pub fn response_columns(displacements: &[String], kinds: &[Response]) -> Vec<String> {
+    displacements
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let kind = match kinds {
+                [one] => *one,
+                _ => kinds.get(i).copied().unwrap_or_default(),
+            };
+            match kind {
+                Response::Displacement => x.clone(),
+                Response::Velocity => format!("v{x}"),
+                Response::Acceleration => format!("a{x}"),
+            }
+        })
+        .collect()
 }
 
 /// Whether `path` is a Universal File (`.uff`, `.unv`, any case) rather than a CSV record.
@@ -72,6 +205,7 @@ pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     } else {
         vec![with_kinds(io::read_record(path, &channels.csv)?, channels)?]
     };
+    let records = moved(records, channels)?;
     if records.is_empty() {
         return Err(Error::UffRecord {
             path: path.display().to_string(),
@@ -96,10 +230,19 @@ fn read_records(
     channels: &Channels,
     reader: &mut io::CsvReader,
 ) -> Result<Vec<Record>> {
-    if is_uff(path) {
-        read_uff(path, channels)
+    let records = if is_uff(path) {
+        read_uff(path, channels)?
     } else {
-        with_kinds(reader.read(path)?, channels).map(|r| vec![r])
+        vec![with_kinds(reader.read(path)?, channels)?]
+    };
+    moved(records, channels)
+}
+
+/// `records` moved to the bearing plane by the geometry of `channels`, if it has one.
+fn moved(records: Vec<Record>, channels: &Channels) -> Result<Vec<Record>> {
+    match &channels.geometry {
+        None => Ok(records),
+        Some(g) => records.into_iter().map(|r| g.apply(r)).collect(),
     }
 }
 

@@ -44,13 +44,19 @@
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
 
+#[cfg(feature = "campaign")]
+mod campaign_report;
 mod field_report;
 mod figures;
 mod html;
 mod nonlinear_report;
 mod table;
 
+#[cfg(feature = "campaign")]
+pub use campaign_report::campaign_report;
 pub use field_report::{field_cells, field_report};
+#[cfg(feature = "campaign")]
+pub use figures::campaign;
 pub use figures::{
     coherence, convergence, field, flexibility, impedance, nonlinear, per_frequency, records,
     residual,
@@ -90,6 +96,9 @@ pub enum Figure {
     /// [`field`]: `K(Ω)`, `C(Ω)` and condition numbers per bearing of a
     /// [`FieldIdentification`](crate::field::FieldIdentification) (not in [`Figure::ALL`]).
     Field,
+    /// `campaign` (feature `campaign`): one block of coefficients against a test condition
+    /// over the points of a campaign (not in [`Figure::ALL`]).
+    Campaign,
 }
 
 impl Figure {
@@ -117,6 +126,7 @@ impl Figure {
             Figure::Residual => "residual",
             Figure::Nonlinear => "nonlinear",
             Figure::Field => "field",
+            Figure::Campaign => "campaign",
         }
     }
 }

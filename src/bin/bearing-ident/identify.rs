@@ -7,15 +7,14 @@ use std::path::PathBuf;
 
 use bearing_ident::excitation::Excitation;
 use bearing_ident::io::CsvLayout;
-use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, is_uff, read_first};
+use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, read_first};
 use bearing_ident::quality::ImpactChecks;
-use bearing_ident::uff::{UffChannel, UffLayout};
 use bearing_ident::{Estimator, Method, Uncertainty};
 use clap::ValueEnum;
 
-use crate::failure::{Failure, invalid};
+use crate::failure::Failure;
 use crate::output::{emit, write_report};
-use crate::parse::{library, response_columns};
+use crate::parse::library;
 use crate::report;
 
 mod nonlinear;
@@ -184,6 +183,11 @@ pub struct IdentifyArgs {
     /// Time column (s).
     #[arg(long, default_value = "t")]
     time: String,
+    /// Move the responses (and forces) to the bearing plane before the spectra: a TOML file
+    /// with the keys of a campaign plan's `[geometry]` (`mode = "conical"`, `pivot`,
+    /// `bearing`, `probes` one per response channel, optional `forces`; m).
+    #[arg(long, value_name = "FILE.toml")]
+    geometry: Option<PathBuf>,
     /// Known delay of channels, divided out of their spectra before any average: `NAME=0.25ms`
     /// (units s, ms, us), NAME a `--force`/`--disp` column or `force`/`response` for every
     /// channel of that kind (e.g. a multiplexed acquisition's skew); comma list.
@@ -225,66 +229,20 @@ pub struct IdentifyArgs {
     files: Vec<PathBuf>,
 }
 
-/// Where the forces and responses are in the files, from `--force`, `--disp`, `--response`.
+/// Where the forces and responses are in the files, from `--force`, `--disp`, `--response`,
+/// `--time`.
 fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
-    let defaults = CsvLayout::default();
-    let pick = |given: &[String], default: Vec<String>| {
-        if given.is_empty() {
-            default
-        } else {
-            given.to_vec()
-        }
-    };
-    let csv = CsvLayout {
-        time: args.time.clone(),
-        forces: pick(&args.force, defaults.forces),
-        displacements: pick(
-            &args.disp,
-            response_columns(&defaults.displacements, &args.response),
-        ),
-    };
-    if csv.forces.len() != csv.displacements.len() {
-        return Err(invalid(format!(
-            "--force names {} columns and --disp {}: one of each per degree of freedom",
-            csv.forces.len(),
-            csv.displacements.len()
-        )));
+    let mut channels = Channels::named(
+        &args.force,
+        &args.disp,
+        &args.response,
+        &args.time,
+        &args.files,
+    )?;
+    if let Some(path) = &args.geometry {
+        channels.geometry = Some(bearing_ident::campaign::Plan::read_geometry(path)?);
     }
-    let uff = if args.files.iter().any(|f| is_uff(f)) {
-        let channels = |given: &[String], option: &str| {
-            given
-                .iter()
-                .map(|c| {
-                    c.parse::<UffChannel>()
-                        .map_err(|e| invalid(format!("--{option}: {e}")))
-                })
-                .collect::<Result<Vec<_>, Failure>>()
-        };
-        UffLayout {
-            forces: channels(&args.force, "force")?,
-            responses: channels(&args.disp, "disp")?,
-            kinds: args.response.clone(),
-        }
-    } else {
-        UffLayout::default()
-    };
-    if !args.response.is_empty()
-        && args.response.len() != 1
-        && args.response.len() != csv.displacements.len()
-        && !args.files.iter().all(|f| is_uff(f))
-    {
-        return Err(invalid(format!(
-            "--response names {} kinds for {} response columns: give one for all or one per \
-             degree of freedom",
-            args.response.len(),
-            csv.displacements.len()
-        )));
-    }
-    Ok(Channels {
-        csv,
-        uff,
-        responses: args.response.clone(),
-    })
+    Ok(channels)
 }
 
 /// The library's options from the command line (`channels`: the column names `--delay` and

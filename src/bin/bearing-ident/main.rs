@@ -5,10 +5,11 @@
 //! A reader of stdout that goes away early (`… | head -1`) ends the tool quietly with status 0.
 //!
 //! This file parses the command line and dispatches; each subcommand lives in its own file
-//! (`identify.rs`, `demo.rs`, `simulate.rs`, `inspect.rs`, `field.rs`), with the string parsers in `parse.rs`, the
+//! (`identify.rs`, `demo.rs`, `simulate.rs`, `inspect.rs`, `field.rs`, `campaign.rs`), with the string parsers in `parse.rs`, the
 //! failure type and stdout in `failure.rs`, and the table, JSON and figures in `output.rs`
 //! and `report.rs`.
 
+mod campaign;
 mod channels;
 mod demo;
 mod export;
@@ -26,6 +27,7 @@ use std::process::ExitCode;
 use bearing_ident::error::{bounded, excerpt};
 use clap::{Parser, Subcommand};
 
+use crate::campaign::{CampaignArgs, campaign};
 use crate::demo::{DemoArgs, demo};
 use crate::failure::{print_err, print_out};
 use crate::field::{FieldArgs, field};
@@ -56,6 +58,10 @@ enum Command {
     /// Identify the bearings' K(Ω), C(Ω) of a running machine from imbalance responses and a
     /// model of its free rotor (`--rotor ROTOR.json --tests TESTS.json`).
     Field(Box<FieldArgs>),
+    /// Identify every test point of a campaign plan (TOML) and tabulate M, C, K against the
+    /// test conditions; figures, CSV, JSON and a ROSS table over rotor speed. Exit status 1
+    /// when a point failed (after everything is written).
+    Campaign(Box<CampaignArgs>),
 }
 
 fn main() -> ExitCode {
@@ -71,6 +77,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => a.json,
         Command::Inspect(a) => a.json,
         Command::Field(a) => a.json,
+        Command::Campaign(a) => a.json,
     };
     let outcome = match cli.command {
         Command::Identify(args) => identify(&args),
@@ -78,6 +85,12 @@ fn main() -> ExitCode {
         Command::Simulate(args) => simulate(&args),
         Command::Inspect(args) => inspect(&args),
         Command::Field(args) => field(&args),
+        Command::Campaign(args) => match campaign(&args) {
+            Ok(true) => Ok(()),
+            // Every point is reported and every output written; the status says one failed.
+            Ok(false) => return ExitCode::from(1),
+            Err(f) => Err(f),
+        },
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

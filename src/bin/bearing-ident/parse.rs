@@ -35,29 +35,3 @@ where
         .expect("every command-line value has a name");
     Ok(value.get_name().parse()?)
 }
-
-/// Default CSV names of response columns: the displacement names (`x, y`) prefixed `v` for
-/// velocity and `a` for acceleration (`vx, vy`, `ax, ay`), by `kinds` (none: displacement; one
-/// for all; or one per column). What `simulate --response` writes and `identify --response`
-/// reads unless `--disp` names the columns.
-pub fn response_columns(
-    displacements: &[String],
-    kinds: &[bearing_ident::Response],
-) -> Vec<String> {
-    use bearing_ident::Response;
-    displacements
-        .iter()
-        .enumerate()
-        .map(|(i, x)| {
-            let kind = match kinds {
-                [one] => *one,
-                _ => kinds.get(i).copied().unwrap_or_default(),
-            };
-            match kind {
-                Response::Displacement => x.clone(),
-                Response::Velocity => format!("v{x}"),
-                Response::Acceleration => format!("a{x}"),
-            }
-        })
-        .collect()
-}

@@ -1,6 +1,8 @@
 //! The six figures, one per file, and the helpers they share: `canvas` (the SVG string, series
 //! groups, palette, title and legend) and `chart` (charts, ticks, ranges, error bars).
 
+#[cfg(feature = "campaign")]
+mod campaign;
 mod canvas;
 mod chart;
 mod coherence;
@@ -14,6 +16,8 @@ mod records;
 mod residual;
 mod trace;
 
+#[cfg(feature = "campaign")]
+pub use campaign::campaign;
 pub(crate) use chart::tick;
 pub use coherence::coherence;
 pub use convergence::convergence;

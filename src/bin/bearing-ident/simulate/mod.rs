@@ -15,7 +15,8 @@ use bearing_ident::{Coefficients, Record};
 use clap::ValueEnum;
 
 use crate::failure::{Failure, invalid, print_out};
-use crate::parse::{parse_matrix, response_columns};
+use crate::parse::parse_matrix;
+use bearing_ident::job::response_columns;
 use nonlinear::NonlinearArgs;
 use records::{driven_records, random_records};
 

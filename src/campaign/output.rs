@@ -1,0 +1,364 @@
+//! A campaign's outputs: its JSON, the table of coefficients by point as CSV, and the text
+//! table for a terminal.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde_json::{Map, Value as Json, json};
+
+use super::plan::Value;
+use super::run::{Campaign, Fit, PointResult};
+use crate::error::{Error, Result};
+use crate::model::Coefficients;
+
+/// The blocks in the CSV's column order (`k…`, `c…`, `m…`), by letter.
+/// One block of a coefficient set.
+type Pick = fn(&Coefficients) -> faer::MatRef<'_, f64>;
+
+const BLOCKS: [(char, Pick); 3] = [
+    ('k', Coefficients::stiffness),
+    ('c', Coefficients::damping),
+    ('m', Coefficients::mass),
+];
+
+/// The axis letters of an `n`-DOF table: `x`, `y`, `z`, then `1`, `2`, … for more.
+fn axes(n: usize) -> Vec<String> {
+    if n <= 3 {
+        ["x", "y", "z"][..n]
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect()
+    } else {
+        (1..=n).map(|i| i.to_string()).collect()
+    }
+}
+
+fn value_json(v: &Option<Value>) -> Json {
+    match v {
+        None => Json::Null,
+        Some(Value::Number(x)) => (*x).into(),
+        Some(Value::Text(s)) => s.clone().into(),
+    }
+}
+
+impl Campaign {
+    /// The campaign as JSON: `conditions` (name → unit), `reused` (points from the cache)
+    /// and `points`, each with `name`, `conditions`, `files`, `M`, `C`, `K` and their
+    /// `*_std` (the system's), `bearing` (when it has a baseline), `expect` (the references
+    /// compared: `coefficient`, `reference`, `reference_std`, `value`, `std`, `z`),
+    /// `warning_kinds`, `warnings`; or `error: {kind, message}`.
+    pub fn to_json(&self) -> Json {
+        let conditions: Map<String, Json> = self
+            .plan
+            .conditions
+            .iter()
+            .map(|c| (c.name.clone(), c.unit.name().into()))
+            .collect();
+        let points: Vec<Json> = self.points.iter().map(|p| self.point_json(p)).collect();
+        json!({ "conditions": conditions, "reused": self.reused, "points": points })
+    }
+
+    fn point_json(&self, p: &PointResult) -> Json {
+        let conditions: Map<String, Json> = self
+            .plan
+            .conditions
+            .iter()
+            .zip(&p.values)
+            .map(|(c, v)| (c.name.clone(), value_json(v)))
+            .collect();
+        let mut out = json!({ "name": p.name, "conditions": conditions, "files": p.files });
+        let map = out.as_object_mut().expect("an object");
+        match &p.result {
+            Err(e) => {
+                map.insert(
+                    "error".into(),
+                    json!({ "kind": e.kind, "message": e.message }),
+                );
+            }
+            Ok(fit) => {
+                for key in [
+                    "M",
+                    "C",
+                    "K",
+                    "M_std",
+                    "C_std",
+                    "K_std",
+                    "bearing",
+                    "per_frequency",
+                ] {
+                    if let Some(v) = fit.json.get(key) {
+                        map.insert(key.into(), v.clone());
+                    }
+                }
+                let expect: Vec<Json> = fit
+                    .checks
+                    .iter()
+                    .map(|c| {
+                        json!({
+                            "coefficient": c.coefficient.name(),
+                            "reference": c.reference,
+                            "reference_std": c.reference_std,
+                            "value": c.value,
+                            "std": c.std,
+                            "z": c.z,
+                        })
+                    })
+                    .collect();
+                if !expect.is_empty() {
+                    map.insert("expect".into(), expect.into());
+                }
+                map.insert("warning_kinds".into(), fit.warning_kinds.clone().into());
+                map.insert("warnings".into(), fit.warnings.clone().into());
+                map.insert("reused".into(), fit.reused.into());
+            }
+        }
+        out
+    }
+
+    /// The coefficients by point as CSV: `name`, each condition (`name [unit]`), `baseline`
+    /// (the point subtracted, if any), then `kxx, kxx_std, kxy, …, myy, myy_std` (the
+    /// bearing's own when there is a baseline, else the system's; empty for a point that
+    /// failed or a term without error bar), then `status` (`ok`, `warnings`, or
+    /// `error:KIND`).
+    pub fn to_csv(&self) -> String {
+        let n = self
+            .points
+            .iter()
+            .find_map(|p| p.result.as_ref().ok().map(|f| f.coefficients.dofs()))
+            .unwrap_or(2);
+        let axes = axes(n);
+        let mut s = String::from("name");
+        for c in &self.plan.conditions {
+            let _ = write!(s, ",{} [{}]", csv_field(&c.name), csv_field(c.unit.name()));
+        }
+        s.push_str(",baseline");
+        for (letter, _) in BLOCKS {
+            for r in &axes {
+                for c in &axes {
+                    let _ = write!(s, ",{letter}{r}{c},{letter}{r}{c}_std");
+                }
+            }
+        }
+        s.push_str(",status\n");
+        for (i, p) in self.points.iter().enumerate() {
+            s.push_str(&csv_field(&p.name));
+            for v in &p.values {
+                let _ = write!(
+                    s,
+                    ",{}",
+                    v.as_ref()
+                        .map_or(String::new(), |v| csv_field(&v.to_string()))
+                );
+            }
+            let baseline = self.plan.points[i]
+                .baseline
+                .map_or(String::new(), |j| csv_field(&self.plan.points[j].name));
+            let _ = write!(s, ",{baseline}");
+            match &p.result {
+                Ok(fit) if fit.coefficients.dofs() == n => {
+                    let (c, std) = fit.reported();
+                    for (_, block) in BLOCKS {
+                        for r in 0..n {
+                            for col in 0..n {
+                                let sd = std.map_or(String::new(), |sd| {
+                                    format!("{:?}", block(sd)[(r, col)])
+                                });
+                                let _ = write!(s, ",{:?},{sd}", block(c)[(r, col)]);
+                            }
+                        }
+                    }
+                    let status = if fit.warning_kinds.is_empty() {
+                        "ok"
+                    } else {
+                        "warnings"
+                    };
+                    let _ = writeln!(s, ",{status}");
+                }
+                other => {
+                    s.push_str(&",".repeat(6 * n * n));
+                    let status = match other {
+                        Err(e) => format!("error:{}", e.kind),
+                        Ok(_) => "error:inconsistent_records".to_owned(),
+                    };
+                    let _ = writeln!(s, ",{status}");
+                }
+            }
+        }
+        s
+    }
+
+    /// Writes `coefficients.csv`, `campaign.json` and each identified point's JSON
+    /// (`NAME.json`, as `identify --json` prints it) into `dir`, made if missing.
+    ///
+    /// # Errors
+    /// [`Error::Io`] naming the file that cannot be written.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let io = |path: &Path| {
+            let path = path.display().to_string();
+            move |e: std::io::Error| Error::Io {
+                path: crate::error::excerpt(&path),
+                message: e.to_string(),
+            }
+        };
+        std::fs::create_dir_all(dir).map_err(io(dir))?;
+        let csv = dir.join("coefficients.csv");
+        std::fs::write(&csv, self.to_csv()).map_err(io(&csv))?;
+        let all = dir.join("campaign.json");
+        let text = serde_json::to_string_pretty(&self.to_json()).unwrap_or_default();
+        std::fs::write(&all, text + "\n").map_err(io(&all))?;
+        for p in &self.points {
+            if let Ok(fit) = &p.result {
+                let path = dir.join(json_file_name(&p.name));
+                let text = serde_json::to_string_pretty(&fit.json).unwrap_or_default();
+                std::fs::write(&path, text + "\n").map_err(io(&path))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The text table: one row per point with its conditions, the diagonal coefficients
+    /// `± σ` (the bearing's own when it has a baseline) and its warning kinds or error.
+    pub fn to_table(&self) -> String {
+        let mut header: Vec<String> = vec!["point".into()];
+        header.extend(
+            self.plan
+                .conditions
+                .iter()
+                .map(|c| format!("{} [{}]", c.name, c.unit.name())),
+        );
+        let n = self
+            .points
+            .iter()
+            .find_map(|p| p.result.as_ref().ok().map(|f| f.coefficients.dofs()))
+            .unwrap_or(0);
+        let axes = axes(n);
+        for (letter, unit) in [('K', "N/m"), ('C', "N·s/m"), ('M', "kg")] {
+            for a in &axes {
+                header.push(format!("{letter}_{a}{a} [{unit}]"));
+            }
+        }
+        header.push("warnings".into());
+        let mut rows_out = vec![header];
+        for p in &self.points {
+            let mut row = vec![p.name.clone()];
+            row.extend(
+                p.values
+                    .iter()
+                    .map(|v| v.as_ref().map_or("-".into(), Value::to_string)),
+            );
+            match &p.result {
+                Ok(fit) => {
+                    row.extend(diagonal(fit, n));
+                    row.push(if fit.warning_kinds.is_empty() {
+                        "-".into()
+                    } else {
+                        fit.warning_kinds.join(",")
+                    });
+                }
+                Err(e) => {
+                    row.extend(std::iter::repeat_n("-".to_owned(), 3 * n));
+                    row.push(format!("error {}: {}", e.kind, e.message));
+                }
+            }
+            rows_out.push(row);
+        }
+        let widths: Vec<usize> = (0..rows_out[0].len())
+            .map(|c| {
+                rows_out
+                    .iter()
+                    .map(|r| r.get(c).map_or(0, |s| s.chars().count()))
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        let mut s = String::new();
+        for row in &rows_out {
+            let cells: Vec<String> = row
+                .iter()
+                .zip(&widths)
+                .map(|(cell, w)| format!("{cell:<w$}"))
+                .collect();
+            let _ = writeln!(s, "{}", cells.join("  ").trim_end());
+        }
+        if self.reused > 0 {
+            let _ = writeln!(
+                s,
+                "{} of {} points reused from the cache",
+                self.reused,
+                self.points.len()
+            );
+        }
+        s
+    }
+}
+
+/// `value ± σ` of the diagonal terms of K, C, M (the reported set).
+fn diagonal(fit: &Fit, n: usize) -> Vec<String> {
+    let (c, std) = fit.reported();
+    if c.dofs() != n {
+        return vec!["-".into(); 3 * n];
+    }
+    let mut out = Vec::with_capacity(3 * n);
+    for block in [
+        Coefficients::stiffness,
+        Coefficients::damping,
+        Coefficients::mass,
+    ] {
+        for i in 0..n {
+            let v = block(c)[(i, i)];
+            out.push(match std {
+                Some(sd) => format!("{} ± {}", sig(v, 4), sig(block(sd)[(i, i)], 2)),
+                None => sig(v, 4),
+            });
+        }
+    }
+    out
+}
+
+/// `x` to `digits` significant digits: fixed-point from 10⁻³ to below 10⁶, else scientific.
+fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    if x.abs() >= 1e6 || x.abs() < 1e-3 {
+        return format!("{x:.prec$e}", prec = digits.saturating_sub(1));
+    }
+    let decimals = (digits as i32 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
+    format!("{x:.decimals$}")
+}
+
+/// A CSV field, quoted when it holds a comma, quote or line break.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+/// The file of a point's JSON in `--out`: its name with characters other than letters,
+/// digits, `-`, `_` and `.` as `_`, and `.json`.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::campaign::json_file_name;
+/// assert_eq!(json_file_name("oil 3000/a"), "oil_3000_a.json");
+/// assert_eq!(json_file_name(".."), "_...json");
+/// ```
+pub fn json_file_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with('.') {
+        format!("_{s}.json")
+    } else {
+        format!("{s}.json")
+    }
+}

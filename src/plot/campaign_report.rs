@@ -1,0 +1,183 @@
+//! The static HTML report of a campaign ([`campaign_report`]): the figures of `K`, `C`, `M`
+//! against a condition and the table of points.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::html::{create_dir, esc, page_head, page_tail, write_file};
+use super::{ReportOptions, significant as sig};
+use crate::campaign::{Campaign, Value};
+use crate::error::{Error, Result, excerpt};
+
+/// Writes `stiffness.svg`, `damping.svg`, `mass.svg` (the figure
+/// [`campaign`](super::campaign) of each block against condition `x`, by name; the first
+/// condition when `None`) and an `index.html` into `dir` (created if needed): the figures
+/// inline, then per point its conditions, the diagonal coefficients `± σ`, the references
+/// checked with their z-scores, its warnings or error, and a link to the point's JSON
+/// (`NAME.json`, as `campaign --out` writes it beside). Returns the files written,
+/// `index.html` last.
+///
+/// # Errors
+/// [`Error::InvalidOption`] (`x`) for a condition the plan does not have or a plan without
+/// conditions; [`Error::Io`] if a file cannot be written; [`Error::Plot`] if a figure fails.
+pub fn campaign_report(
+    campaign: &Campaign,
+    dir: &Path,
+    x: Option<&str>,
+    options: &ReportOptions,
+) -> Result<Vec<PathBuf>> {
+    let conditions = &campaign.plan.conditions;
+    let x = match x {
+        None if conditions.is_empty() => {
+            return Err(Error::InvalidOption {
+                option: "x",
+                message: "the plan has no [conditions] to draw the coefficients against".into(),
+            });
+        }
+        None => 0,
+        Some(name) => conditions
+            .iter()
+            .position(|c| c.name == name)
+            .ok_or_else(|| Error::InvalidOption {
+                option: "x",
+                message: format!(
+                    "--x `{}`: no such condition; expected one of {}",
+                    excerpt(name),
+                    conditions
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            })?,
+    };
+    create_dir(dir)?;
+    let mut written = Vec::new();
+    let mut svgs = Vec::new();
+    for (block, file) in [
+        ('K', "stiffness.svg"),
+        ('C', "damping.svg"),
+        ('M', "mass.svg"),
+    ] {
+        let svg = super::campaign(campaign, block, x, &options.figure)?;
+        written.push(write_file(&dir.join(file), &svg)?);
+        svgs.push(svg);
+    }
+    written.push(write_file(
+        &dir.join("index.html"),
+        &page(campaign, x, options, &svgs),
+    )?);
+    Ok(written)
+}
+
+fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String]) -> String {
+    let mut h = String::new();
+    page_head(&mut h, options);
+    let conditions = &campaign.plan.conditions;
+    let _ = writeln!(
+        h,
+        "<p>{} test points; coefficients against {} ({}). Points with a baseline show the \
+         bearing's own (system less the baseline point, variances added).</p>",
+        campaign.points.len(),
+        esc(&conditions[x].name),
+        esc(conditions[x].unit.name())
+    );
+    for (svg, caption) in svgs
+        .iter()
+        .zip(["Stiffness K", "Damping C", "Added mass M"])
+    {
+        let _ = writeln!(
+            h,
+            "<figure>\n{svg}\n<figcaption>{caption} per element against {} (± σ); crosses: \
+             independent references ± σ.</figcaption>\n</figure>",
+            esc(&conditions[x].name)
+        );
+    }
+    let _ = write!(h, "<h2>Points</h2>\n<table>\n<tr><th>point</th>");
+    for c in conditions {
+        let _ = write!(h, "<th>{} ({})</th>", esc(&c.name), esc(c.unit.name()));
+    }
+    let _ = writeln!(
+        h,
+        "<th>diagonal K, C, M ± σ</th><th>references (z)</th><th>warnings</th></tr>"
+    );
+    for p in &campaign.points {
+        let link = super::super::campaign::json_file_name(&p.name);
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"{}\">{}</a></td>",
+            esc(&link),
+            esc(&p.name)
+        );
+        for v in &p.values {
+            let _ = write!(
+                h,
+                "<td>{}</td>",
+                esc(&v.as_ref().map_or("—".into(), Value::to_string))
+            );
+        }
+        match &p.result {
+            Err(e) => {
+                let _ = write!(
+                    h,
+                    "<td colspan=\"3\" class=\"warn\">{}: {}</td>",
+                    esc(&e.kind),
+                    esc(&e.message)
+                );
+            }
+            Ok(fit) => {
+                let (c, s) = fit.reported();
+                let mut cells = Vec::new();
+                for (letter, block) in [
+                    (
+                        'K',
+                        crate::Coefficients::stiffness
+                            as fn(&crate::Coefficients) -> faer::MatRef<'_, f64>,
+                    ),
+                    ('C', crate::Coefficients::damping),
+                    ('M', crate::Coefficients::mass),
+                ] {
+                    for i in 0..c.dofs() {
+                        let v = block(c)[(i, i)];
+                        cells.push(match s {
+                            Some(s) => format!(
+                                "{letter}{i}{i} {} ± {}",
+                                sig(v, 4),
+                                sig(block(s)[(i, i)], 2)
+                            ),
+                            None => format!("{letter}{i}{i} {}", sig(v, 4)),
+                        });
+                    }
+                }
+                let refs: Vec<String> = fit
+                    .checks
+                    .iter()
+                    .map(|k| {
+                        format!(
+                            "{} {} ({})",
+                            k.coefficient.name(),
+                            sig(k.reference, 4),
+                            k.z.map_or("—".into(), |z| format!("{z:+.1}"))
+                        )
+                    })
+                    .collect();
+                let _ = write!(
+                    h,
+                    "<td>{}</td><td>{}</td><td{}>{}</td>",
+                    esc(&cells.join("; ")),
+                    esc(&refs.join("; ")),
+                    if fit.warning_kinds.is_empty() {
+                        ""
+                    } else {
+                        " class=\"warn\""
+                    },
+                    esc(&fit.warnings.join(" | "))
+                );
+            }
+        }
+        let _ = writeln!(h, "</tr>");
+    }
+    let _ = writeln!(h, "</table>");
+    page_tail(&mut h, options);
+    h
+}

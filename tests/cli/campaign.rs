@@ -1,0 +1,469 @@
+//! `bearing-ident campaign`: a plan's points identified exactly as `identify` identifies
+//! them, baselines, references, geometry, failures, the cache and the ROSS speed table, on
+//! impact records simulated into a temporary folder.
+
+use std::path::{Path, PathBuf};
+
+use bearing_ident::Coefficients;
+use bearing_ident::faer::mat;
+use bearing_ident::io::{CsvLayout, write_record};
+use bearing_ident::simulate::ImpactTest;
+use serde_json::Value;
+
+use crate::common::run;
+
+/// A 2-DOF system whose direct damping is `c` (N·s/m): the seed rig's mass and stiffness.
+fn system(c: f64) -> Coefficients {
+    Coefficients::new(
+        mat![[4.7, 0.0], [0.0, 4.8]],
+        mat![[c, 3.0], [-2.0, c]],
+        mat![[146.3e3, 22.3e3], [11.5e3, 169.1e3]],
+    )
+    .unwrap()
+}
+
+/// Writes `per_direction` noisy impacts per direction on `system` into `dir`, each response
+/// multiplied by `arm` (1 for probes at the bearing).
+fn write_hits(dir: &Path, system: &Coefficients, seed: u64, arm: [f64; 2]) {
+    std::fs::create_dir_all(dir).unwrap();
+    // 4 s at 1 kHz: long enough for the lightest damping here to ring down.
+    let test = ImpactTest {
+        per_direction: 3,
+        sample_rate: 1000.0,
+        duration_s: 4.0,
+        pulse_s: 0.005,
+        noise: 0.01,
+        seed,
+        ..ImpactTest::seed_rig()
+    };
+    for (k, r) in test.run(system).unwrap().iter().enumerate() {
+        let forces = (0..2).map(|i| r.force(i).to_vec()).collect();
+        let responses = (0..2)
+            .map(|i| r.displacement(i).iter().map(|x| x * arm[i]).collect())
+            .collect();
+        let r = bearing_ident::Record::new(r.label(), r.sample_rate(), forces, responses).unwrap();
+        write_record(dir.join(format!("hit-{k}.csv")), &r, &CsvLayout::default()).unwrap();
+    }
+}
+
+/// `value` without the keys that hold wall times.
+fn timeless(mut value: Value) -> Value {
+    if let Some(map) = value.as_object_mut() {
+        map.remove("compute_ms");
+        map.remove("timings_ms");
+    }
+    value
+}
+
+fn json_of(out: &std::process::Output) -> Value {
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{e}: stdout {} stderr {}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    })
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The files of a folder, sorted, as arguments.
+fn files(dir: &Path) -> Vec<String> {
+    let mut f: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    f.sort();
+    f.iter().map(|p| p.display().to_string()).collect()
+}
+
+const PLAN: &str = r#"
+[identify]
+band = [8.0, 49.0]
+[conditions]
+speed = "rpm"
+[geometry]
+mode = "conical"
+pivot = 0.0
+bearing = 0.151
+probes = [0.213, 0.254]
+[[point]]
+name = "dry"
+files = "dry/*.csv"
+speed = 0
+[point.expect]
+C_xx = [40.0, 0.5]
+K_xx = [146.3e3, 2e3]
+[[point]]
+name = "oil"
+files = ["oil/*.csv"]
+speed = 3000
+baseline = "dry"
+identify = { reject_bad_records = true }
+"#;
+
+/// Records of the plan above: dry (C = 40) and oil (C = 140), measured at the probes.
+fn study(dir: &Path) {
+    let arm = [0.213 / 0.151, 0.254 / 0.151];
+    write_hits(&dir.join("dry"), &system(40.0), 1, arm);
+    write_hits(&dir.join("oil"), &system(140.0), 2, arm);
+    std::fs::write(dir.join("plan.toml"), PLAN).unwrap();
+    std::fs::write(
+        dir.join("geometry.toml"),
+        "mode = \"conical\"\npivot = 0.0\nbearing = 0.151\nprobes = [0.213, 0.254]\n",
+    )
+    .unwrap();
+}
+
+/// Each point's JSON is, but for wall times, `identify --json` on its files with the same
+/// options (the geometry by `--geometry`, the baseline point by `--baseline` its saved JSON);
+/// the geometry brings back the coefficients at the bearing (the closed form of the lever
+/// arms), the baseline's variances add, and the references' z-scores are as stated.
+#[test]
+fn points_are_identify_bit_for_bit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    study(dir);
+    let out_dir = dir.join("out");
+    let plan = dir.join("plan.toml");
+    let out = run(&[
+        "campaign".as_ref(),
+        plan.as_os_str(),
+        "--json".as_ref(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let campaign = json_of(&out);
+
+    let geometry = dir.join("geometry.toml").display().to_string();
+    let mut args = vec![
+        "identify",
+        "--json",
+        "--band",
+        "8,49",
+        "--geometry",
+        &geometry,
+    ];
+    let dry_files = files(&dir.join("dry"));
+    args.extend(dry_files.iter().map(String::as_str));
+    let dry = json_of(&run(&args));
+    assert_eq!(
+        timeless(read_json(&out_dir.join("dry.json"))),
+        timeless(dry.clone())
+    );
+
+    let saved_dry = out_dir.join("dry.json").display().to_string();
+    let mut args = vec![
+        "identify",
+        "--json",
+        "--band",
+        "8,49",
+        "--geometry",
+        &geometry,
+        "--reject-bad-records",
+        "--baseline",
+        &saved_dry,
+    ];
+    let oil_files = files(&dir.join("oil"));
+    args.extend(oil_files.iter().map(String::as_str));
+    let mut oil = timeless(json_of(&run(&args)));
+    let mut point = timeless(read_json(&out_dir.join("oil.json")));
+    // The baseline is named by its source: a path there, a point here.
+    assert_eq!(point["bearing"]["baseline"], "point dry");
+    oil["bearing"]["baseline"] = "point dry".into();
+    point["bearing"]["baseline"] = "point dry".into();
+    assert_eq!(point, oil);
+
+    // The geometry: the lever arms undone, the coefficients are the bearing plane's.
+    let truth = system(40.0);
+    let k = dry["K"][0][0].as_f64().unwrap();
+    assert!(
+        (k / truth.stiffness()[(0, 0)] - 1.0).abs() < 2e-3,
+        "K_xx {k}"
+    );
+    let m = dry["M"][1][1].as_f64().unwrap();
+    assert!((m / 4.8 - 1.0).abs() < 2e-3, "M_yy {m}");
+
+    // Baseline: the bearing's own is the difference, its variance the sum.
+    let p = &campaign["points"][1];
+    let c = |v: &Value, i: usize, j: usize| v[i][j].as_f64().unwrap();
+    let bearing = &p["bearing"];
+    let (sys, dry_c) = (&p["C"], &campaign["points"][0]["C"]);
+    assert_eq!(c(&bearing["C"], 0, 0), c(sys, 0, 0) - c(dry_c, 0, 0));
+    let (s_sys, s_dry) = (
+        c(&p["C_std"], 0, 0),
+        c(&campaign["points"][0]["C_std"], 0, 0),
+    );
+    let s_b = c(&bearing["C_std"], 0, 0);
+    assert!(
+        (s_b - s_sys.hypot(s_dry)).abs() <= 1e-12 * s_b,
+        "{s_b} vs {s_sys} ⊕ {s_dry}"
+    );
+    assert!((c(&bearing["C"], 0, 0) / 100.0 - 1.0).abs() < 5e-3);
+
+    // References: z as stated; K_xx agrees, C_xx = 40 ± 0.5 agrees too.
+    let expect = campaign["points"][0]["expect"].as_array().unwrap();
+    assert_eq!(expect.len(), 2);
+    for e in expect {
+        let f = |k: &str| e[k].as_f64().unwrap();
+        let z = (f("value") - f("reference")) / f("std").hypot(f("reference_std"));
+        assert!((f("z") - z).abs() < 1e-12, "{e}");
+        assert!(f("z").abs() < 3.0, "{e}");
+    }
+    assert_eq!(campaign["conditions"]["speed"], "rpm");
+    assert_eq!(campaign["points"][1]["conditions"]["speed"], 3000.0);
+    let csv = std::fs::read_to_string(out_dir.join("coefficients.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(
+        header.starts_with("name,speed [rpm],baseline,kxx,kxx_std,kxy"),
+        "{header}"
+    );
+    assert!(csv.lines().nth(2).unwrap().starts_with("oil,3000,dry,"));
+}
+
+/// A reference far from the value warns `reference_mismatch`; a point whose files match
+/// nothing fails with its error, a point whose baseline failed fails naming it, the others
+/// complete, and the exit status is 1 after the JSON is printed.
+#[test]
+fn failures_stay_in_their_point() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    write_hits(&dir.join("a"), &system(50.0), 3, [1.0, 1.0]);
+    let plan = dir.join("plan.toml");
+    std::fs::write(
+        &plan,
+        "[identify]\nband = [8.0, 49.0]\n\
+         [[point]]\nname = \"a\"\nfiles = \"a/*.csv\"\n[point.expect]\nC_xx = [80.0, 1.0]\n\
+         [[point]]\nname = \"missing\"\nfiles = \"nowhere/*.csv\"\n\
+         [[point]]\nname = \"on-missing\"\nfiles = \"a/*.csv\"\nbaseline = \"missing\"\n",
+    )
+    .unwrap();
+    let out = run(&["campaign".as_ref(), plan.as_os_str(), "--json".as_ref()]);
+    assert_eq!(out.status.code(), Some(1));
+    let v = json_of(&out);
+    let p = &v["points"];
+    assert!(p[0].get("error").is_none());
+    assert_eq!(p[0]["warning_kinds"][0], "reference_mismatch");
+    assert!(p[0]["expect"][0]["z"].as_f64().unwrap() < -3.0);
+    assert_eq!(p[1]["error"]["kind"], "invalid_argument");
+    assert!(
+        p[1]["error"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("no file matches")
+    );
+    let m = p[2]["error"]["message"].as_str().unwrap();
+    assert!(m.starts_with("baseline point `missing` failed"), "{m}");
+    // The table says the same without --json.
+    let out = run(&["campaign".as_ref(), plan.as_os_str()]);
+    assert_eq!(out.status.code(), Some(1));
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table
+            .lines()
+            .nth(2)
+            .unwrap()
+            .contains("error invalid_argument"),
+        "{table}"
+    );
+}
+
+/// With `--cache`, a rerun reuses every point; after one file changes, the point holding it
+/// and the point using it as baseline are recomputed, the other reused, and the results are
+/// those of a run without cache.
+#[test]
+fn the_cache_recomputes_what_changed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    for (name, c, seed) in [("a", 40.0, 4), ("b", 70.0, 5), ("c", 100.0, 6)] {
+        write_hits(&dir.join(name), &system(c), seed, [1.0, 1.0]);
+    }
+    let plan = dir.join("plan.toml");
+    std::fs::write(
+        &plan,
+        "[identify]\nband = [8.0, 49.0]\n\
+         [[point]]\nname = \"a\"\nfiles = \"a/*.csv\"\n\
+         [[point]]\nname = \"b\"\nfiles = \"b/*.csv\"\nbaseline = \"a\"\n\
+         [[point]]\nname = \"c\"\nfiles = \"c/*.csv\"\n",
+    )
+    .unwrap();
+    let cache = dir.join("cache");
+    let go = || {
+        json_of(&run(&[
+            "campaign".as_ref(),
+            plan.as_os_str(),
+            "--json".as_ref(),
+            "--cache".as_ref(),
+            cache.as_os_str(),
+            "--jobs".as_ref(),
+            "2".as_ref(),
+        ]))
+    };
+    let first = go();
+    assert_eq!(first["reused"], 0);
+    let second = go();
+    assert_eq!(second["reused"], 3);
+    let strip = |v: &Value| {
+        let mut v = v.clone();
+        for p in v["points"].as_array_mut().unwrap() {
+            p.as_object_mut().unwrap().remove("reused");
+        }
+        v.as_object_mut().unwrap().remove("reused");
+        v
+    };
+    assert_eq!(strip(&first), strip(&second));
+    // Another record in place of a's first: a and b (its baseline is a) are recomputed.
+    write_hits(&dir.join("a"), &system(40.0), 40, [1.0, 1.0]);
+    let third = go();
+    assert_eq!(third["reused"], 1);
+    let reused: Vec<bool> = third["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["reused"].as_bool().unwrap())
+        .collect();
+    assert_eq!(reused, [false, false, true]);
+    let fresh = json_of(&run(&[
+        "campaign".as_ref(),
+        plan.as_os_str(),
+        "--json".as_ref(),
+    ]));
+    assert_eq!(strip(&third), strip(&fresh));
+    assert_ne!(first["points"][0]["K"], third["points"][0]["K"]);
+}
+
+/// A plan's faults are `invalid_input` naming the plan's line.
+#[test]
+fn plan_faults_name_the_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = tmp.path().join("plan.toml");
+    for (text, line, what) in [
+        (
+            "[identify]\nband = [8.0, 49.0]\nmetod = \"ls\"\n[[point]]\nname = \"a\"\nfiles = \"x\"\n",
+            3,
+            "unknown option `metod`",
+        ),
+        (
+            "[identify]\nband = [8.0, 49.0]\nmethod = \"lsq\"\n[[point]]\nname = \"a\"\nfiles = \"x\"\n",
+            3,
+            "lsq",
+        ),
+        ("[[point]]\nname = \"a\"\nfiles = \"x\"\n", 1, "has no band"),
+        (
+            "[identify]\nband = [8.0, 49.0]\n[[point]]\nname = \"a\"\nfiles = \"x\"\nbaseline = \"b\"\n",
+            6,
+            "baseline `b` names no point",
+        ),
+    ] {
+        std::fs::write(&plan, text).unwrap();
+        let out = run(&["campaign".as_ref(), plan.as_os_str(), "--json".as_ref()]);
+        assert_eq!(out.status.code(), Some(2));
+        let v = json_of(&out);
+        assert_eq!(v["error"], "invalid_input", "{v}");
+        let m = v["message"].as_str().unwrap();
+        assert!(
+            m.contains(&format!("plan.toml:{line}: ")) && m.contains(what),
+            "{m}"
+        );
+    }
+}
+
+/// `--ross`: one bearing element over the `speed` condition in rad/s, each speed's terms
+/// those of its point (the bearing's own, less the baseline); points differing in another
+/// condition are refused unless `--ross-where` picks a slice.
+#[test]
+fn ross_speed_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from(
+        "[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\nload = \"N\"\n",
+    );
+    write_hits(&dir.join("dry"), &system(40.0), 7, [1.0, 1.0]);
+    plan.push_str("[[point]]\nname = \"dry\"\nfiles = \"dry/*.csv\"\nspeed = 0\nload = 0\n");
+    for (k, rpm) in [1000.0, 2000.0, 3000.0, 4000.0, 5000.0].iter().enumerate() {
+        let name = format!("s{k}");
+        write_hits(
+            &dir.join(&name),
+            &system(80.0 + 10.0 * k as f64),
+            10 + k as u64,
+            [1.0, 1.0],
+        );
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\nload = 200\nbaseline = \"dry\"\n"
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let ross = dir.join("brg.toml");
+    let args = |extra: &[&str]| -> Vec<std::ffi::OsString> {
+        let mut a: Vec<std::ffi::OsString> = vec![
+            "campaign".into(),
+            path.clone().into(),
+            "--json".into(),
+            "--ross".into(),
+            ross.clone().into(),
+        ];
+        a.extend(extra.iter().map(Into::into));
+        a
+    };
+    let out = run(&args(&[]));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("differ in `load`"));
+    let out = run(&args(&[
+        "--ross-where",
+        "load=200",
+        "--ross-node",
+        "3",
+        "--ross-tag",
+        "sfd",
+    ]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = json_of(&out);
+    let table: toml::Table = std::fs::read_to_string(&ross).unwrap().parse().unwrap();
+    let element = table["BearingElement_sfd"].as_table().unwrap();
+    assert_eq!(element["n"].as_integer(), Some(3));
+    let floats = |key: &str| -> Vec<f64> {
+        element[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_float().unwrap())
+            .collect()
+    };
+    let speed = floats("speed");
+    assert_eq!(speed.len(), 5);
+    for (k, w) in speed.iter().enumerate() {
+        let rpm = 1000.0 * (k + 1) as f64;
+        assert!((w - rpm * std::f64::consts::PI / 30.0).abs() < 1e-9);
+        let b = &v["points"][k + 1]["bearing"];
+        assert_eq!(floats("cxx")[k], b["C"][0][0].as_f64().unwrap());
+        assert_eq!(floats("kyx")[k], b["K"][1][0].as_f64().unwrap());
+        assert_eq!(floats("myy")[k], b["M"][1][1].as_f64().unwrap());
+        assert!((floats("cxx")[k] / (40.0 + 10.0 * k as f64) - 1.0).abs() < 0.02);
+    }
+    // Per line: a 2-D table, speed × frequency.
+    let out = run(&args(&["--ross-where", "load=200", "--per-frequency"]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table: toml::Table = std::fs::read_to_string(&ross).unwrap().parse().unwrap();
+    let element = table["BearingElement_bearing"].as_table().unwrap();
+    let f = element["frequency"].as_array().unwrap().len();
+    let kxx = element["kxx"].as_array().unwrap();
+    assert_eq!(kxx.len(), 5);
+    assert!(kxx.iter().all(|row| row.as_array().unwrap().len() == f));
+    assert!(f >= 5);
+}
