@@ -27,11 +27,13 @@ from . import _native
 
 __all__ = [
     "BearingIdentError",
+    "Campaign",
     "Identification",
     "Record",
     "identify",
     "read_csv",
     "read_uff",
+    "run_campaign",
     "simulate",
 ]
 
@@ -238,6 +240,73 @@ class Identification:
             f"Identification(n={d['n']}, method={d['method']!r}, records={d['n_records']}, "
             f"band={tuple(d['band_hz'])}, warnings={len(self.warnings)})"
         )
+
+
+class Campaign:
+    """The result of :func:`run_campaign`: every test point of a plan.
+
+    ``points`` is the list of point dicts of the CLI's ``campaign --json`` (``name``,
+    ``conditions``, ``files``, ``M``, ``C``, ``K``, their ``*_std``, ``bearing``, ``expect``,
+    ``warning_kinds``, or ``error``); :meth:`to_dict` the whole object.
+    """
+
+    def __init__(self, native) -> None:
+        self._native = native
+        self._dict = _json.loads(native.json())
+        self.conditions = dict(self._dict["conditions"])
+        self.points = self._dict["points"]
+        self.failed = [p["name"] for p in self.points if "error" in p]
+
+    def to_dict(self) -> dict:
+        """The campaign as ``bearing-ident campaign --json`` prints it (a fresh copy)."""
+        return _json.loads(_json.dumps(self._dict))
+
+    def point_results(self) -> list[dict | None]:
+        """Each point's full result, as ``bearing-ident identify --json`` prints it on its
+        files (``None`` for a point that failed)."""
+        return [None if j is None else _json.loads(j) for j in self._native.point_json()]
+
+    def to_csv(self) -> str:
+        """The coefficients by point as CSV (``campaign --out``'s ``coefficients.csv``)."""
+        return self._native.csv()
+
+    def to_ross_toml(self, n: int = 0, tag: str = "bearing", where: dict | None = None) -> str:
+        """The bearing as one ROSS 3.x ``BearingElement`` over the plan's ``speed`` condition
+        (rad/s), from the points whose conditions equal ``where`` (e.g. ``{"load": 200}``)."""
+        return _call(self._native.ross_toml, n, tag, list((where or {}).items()))
+
+    def write(self, folder: str) -> None:
+        """Writes ``coefficients.csv``, ``campaign.json`` and each point's JSON into ``folder``."""
+        _call(self._native.write, str(folder))
+
+    def __str__(self) -> str:
+        return self._native.table()
+
+    def __repr__(self) -> str:
+        return f"Campaign(points={len(self.points)}, failed={len(self.failed)})"
+
+
+def run_campaign(
+    plan: str,
+    jobs: int | None = None,
+    cache: str | None = None,
+    per_frequency: bool = False,
+) -> Campaign:
+    """Runs a campaign plan (TOML, as ``bearing-ident campaign`` reads it): every point
+    identified exactly as ``identify`` does on its files, ``jobs`` at once (default: the
+    cores), results kept in ``cache`` (a folder) by a digest of files and settings. The GIL
+    is released while it runs. A point that fails carries ``error`` in :attr:`Campaign.points`;
+    a plan that is not well formed raises :class:`InvalidInputError` naming its line.
+
+    >>> import bearing_ident as bi, tempfile, os
+    >>> d = tempfile.mkdtemp()
+    >>> with open(os.path.join(d, "plan.toml"), "w") as f:
+    ...     _ = f.write('[identify]\\nband = [8.0, 49.0]\\n[[point]]\\nname = "a"\\nfiles = "none/*.csv"\\n')
+    >>> c = bi.run_campaign(os.path.join(d, "plan.toml"))
+    >>> c.failed, c.points[0]["error"]["kind"]
+    (['a'], 'invalid_argument')
+    """
+    return Campaign(_call(_native.campaign, str(plan), jobs, None if cache is None else str(cache), per_frequency))
 
 
 def _text(value: Any) -> str:

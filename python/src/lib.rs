@@ -3,6 +3,7 @@
 //! by keyword, exceptions by kind). Arrays are read once into the crate's records (float64 or
 //! float32, any strides); the identification runs with the GIL released.
 
+use bearing_ident::campaign::{Campaign, Plan, RunOptions, Value};
 use bearing_ident::export::ross::{BearingElement, Table};
 use bearing_ident::job::{Channels, Job, Options, Outcome};
 use bearing_ident::{Error, Record, Response};
@@ -189,25 +190,14 @@ fn read_files(
     time: String,
     response: Vec<String>,
 ) -> PyResult<Vec<PyRecordOut>> {
-    let mut channels = Channels::default();
-    channels.csv.time = time;
-    if !force.is_empty() {
-        channels.csv.forces = force.clone();
-    }
-    if !disp.is_empty() {
-        channels.csv.displacements = disp.clone();
-    }
-    let uff_channel = |c: &String| c.parse().map_err(|e: Error| raise(&e));
-    if paths.iter().any(|p| bearing_ident::job::is_uff(p.as_ref())) {
-        channels.uff.forces = force.iter().map(uff_channel).collect::<PyResult<_>>()?;
-        channels.uff.responses = disp.iter().map(uff_channel).collect::<PyResult<_>>()?;
-    }
-    channels.responses = response
+    let responses = response
         .iter()
         .map(|k| k.parse::<Response>())
-        .collect::<Result<_, _>>()
+        .collect::<Result<Vec<_>, _>>()
         .map_err(|e| raise(&e))?;
-    channels.uff.kinds = channels.responses.clone();
+    let files: Vec<std::path::PathBuf> = paths.iter().map(Into::into).collect();
+    let channels =
+        Channels::named(&force, &disp, &responses, &time, &files).map_err(|e| raise(&e))?;
     let mut out = Vec::new();
     for path in &paths {
         let records =
@@ -215,6 +205,100 @@ fn read_files(
         out.extend(records.iter().map(record_out));
     }
     Ok(out)
+}
+
+/// A campaign run: every point of a plan, as `bearing-ident campaign` reports them.
+#[pyclass(frozen, module = "bearing_ident._native")]
+struct NativeCampaign {
+    campaign: Campaign,
+}
+
+#[pymethods]
+impl NativeCampaign {
+    /// The campaign's JSON, as `bearing-ident campaign --json` prints it.
+    fn json(&self) -> String {
+        self.campaign.to_json().to_string()
+    }
+
+    /// Each point's JSON, as `bearing-ident identify --json` prints it (`None` for a point
+    /// that failed).
+    fn point_json(&self) -> Vec<Option<String>> {
+        self.campaign
+            .points
+            .iter()
+            .map(|p| p.result.as_ref().ok().map(|f| f.json.to_string()))
+            .collect()
+    }
+
+    /// The coefficients by point as CSV.
+    fn csv(&self) -> String {
+        self.campaign.to_csv()
+    }
+
+    /// The text table.
+    fn table(&self) -> String {
+        self.campaign.to_table()
+    }
+
+    /// The ROSS speed table (TOML) at node `n` with tag `tag`, over the points whose
+    /// conditions equal `slice` (name, value) pairs.
+    fn ross_toml(
+        &self,
+        n: usize,
+        tag: &str,
+        slice: Vec<(String, Bound<'_, PyAny>)>,
+    ) -> PyResult<String> {
+        let slice = slice
+            .into_iter()
+            .map(|(name, v)| {
+                let value = match v.extract::<f64>() {
+                    Ok(x) => Value::Number(x),
+                    Err(_) => Value::Text(v.str()?.to_string()),
+                };
+                Ok((name, value))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        self.campaign
+            .ross_speed_table(n, tag, &slice)
+            .map(|t| t.to_toml())
+            .map_err(|e| raise(&e))
+    }
+
+    /// Writes `coefficients.csv`, `campaign.json` and each point's JSON into `dir`.
+    fn write(&self, dir: String) -> PyResult<()> {
+        self.campaign.write(dir.as_ref()).map_err(|e| raise(&e))
+    }
+}
+
+/// Runs the campaign plan at `plan` (TOML), the GIL released.
+#[pyfunction]
+#[pyo3(signature = (plan, jobs=None, cache=None, per_frequency=false))]
+fn campaign(
+    py: Python<'_>,
+    plan: String,
+    jobs: Option<usize>,
+    cache: Option<String>,
+    per_frequency: bool,
+) -> PyResult<NativeCampaign> {
+    if jobs == Some(0) {
+        return Err(invalid("jobs = 0: expected at least 1".into()));
+    }
+    let plan = Plan::read(plan.as_ref()).map_err(|e| raise(&e))?;
+    let mut run = RunOptions {
+        cache: cache.map(Into::into),
+        per_frequency,
+        ..RunOptions::default()
+    };
+    if let Some(jobs) = jobs {
+        run.jobs = jobs;
+    }
+    let campaign = py
+        .detach(|| {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| plan.run(&run, |_, _| {})))
+        })
+        .map_err(|_| NativeError::new_err(("internal", "the campaign panicked")))?
+        .map_err(|e| raise(&e))?;
+    Ok(NativeCampaign { campaign })
 }
 
 /// Records of the seed's rig (or a given system) simulated by the crate: `kind` `impact` (hits
@@ -290,6 +374,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ERROR_KINDS", kinds)?;
     m.add("OPTION_NAMES", Options::NAMES.to_vec())?;
     m.add_class::<NativeResult>()?;
+    m.add_class::<NativeCampaign>()?;
+    m.add_function(wrap_pyfunction!(campaign, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(read_files, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;

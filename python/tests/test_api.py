@@ -247,3 +247,48 @@ def test_ross_hand_off():
     np.testing.assert_allclose(element.K(w)[:2, :2], result.K, rtol=1e-9)
     np.testing.assert_allclose(element.C(w)[:2, :2], result.C, rtol=1e-9)
     np.testing.assert_allclose(element.M(w)[:2, :2], result.M, rtol=1e-9)
+
+
+@needs_cli
+def test_campaign_equals_the_cli(tmp_path):
+    """A plan run from Python gives the CLI's `campaign --json`, each point's result the CLI's
+    `identify --json` on its files (wall times aside), and the ROSS speed table the CLI's."""
+    for k, seed in enumerate([3, 4, 5, 6, 7, 8]):
+        subprocess.run(
+            [CLI, "simulate", "--impacts", "2", "--noise", "0.01", "--seed", str(seed), "--out", str(tmp_path / f"p{k}")],
+            check=True,
+            capture_output=True,
+        )
+    plan = tmp_path / "plan.toml"
+    text = '[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = "rpm"\n'
+    text += '[[point]]\nname = "p0"\nfiles = "p0/*.csv"\nspeed = 0\n'
+    for k in range(1, 6):
+        text += f'[[point]]\nname = "p{k}"\nfiles = "p{k}/*.csv"\nspeed = {1000 * k}\nbaseline = "p0"\n'
+    plan.write_text(text)
+    c = bi.run_campaign(str(plan), jobs=2)
+    cli = json.loads(subprocess.run([CLI, "campaign", str(plan), "--json"], capture_output=True, text=True, check=True).stdout)
+    assert c.to_dict() == cli
+    assert c.failed == []
+    timeless = lambda d: {k: v for k, v in d.items() if k not in ("compute_ms", "timings_ms")}
+    files = sorted(str(p) for p in (tmp_path / "p0").glob("*.csv"))
+    one = json.loads(subprocess.run([CLI, "identify", "--json", "--band", "8,49", *files], capture_output=True, text=True, check=True).stdout)
+    assert timeless(c.point_results()[0]) == timeless(one)
+    ross = tmp_path / "brg.toml"
+    subprocess.run([CLI, "campaign", str(plan), "--ross", str(ross), "--ross-tag", "sfd"], check=True, capture_output=True)
+    assert c.to_ross_toml(0, "sfd") == ross.read_text()
+    c.write(str(tmp_path / "out"))
+    assert (tmp_path / "out" / "coefficients.csv").read_text() == c.to_csv()
+
+
+def test_campaign_faults():
+    """A plan that does not parse raises InvalidInputError naming the line; jobs=0 is refused."""
+    import tempfile
+
+    d = tempfile.mkdtemp()
+    path = os.path.join(d, "plan.toml")
+    with open(path, "w") as f:
+        f.write('[identify]\nband = [8.0, 49.0]\nbnad = 3\n[[point]]\nname = "a"\nfiles = "x"\n')
+    with pytest.raises(bi.InvalidInputError, match="plan.toml:3: unknown option `bnad`"):
+        bi.run_campaign(path)
+    with pytest.raises(bi.InvalidArgumentError):
+        bi.run_campaign(path, jobs=0)
