@@ -203,6 +203,83 @@ mod tests {
         assert!((z_b - 6.0).abs() < 1e-12);
     }
 
+    /// Noise-free hits on a known system, measured at probes beyond the bearing and driven at
+    /// a force plane off it, come back to the bearing plane's coefficients: the lever arms
+    /// undone exactly.
+    #[test]
+    fn the_bearing_plane_is_recovered() {
+        use crate::job::{Channels, Job, Options};
+        use crate::simulate::{ImpactTest, seed_rig};
+        let (pivot, bearing) = (0.0, 0.151);
+        let (probes, forces) = ([0.213, 0.254], [0.18, 0.12]);
+        let g = Geometry::conical(pivot, bearing, probes.to_vec(), Some(forces.to_vec())).unwrap();
+        let truth = seed_rig();
+        let hits = ImpactTest {
+            per_direction: 2,
+            ..ImpactTest::seed_rig()
+        }
+        .run(&truth)
+        .unwrap();
+        // As measured: the probe sees x_B (z_s − z_p)/(z_B − z_p); the hammer at z_f applies
+        // F with F_B = F (z_f − z_p)/(z_B − z_p), so the force channel reads F_B over that.
+        let measured: Vec<Record> = hits
+            .iter()
+            .map(|r| {
+                let f = (0..2)
+                    .map(|i| r.force(i).iter().map(|v| v / g.force_factor(i)).collect())
+                    .collect();
+                let x = (0..2)
+                    .map(|i| {
+                        r.displacement(i)
+                            .iter()
+                            .map(|v| v / g.response_factor(i))
+                            .collect()
+                    })
+                    .collect();
+                Record::new(r.label(), r.sample_rate(), f, x).unwrap()
+            })
+            .collect();
+        let channels = Channels {
+            geometry: Some(g),
+            ..Channels::default()
+        };
+        let job = Job::new(Options::new(8.0, 49.0), channels);
+        let id = job.run_records(measured.clone()).unwrap();
+        let got = id.identification().coefficients();
+        for (a, b) in [
+            (got.mass(), truth.mass()),
+            (got.damping(), truth.damping()),
+            (got.stiffness(), truth.stiffness()),
+        ] {
+            for i in 0..2 {
+                for j in 0..2 {
+                    let scale = b[(i, i)].abs();
+                    assert!(
+                        (a[(i, j)] - b[(i, j)]).abs() < 1e-6 * scale,
+                        "{i}{j}: {} vs {}",
+                        a[(i, j)],
+                        b[(i, j)]
+                    );
+                }
+            }
+        }
+        // Without the geometry the probes' impedance is another: K_xx off by the lever arms.
+        let plain = Job::new(Options::new(8.0, 49.0), Channels::default())
+            .run_records(measured)
+            .unwrap();
+        let k = plain.identification().coefficients().stiffness()[(0, 0)];
+        let arms = g_factor(0.213, 0.18);
+        assert!(
+            (k * arms / truth.stiffness()[(0, 0)] - 1.0).abs() < 1e-6,
+            "{k}"
+        );
+    }
+
+    /// `Z_B / Z_s` for a probe at `zs` and a force at `zf` (pivot 0, bearing 0.151).
+    fn g_factor(zs: f64, zf: f64) -> f64 {
+        (zf / 0.151) * (zs / 0.151)
+    }
+
     /// Every bad geometry is refused naming the key; a record of the wrong width too.
     #[test]
     fn bad_geometry_is_refused() {

@@ -254,7 +254,7 @@ impl Job {
     }
 
     /// Identifies `records` (at least one) as [`Job::run_files`] identifies files: the same
-    /// detection, settings, Welch choice and baseline.
+    /// geometry ([`Channels::geometry`]), detection, settings, Welch choice and baseline.
     ///
     /// # Errors
     /// [`Error::NoRecords`] for none; [`Error::InvalidOption`] for options that do not fit the
@@ -265,6 +265,14 @@ impl Job {
         if records.is_empty() {
             return Err(Error::NoRecords);
         }
+        // Records in memory are moved to the bearing plane as files are.
+        let records = match &self.channels.geometry {
+            Some(g) => records
+                .into_iter()
+                .map(|r| g.apply(r))
+                .collect::<Result<_>>()?,
+            None => records,
+        };
         self.run(Source::Read(records), Instant::now(), &mut |_| {})
     }
 
