@@ -145,7 +145,7 @@ pub mod uff;
 
 // The types the façade's signatures name, at the crate root.
 pub use conditioning::{ConditionLimits, Conditioning};
-pub use error::{Block, Channel, Error, Result, Warning};
+pub use error::{Block, Channel, Error, ErrorKind, Parameter, Result, Warning};
 pub use excitation::Excitation;
 pub use frf::{Assignment, Band, Estimator, Frf};
 pub use gate::FitGate;

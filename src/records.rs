@@ -51,7 +51,7 @@ pub(crate) fn finite_positive(value: f64) -> bool {
 /// [`Error::InvalidParameter`] naming `name` unless `value` is [finite and
 /// positive](finite_positive).
 pub(crate) fn require_finite_positive(
-    name: &'static str,
+    name: crate::Parameter,
     value: f64,
     expected: &'static str,
 ) -> Result<()> {
@@ -371,7 +371,7 @@ impl Record {
     pub fn trimmed(&self, range: Range<usize>) -> Result<Record> {
         if range.end > self.len() || range.start > range.end {
             return Err(Error::InvalidParameter {
-                name: "trim range end",
+                name: crate::Parameter::TrimRangeEnd,
                 value: range.end as f64,
                 expected: "start ≤ end ≤ record length",
             });
@@ -482,7 +482,7 @@ pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Result<Vec<f
 fn plane_ratio(num: f64, den: f64, planes: [f64; 3], expected: &'static str) -> Result<f64> {
     if let Some(&z) = planes.iter().find(|z| !z.is_finite()) {
         return Err(Error::InvalidParameter {
-            name: "plane position",
+            name: crate::Parameter::PlanePosition,
             value: z,
             expected: "finite (m)",
         });
@@ -490,7 +490,7 @@ fn plane_ratio(num: f64, den: f64, planes: [f64; 3], expected: &'static str) -> 
     let r = num / den;
     if !r.is_finite() {
         return Err(Error::InvalidParameter {
-            name: "distance between the planes",
+            name: crate::Parameter::DistanceBetweenThePlanes,
             value: den,
             expected,
         });
@@ -506,7 +506,7 @@ fn finite_samples(samples: impl Iterator<Item = f64>) -> Result<Vec<f64>> {
                 Ok(x)
             } else {
                 Err(Error::InvalidParameter {
-                    name: "transformed sample",
+                    name: crate::Parameter::TransformedSample,
                     value: x,
                     expected: "finite: every sample and the plane ratio finite",
                 })

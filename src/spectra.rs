@@ -64,7 +64,7 @@ impl Window {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn exponential(decay_per_s: f64) -> Result<Window> {
-        Window::Exponential { decay_per_s }.checked()
+        Window::Exponential { decay_per_s }.check()
     }
 
     /// The window itself if its parameters are valid (an exponential window's decay finite
@@ -74,11 +74,11 @@ impl Window {
     /// # Errors
     /// [`Error::InvalidParameter`] for an exponential window's decay that is NaN, negative or
     /// infinite.
-    pub(crate) fn checked(self) -> Result<Window> {
+    pub(crate) fn check(self) -> Result<Window> {
         if let Some(a) = self.decay_per_s() {
             if !(a.is_finite() && a >= 0.0) {
                 return Err(Error::InvalidParameter {
-                    name: "exponential window decay",
+                    name: crate::Parameter::ExponentialWindowDecay,
                     value: a,
                     expected: "finite and ≥ 0 (1/s)",
                 });
@@ -171,10 +171,14 @@ impl ForceGate {
     /// # Errors
     /// [`Error::InvalidParameter`] unless `open_s > 0` and `taper_s ≥ 0`, both finite.
     pub fn new(open_s: f64, taper_s: f64) -> Result<Self> {
-        require_finite_positive("force gate", open_s, "finite and positive (s)")?;
+        require_finite_positive(
+            crate::Parameter::ForceGate,
+            open_s,
+            "finite and positive (s)",
+        )?;
         if !(taper_s.is_finite() && taper_s >= 0.0) {
             return Err(Error::InvalidParameter {
-                name: "force gate taper",
+                name: crate::Parameter::ForceGateTaper,
                 value: taper_s,
                 expected: "finite and ≥ 0 (s)",
             });
@@ -252,7 +256,7 @@ impl Segmentation {
             }
             Segmentation::Welch { len } | Segmentation::Periods { len } => {
                 Err(Error::InvalidParameter {
-                    name: "segment length",
+                    name: crate::Parameter::SegmentLength,
                     value: len as f64,
                     expected: "8 ≤ segment (period) length ≤ record length",
                 })
@@ -413,13 +417,17 @@ impl SpectralEstimator {
     pub fn new(len: usize, sample_rate: f64, window: Window) -> Result<Self> {
         if len < 2 {
             return Err(Error::InvalidParameter {
-                name: "spectral segment length",
+                name: crate::Parameter::SpectralSegmentLength,
                 value: len as f64,
                 expected: "at least 2 samples",
             });
         }
-        require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
-        let window = window.checked()?;
+        require_finite_positive(
+            crate::Parameter::SampleRate,
+            sample_rate,
+            "finite and positive (Hz)",
+        )?;
+        let window = window.check()?;
         let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
         let dt = 1.0 / sample_rate;
         let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
@@ -596,7 +604,7 @@ mod tests {
                 matches!(
                     e,
                     Error::InvalidParameter {
-                        name: "exponential window decay",
+                        name: crate::Parameter::ExponentialWindowDecay,
                         ..
                     }
                 ),

@@ -133,20 +133,24 @@ fn fit_sine(signal: &[f64], w: f64) -> Option<([f64; 3], f64)> {
 }
 
 fn check_rate(sample_rate: f64) -> Result<()> {
-    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")
+    require_finite_positive(
+        crate::Parameter::SampleRate,
+        sample_rate,
+        "finite and positive (Hz)",
+    )
 }
 
 fn check_signal(signal: &[f64]) -> Result<()> {
     if signal.len() < MIN_SAMPLES {
         return Err(Error::InvalidParameter {
-            name: "signal length",
+            name: crate::Parameter::SignalLength,
             value: signal.len() as f64,
             expected: "at least 8 samples",
         });
     }
     match signal.iter().find(|v| !v.is_finite()) {
         Some(&value) => Err(Error::InvalidParameter {
-            name: "signal sample",
+            name: crate::Parameter::SignalSample,
             value,
             expected: "finite",
         }),
@@ -184,14 +188,14 @@ pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
     check_signal(signal)?;
     if !(finite_positive(freq_hz) && freq_hz < sample_rate / 2.0) {
         return Err(Error::InvalidParameter {
-            name: "phasor frequency",
+            name: crate::Parameter::PhasorFrequency,
             value: freq_hz,
             expected: "0 < frequency < sample rate / 2 (Hz)",
         });
     }
     let w = 2.0 * PI * freq_hz / sample_rate;
     let ([a, b, _], _) = fit_sine(signal, w).ok_or(Error::InvalidParameter {
-        name: "phasor frequency",
+        name: crate::Parameter::PhasorFrequency,
         value: freq_hz,
         expected: "a frequency the record resolves (about half a period or more, \
                    away from DC and Nyquist)",
@@ -243,7 +247,7 @@ impl DriveFrequency {
         let len = signal.len();
         // Flat: no swing beyond rounding of its level (a constant, or zero).
         let flat = Error::InvalidParameter {
-            name: "signal",
+            name: crate::Parameter::Signal,
             value: 0.0,
             expected: "a sine drive, not a flat signal",
         };
@@ -406,7 +410,7 @@ pub fn stepped_sine(
     }
     if !(tolerance_hz.is_finite() && tolerance_hz >= 0.0) {
         return Err(Error::InvalidParameter {
-            name: "step tolerance",
+            name: crate::Parameter::StepTolerance,
             value: tolerance_hz,
             expected: "finite and ≥ 0 (Hz)",
         });
@@ -560,7 +564,7 @@ mod tests {
         assert!(matches!(
             phasor(&x[..10], 0.01, 100.0),
             Err(Error::InvalidParameter {
-                name: "phasor frequency",
+                name: crate::Parameter::PhasorFrequency,
                 ..
             })
         ));
@@ -590,7 +594,10 @@ mod tests {
         assert!((got - 21.7).abs() < 2e-3, "{got}");
         assert!(matches!(
             drive_frequency(&[0.0; 64], 400.0),
-            Err(Error::InvalidParameter { name: "signal", .. })
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::Signal,
+                ..
+            })
         ));
         assert!(drive_frequency(&[1.0; 4], 400.0).is_err());
         assert!(drive_frequency(&x, -1.0).is_err());
@@ -675,7 +682,10 @@ mod tests {
         let flat = Record::new("flat", fs, vec![vec![0.0; 64]; 2], vec![vec![0.0; 64]; 2]);
         assert!(matches!(
             stepped_sine(&[flat.unwrap()], &Assignment::DominantForce, None, 0.1),
-            Err(Error::InvalidParameter { name: "signal", .. })
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::Signal,
+                ..
+            })
         ));
         // Both records drive x: the paired matrix is singular, so the step is dropped.
         let explicit = Assignment::Explicit(vec![0, 1]);

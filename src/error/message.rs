@@ -1,5 +1,6 @@
 //! The parts of [`Error`](super::Error)'s messages that need code: the line spacing of a band, a
-//! size past a limit, the advice for a field test's dependent responses.
+//! size past a limit, an iterative fit's last change, the advice for a field test's dependent
+//! responses.
 
 /// Why a field identification's response pairs are singular everywhere, and what to change.
 pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
@@ -29,11 +30,48 @@ pub(super) fn size(value: f64) -> String {
     }
 }
 
+/// An iterative fit's last relative change as messages print it: `1.234e-5`, or `not
+/// reported` where the fit keeps none.
+pub(super) fn change_text(change: Option<f64>) -> String {
+    change.map_or_else(|| "not reported".to_owned(), |c| format!("{c:.3e}"))
+}
+
 #[cfg(test)]
 mod tests {
     #[cfg(feature = "csv")]
     use crate::error::CsvLimitKind;
     use crate::error::{Channel, Error};
+
+    #[test]
+    fn a_baseline_failure_keeps_its_source_and_a_missing_change_is_said() {
+        use std::error::Error as _;
+        let inner = Error::NoRecords;
+        let e = Error::Baseline {
+            path: "dry/".into(),
+            source: Box::new(inner.clone()),
+        };
+        assert_eq!(e.to_string(), "--baseline dry/: no records were given");
+        assert_eq!(e.source().map(ToString::to_string), Some(inner.to_string()));
+        let e = Error::NotConverged {
+            method: crate::Method::Ml,
+            iterations: 50,
+            change: None,
+        };
+        assert!(
+            e.to_string()
+                .ends_with("(last relative change not reported)"),
+            "{e}"
+        );
+        let e = Error::NotConverged {
+            method: crate::Method::Ivf,
+            iterations: 50,
+            change: Some(1.5e-3),
+        };
+        assert!(
+            e.to_string().ends_with("(last relative change 1.500e-3)"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn messages_carry_the_numbers() {

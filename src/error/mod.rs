@@ -15,12 +15,15 @@
 mod convert;
 mod kind;
 mod message;
+mod parameter;
 mod quote;
 mod subject;
 mod warning;
 mod warning_text;
 
-use message::{rank_deficient_advice, size, spacing};
+pub use kind::ErrorKind;
+use message::{change_text, rank_deficient_advice, size, spacing};
+pub use parameter::Parameter;
 pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
@@ -35,11 +38,20 @@ pub enum Error {
     /// A numeric parameter is outside its valid range.
     #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
     InvalidParameter {
-        /// Name of the parameter.
-        name: &'static str,
+        /// Which parameter.
+        name: Parameter,
         /// The value given.
         value: f64,
         /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// A setting that is not a number is invalid: settings that do not go together, or a
+    /// text that does not parse as the setting's items.
+    #[error("parameter `{name}` is invalid: expected {expected}")]
+    InvalidSetting {
+        /// Which setting.
+        name: Parameter,
+        /// What is accepted, in words.
         expected: &'static str,
     },
     /// A name given for a choice (a method, an estimator, an excitation…) is not one of its
@@ -395,15 +407,17 @@ pub enum Error {
     },
     /// An iterative fit did not converge and the caller asked for convergence.
     #[error(
-        "{method} did not converge in {iterations} iterations (last relative change {change:.3e})"
+        "{method} did not converge in {iterations} iterations (last relative change {})",
+        change_text(*change)
     )]
     NotConverged {
         /// The method.
         method: crate::Method,
         /// Iterations run.
         iterations: usize,
-        /// Block-wise relative change at the last iteration.
-        change: f64,
+        /// Block-wise relative change at the last iteration (`None` where the fit does not
+        /// report one).
+        change: Option<f64>,
     },
     /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
     /// has none, and periodic records need at least 3 periods.

@@ -191,7 +191,7 @@ impl Frf {
     pub fn from_flexibility(freqs_hz: Vec<f64>, flexibility: &[Mat<c64>]) -> Result<Self> {
         if freqs_hz.len() != flexibility.len() || flexibility.is_empty() {
             return Err(Error::InvalidParameter {
-                name: "flexibility lines",
+                name: crate::Parameter::FlexibilityLines,
                 value: flexibility.len() as f64,
                 expected: "one matrix per frequency, at least one",
             });
@@ -205,14 +205,14 @@ impl Frf {
         for (&f, m) in freqs_hz.iter().zip(flexibility) {
             if m.nrows() != n || m.ncols() != n || n == 0 {
                 return Err(Error::InvalidParameter {
-                    name: "flexibility matrix size",
+                    name: crate::Parameter::FlexibilityMatrixSize,
                     value: m.nrows() as f64,
                     expected: "square matrices of one size",
                 });
             }
             if !finite_positive(f) {
                 return Err(Error::InvalidParameter {
-                    name: "frequency",
+                    name: crate::Parameter::Frequency,
                     value: f,
                     expected: "finite and positive (Hz)",
                 });

@@ -78,11 +78,11 @@ impl Differentiation {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a cutoff that is not finite and positive.
-    pub fn checked(self) -> Result<Self> {
+    pub fn check(self) -> Result<Self> {
         match self {
             Differentiation::Cutoff(hz) if !(hz.is_finite() && hz > 0.0) => {
                 Err(Error::InvalidParameter {
-                    name: "velocity cutoff",
+                    name: crate::Parameter::VelocityCutoff,
                     value: hz,
                     expected: "finite and positive (Hz)",
                 })
@@ -158,7 +158,7 @@ impl Differentiator {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for fewer than 8 samples, a sample rate that is not finite
-    /// and positive, or a bad cutoff ([`Differentiation::checked`]).
+    /// and positive, or a bad cutoff ([`Differentiation::check`]).
     pub fn new(
         len: usize,
         sample_rate: f64,
@@ -167,17 +167,17 @@ impl Differentiator {
     ) -> Result<Self> {
         if len < 8 {
             return Err(Error::InvalidParameter {
-                name: "samples to differentiate",
+                name: crate::Parameter::SamplesToDifferentiate,
                 value: len as f64,
                 expected: "at least 8",
             });
         }
         crate::records::require_finite_positive(
-            "sample rate",
+            crate::Parameter::SampleRate,
             sample_rate,
             "finite and positive (Hz)",
         )?;
-        let differentiation = differentiation.checked()?;
+        let differentiation = differentiation.check()?;
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(len);
         let inverse = planner.plan_fft_inverse(len);

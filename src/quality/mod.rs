@@ -17,7 +17,7 @@
 //! use bearing_ident::simulate::{ImpactTest, seed_rig};
 //!
 //! let checks = ImpactChecks::default();
-//! checks.validate()?;
+//! checks.check()?;
 //! let records = ImpactTest { per_direction: 1, noise: 0.05, ..ImpactTest::seed_rig() }
 //!     .run(&seed_rig())?;
 //! for record in &records {
@@ -87,7 +87,7 @@ pub const IMPACT_CREST_FACTOR: f64 = 8.0;
 /// assert_eq!(checks.clip_run, 3);
 /// assert!((checks.double_hit_ratio - 0.1).abs() < 1e-15);
 /// assert!((checks.min_crest_factor - 8.0).abs() < 1e-15);
-/// assert!(checks.validate().is_ok());
+/// assert!(checks.check().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImpactChecks {
@@ -126,31 +126,31 @@ impl ImpactChecks {
     /// # Examples
     /// ```
     /// use bearing_ident::quality::ImpactChecks;
-    /// use bearing_ident::Error;
+    /// use bearing_ident::{Error, Parameter};
     /// let bad = ImpactChecks { clip_run: 1, ..ImpactChecks::default() };
     /// assert!(matches!(
-    ///     bad.validate(),
-    ///     Err(Error::InvalidParameter { name: "clip_run", .. })
+    ///     bad.check(),
+    ///     Err(Error::InvalidParameter { name: Parameter::ClipRun, .. })
     /// ));
     /// ```
-    pub fn validate(&self) -> Result<()> {
+    pub fn check(&self) -> Result<()> {
         if !(self.double_hit_ratio > 0.0 && self.double_hit_ratio < 1.0) {
             return Err(Error::InvalidParameter {
-                name: "double_hit_ratio",
+                name: crate::Parameter::DoubleHitRatio,
                 value: self.double_hit_ratio,
                 expected: "0 < ratio < 1",
             });
         }
         if self.clip_run < 2 {
             return Err(Error::InvalidParameter {
-                name: "clip_run",
+                name: crate::Parameter::ClipRun,
                 value: self.clip_run as f64,
                 expected: "at least 2 samples",
             });
         }
         if !(self.min_crest_factor >= 0.0 && self.min_crest_factor.is_finite()) {
             return Err(Error::InvalidParameter {
-                name: "min_crest_factor",
+                name: crate::Parameter::MinCrestFactor,
                 value: self.min_crest_factor,
                 expected: "finite and ≥ 0",
             });
@@ -327,7 +327,7 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// when `min_crest_factor` is infinite), two passes over it and two passes over every channel
 /// (one shared with the screening, one for the runs); nothing else is allocated per sample.
 ///
-/// The thresholds are not validated here: call [`ImpactChecks::validate`] once for a batch
+/// The thresholds are not validated here: call [`ImpactChecks::check`] once for a batch
 /// (invalid thresholds give meaningless issues, never a panic).
 ///
 /// # Examples
@@ -591,14 +591,14 @@ mod tests {
             ),
         ];
         for (checks, field) in cases {
-            let e = checks.validate().unwrap_err();
+            let e = checks.check().unwrap_err();
             assert!(
-                matches!(e, Error::InvalidParameter { name, .. } if name == field),
+                matches!(e, Error::InvalidParameter { name, .. } if name.as_str() == field),
                 "{checks:?}: {e:?}"
             );
             assert_eq!(e.kind(), "invalid_argument");
         }
-        assert_eq!(ImpactChecks { clip_run: 2, ..d }.validate(), Ok(()));
+        assert_eq!(ImpactChecks { clip_run: 2, ..d }.check(), Ok(()));
     }
 
     #[test]

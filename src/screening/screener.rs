@@ -41,7 +41,7 @@ pub struct Screener {
 }
 
 impl Screener {
-    /// A screener with `checks` (validate them first: [`Checks::validate`]; invalid
+    /// A screener with `checks` (check them first: [`Checks::check`]; invalid
     /// thresholds give meaningless findings, never a panic).
     pub fn new(checks: Checks) -> Self {
         Self {
