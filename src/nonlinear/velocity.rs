@@ -35,6 +35,7 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use crate::error::{Error, Result};
 use crate::frf::Band;
 use crate::records::Response;
+use crate::statistics::quantile;
 use crate::tolerance::{WIENER_MIN_FLOOR_LINES, WIENER_OVERSUBTRACTION, WIENER_SMOOTHING_LINES};
 
 /// How velocities are derived from the records ([`crate::nonlinear::ReversePath::differentiation`]).
@@ -323,16 +324,6 @@ fn moving_average(values: &[f64], h: usize, out: &mut [f64]) {
             count -= 1;
         }
     }
-}
-
-/// The `q` quantile (nearest rank) of `values`, reordering them; 0 for an empty slice.
-fn quantile(values: &mut [f64], q: f64) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let rank = ((values.len() - 1) as f64 * q).round() as usize;
-    let (_, v, _) = values.select_nth_unstable_by(rank, f64::total_cmp);
-    *v
 }
 
 #[cfg(test)]

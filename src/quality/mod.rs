@@ -28,7 +28,6 @@
 
 mod double_hit;
 mod scan;
-mod select;
 use double_hit::double_hit;
 pub(crate) use scan::Scan;
 
@@ -57,10 +56,6 @@ pub use crate::tolerance::CLIP_LEVEL as CLIP_TOLERANCE;
 /// channel's range away from the channel's mean: a flat stretch at the resting level (the
 /// exactly-zero pre-trigger of a one-sided force pulse, say) is not an overload.
 pub const CLIP_SIDE_FRACTION: f64 = 0.25;
-
-/// `1/Φ⁻¹(3/4)`: the median absolute deviation of Gaussian noise times this is its standard
-/// deviation.
-pub(crate) const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
 /// Crest factor at and above which a record's force is an impact.
 ///
@@ -398,25 +393,6 @@ pub(crate) fn check_scanned(
     issues
 }
 
-/// The (upper) median of `values`, reordering them; NaN for none. The one median of the
-/// record checks (here and in [`screening`](crate::screening)).
-pub(crate) fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mid = values.len() / 2;
-    if values.len() <= SORT_MAX {
-        // A few values (the siblings of a record): sorting them is faster than the
-        // selection's set-up, and puts the same element in the middle.
-        values.sort_unstable_by(f64::total_cmp);
-        return values[mid];
-    }
-    *values.select_nth_unstable_by(mid, f64::total_cmp).1
-}
-
-/// Most values [`median`] sorts rather than selects among.
-const SORT_MAX: usize = 16;
-
 /// Longest run of consecutive samples meeting a condition, tracked one sample at a time.
 #[derive(Debug, Clone, Copy, Default)]
 struct Run {
@@ -599,49 +575,6 @@ mod tests {
             assert_eq!(e.kind(), "invalid_argument");
         }
         assert_eq!(ImpactChecks { clip_run: 2, ..d }.check(), Ok(()));
-    }
-
-    #[test]
-    fn median_is_the_upper_middle() {
-        assert!((median(&mut [3.0, 1.0, 2.0]) - 2.0).abs() < 1e-15);
-        assert!((median(&mut [4.0, 1.0, 3.0, 2.0]) - 3.0).abs() < 1e-15);
-    }
-
-    /// The sorted middle bit for bit, ties, signed zeros, infinities and NaN included, on both
-    /// sides of [`SORT_MAX`].
-    #[test]
-    fn median_is_the_sorted_middle() {
-        use rand::{RngExt, SeedableRng};
-        let mut rng = rand::rngs::StdRng::seed_from_u64(17);
-        let pool = [
-            -0.0,
-            0.0,
-            1.0,
-            -1.0,
-            2.5,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-            -f64::NAN,
-            1e-310,
-        ];
-        for len in 1..=SORT_MAX + 3 {
-            for trial in 0..400 {
-                let values: Vec<f64> = (0..len)
-                    .map(|_| {
-                        if trial % 2 == 0 {
-                            pool[rng.random_range(0..pool.len())]
-                        } else {
-                            rng.random_range(-1.0..1.0)
-                        }
-                    })
-                    .collect();
-                let mut sorted = values.clone();
-                sorted.sort_unstable_by(f64::total_cmp);
-                let ours = median(&mut values.clone());
-                assert_eq!(ours.to_bits(), sorted[len / 2].to_bits(), "{values:?}");
-            }
-        }
     }
 
     #[test]

@@ -93,7 +93,8 @@ pub use screener::Screener;
 pub use summary::Summary;
 
 use crate::error::{Error, Result, Warning};
-use crate::quality::{ImpactChecks, MAD_TO_SIGMA, median};
+use crate::quality::ImpactChecks;
+use crate::statistics::{MAD_TO_SIGMA, upper_median};
 
 pub use crate::tolerance::FLAT_CHANNEL as FLAT_TOLERANCE;
 

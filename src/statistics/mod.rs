@@ -1,11 +1,21 @@
-//! The reference distributions of the crate's statistical tests, in one place: upper tails of
-//! χ² and F (from `statrs`), used by the model check of a fit
-//! ([`ModelCheck`](crate::identify::ModelCheck)).
+//! The crate's statistics, in one place: the reference distributions of its statistical tests
+//! (upper tails of χ² and F, from `statrs`, used by the model check of a fit,
+//! [`ModelCheck`](crate::identify::ModelCheck)), and inside the crate the medians, the median
+//! absolute deviation's scale and quantiles of samples (`median.rs`), the selection of a rank
+//! among integer keys (`select.rs`) and the Student-t quantiles of the error bars'
+//! intervals (`student_t.rs`).
 //!
 //! An upper tail `Q(x) = P(X > x)` is the p-value of an observed statistic `x`: small means the
 //! observation is unlikely under the reference distribution.
 
+mod median;
+pub(crate) mod select;
+mod student_t;
+
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
+
+pub(crate) use median::{MAD_TO_SIGMA, median, quantile, upper_median};
+pub(crate) use student_t::t975;
 
 use crate::error::{Error, Result};
 
