@@ -1,6 +1,6 @@
 //! Stage 5: fitting `M`, `C`, `K` to the measured impedances and flexibilities.
 //!
-//! Three methods, from simplest to best:
+//! Four methods, from simplest to best:
 //!
 //! - [`Method::Direct`] (seed eq. 10): per element, `Re H_ij = K_ij − ω² M_ij` and
 //!   `Im H_ij = ω C_ij` by least squares, with `r²`. Simple; biased under noise.
@@ -16,6 +16,9 @@
 //!   `G(ω; Θ_m) = H(ω; Θ_m)⁻¹`, which carries no measurement noise; then
 //!   `Θ_{m+1} = (Wᵀ A)⁻¹ Wᵀ Ī`, with the same column scaling, iterated from the
 //!   least-squares start. Unbiased.
+//! - [`Method::Ml`] (Pintelon & Schoukens; [`ml`]): maximum likelihood with errors in
+//!   variables, from periodic records whose repeated periods give the noise covariances,
+//!   started from IVF; its Cramér–Rao bound gives the error bars.
 
 mod direct;
 mod ivf;
