@@ -40,7 +40,7 @@ pub(super) fn check_signal(signal: &[f64]) -> Result<()> {
 /// $$ x_m \approx a \cos\omega t_m + b \sin\omega t_m + d, \qquad t_m = m / f_s, $$
 ///
 /// returned as the phasor $P = a - i b$, so that $x(t) \approx \operatorname{Re}(P e^{i\omega t}) + d$
-/// (see the [module docs](self) for the convention). The fit needs no whole number of periods
+/// (see the [module docs](crate::stepped) for the convention). The fit needs no whole number of periods
 /// and no window; the offset `d` absorbs a sensor's DC level. For a stationary sine in white
 /// noise it is the maximum-likelihood amplitude at a known frequency.
 ///
