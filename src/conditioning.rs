@@ -26,6 +26,34 @@ pub struct ConditionLimits {
     pub refuse: f64,
 }
 
+impl ConditionLimits {
+    /// Checks the limits: $1 \le \text{warn} \le \text{refuse}$ (a condition number is at
+    /// least 1, and refusing below the warning would refuse without warning).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `condition limits` (with the warning limit as its
+    /// value) otherwise, NaN included.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::ConditionLimits;
+    /// assert!(ConditionLimits::default().check().is_ok());
+    /// assert!(ConditionLimits { warn: 1e6, refuse: 1e3 }.check().is_err());
+    /// assert!(ConditionLimits { warn: f64::NAN, refuse: 1e3 }.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.warn >= 1.0 && self.refuse >= self.warn {
+            Ok(())
+        } else {
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::ConditionLimits,
+                value: self.warn,
+                expected: "1 ≤ warn ≤ refuse",
+            })
+        }
+    }
+}
+
 impl Default for ConditionLimits {
     fn default() -> Self {
         Self {
@@ -66,9 +94,11 @@ impl Conditioning {
     /// Judges the condition numbers of `frf`.
     ///
     /// # Errors
+    /// [`Error::InvalidParameter`] for limits that fail [`ConditionLimits::check`];
     /// [`Error::TooFewLines`] if `frf` holds no line at all; [`Error::RankDeficient`] if every
     /// line was dropped as singular or every line's condition number exceeds `limits.refuse`.
     pub fn assess(frf: &Frf, limits: ConditionLimits) -> Result<Self> {
+        limits.check()?;
         let cond = frf.condition_numbers();
         let n = frf.dofs();
         if cond.is_empty() && frf.dropped_hz().is_empty() {

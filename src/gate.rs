@@ -87,7 +87,7 @@ impl FitGate {
     pub fn check(&self) -> Result<()> {
         if self.min_r2.is_nan() || self.min_r2 > 1.0 {
             return Err(Error::InvalidParameter {
-                name: "minimum r²",
+                name: crate::Parameter::MinimumR2,
                 value: self.min_r2,
                 expected: "at most 1",
             });

@@ -76,14 +76,16 @@
 //!   bearing's own are system minus dry structure ([`Coefficients::subtract`]).
 //!
 //! ## Feature flags
-//! The core depends only on faer, num-complex, realfft, thiserror and rand. Edges are opt-in:
+//! The core depends only on faer, num-complex, realfft, thiserror, rand, rand_distr (the
+//! simulators' noise) and statrs (the χ² and F tails of the model check). Edges are opt-in:
 //! - `csv` — [`io`]: read and write records as CSV files;
 //! - `json` — [`Baseline::from_json`]: a dry-structure baseline read back from a saved
 //!   identification (implies `serde`);
 //! - `serde` — `Serialize` for [`Identification`], [`Coefficients`] and [`Mode`];
 //! - `plot` — [`plot`]: SVG figures of an identification (flexibility, impedance, coherence
-//!   and conditioning, per-frequency coefficients, time records, IVF convergence) and a static
-//!   HTML report, drawn by plotters' SVG backend (no system libraries);
+//!   and conditioning, per-frequency coefficients, time records, IVF convergence, the model
+//!   check's residuals), of a nonlinear and of a field identification, and static HTML
+//!   reports, drawn by plotters' SVG backend (no system libraries);
 //! - `uff` — [`uff`]: read and write Universal File Format dataset 58 / 58b (time histories,
 //!   FRFs, coherence, spectra; ASCII and binary) and build records from its time histories;
 //! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
@@ -92,7 +94,9 @@
 //! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `ross`, `csv`, `json`,
 //!   `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
-//!   conditions in parallel, with results bit for bit those of the sequential build.
+//!   conditions in parallel, with results bit for bit those of the sequential build;
+//! - `job` — [`job`]: one path from record files (CSV, Universal File) to a result, as the
+//!   command line's `identify` takes it (implies `csv` and `uff`).
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
@@ -147,7 +151,7 @@ pub mod uff;
 
 // The types the façade's signatures name, at the crate root.
 pub use conditioning::{ConditionLimits, Conditioning};
-pub use error::{Block, Channel, Error, Result, Warning};
+pub use error::{Block, Channel, Error, ErrorKind, Parameter, Result, Warning};
 pub use excitation::Excitation;
 pub use frf::{Assignment, Band, Estimator, Frf};
 pub use gate::FitGate;

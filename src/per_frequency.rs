@@ -81,7 +81,7 @@ impl PerFrequency {
         let a = window_decay_per_s;
         if !(a.is_finite() && a >= 0.0) {
             return Err(Error::InvalidParameter {
-                name: "exponential window decay",
+                name: crate::Parameter::ExponentialWindowDecay,
                 value: a,
                 expected: "finite and ≥ 0 (1/s)",
             });
@@ -89,15 +89,16 @@ impl PerFrequency {
         let n = frf.dofs();
         if mass.nrows() != n || mass.ncols() != n {
             return Err(Error::InvalidParameter {
-                name: "mass matrix size",
+                name: crate::Parameter::MassMatrixSize,
                 value: mass.nrows() as f64,
                 expected: "n × n, as the FRF",
             });
         }
-        if (0..n).any(|j| (0..n).any(|i| !mass[(i, j)].is_finite())) {
+        let entries = (0..n).flat_map(|j| (0..n).map(move |i| (i, j)));
+        if let Some(value) = entries.map(|(i, j)| mass[(i, j)]).find(|v| !v.is_finite()) {
             return Err(Error::InvalidParameter {
-                name: "mass matrix",
-                value: f64::NAN,
+                name: crate::Parameter::MassMatrix,
+                value,
                 expected: "finite entries",
             });
         }

@@ -6,142 +6,28 @@
 //! the [`frf`](crate::frf) stage turns every response into displacement at its band lines.
 //! Validation happens once, when the record is built: every later stage may assume equal
 //! lengths and finite samples.
+//!
+//! What lives where: [`Record`] is here; what the records of a test share and the crate-wide
+//! checks of numbers in `records/shape.rs`, the probe geometry in `records/probes.rs`, what a
+//! response channel measures in `records/response.rs`.
 
 use std::ops::Range;
 
 use crate::error::{Channel, Error, Result};
 use crate::lanes;
 
+mod probes;
 mod response;
+mod shape;
+pub use probes::{conical_to_bearing, two_plane_to_bearing};
 pub use response::Response;
+pub use shape::{Shape, common_shape, sample_rates_agree};
+pub(crate) use shape::{check_against, finite_positive, require_finite_positive};
 
 /// Smallest number of samples a record may have.
 pub const MIN_SAMPLES: usize = 8;
 
-use crate::tolerance::RATE_ROUNDING;
 pub use crate::tolerance::TIME_GRID_TOLERANCE;
-
-/// Whether sampling rates `a` and `b` (Hz) of records of `len` samples are the same rate.
-///
-/// A time column accepted under [`TIME_GRID_TOLERANCE`] fixes its rate
-/// `(N − 1)/(t_{N−1} − t_0)` to within a relative `2τ/(N − 3)` (τ = the tolerance; both end
-/// times may sit up to about τ steps off the true grid); two such rates agree within
-/// `4τ/(N − 3)`, plus `10⁻¹²` for rounding. So what the reader accepts, the records accept
-/// too, and a rate that differs by more is a different rate.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::records::sample_rates_agree;
-/// assert!(sample_rates_agree(6700.0, 6700.003, 8040));
-/// assert!(!sample_rates_agree(6700.0, 6701.0, 8040));
-/// // Short records: their rate is known less well.
-/// assert!(sample_rates_agree(100.0, 100.4, 12));
-/// ```
-pub fn sample_rates_agree(a: f64, b: f64, len: usize) -> bool {
-    let tolerance = 4.0 * TIME_GRID_TOLERANCE / (len.max(MIN_SAMPLES) - 3) as f64 + RATE_ROUNDING;
-    (a / b - 1.0).abs() <= tolerance
-}
-
-/// Whether `value` is finite and positive: the one test of sampling rates, frequencies,
-/// durations and scales throughout the crate.
-pub(crate) fn finite_positive(value: f64) -> bool {
-    value.is_finite() && value > 0.0
-}
-
-/// [`Error::InvalidParameter`] naming `name` unless `value` is [finite and
-/// positive](finite_positive).
-pub(crate) fn require_finite_positive(
-    name: &'static str,
-    value: f64,
-    expected: &'static str,
-) -> Result<()> {
-    if finite_positive(value) {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            name,
-            value,
-            expected,
-        })
-    }
-}
-
-/// The shape every record of a test shares: degrees of freedom, sampling rate and length.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Shape {
-    /// Degrees of freedom `n` (force and displacement channels each).
-    pub dofs: usize,
-    /// Sampling rate (Hz) of the first record.
-    pub sample_rate: f64,
-    /// Samples per channel.
-    pub len: usize,
-}
-
-impl Shape {
-    /// Checks `record` against this shape.
-    ///
-    /// # Errors
-    /// [`Error::DofMismatch`], [`Error::SampleRateMismatch`] (unless
-    /// [`sample_rates_agree`]) or [`Error::RecordLengthMismatch`] naming `record`.
-    pub fn check(&self, record: &Record) -> Result<()> {
-        check_against(record, self.dofs, self.sample_rate, self.len)
-    }
-}
-
-/// The common [`Shape`] of a list of records.
-///
-/// # Errors
-/// [`Error::NoRecords`], or [`Error::DofMismatch`], [`Error::SampleRateMismatch`] (unless
-/// [`sample_rates_agree`]), [`Error::RecordLengthMismatch`] naming the first record that
-/// differs from the first one (or from `dofs`, when given).
-///
-/// # Examples
-/// ```
-/// use bearing_ident::records::{Record, common_shape};
-/// let r = Record::new("a", 100.0, vec![vec![0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0]],
-///                     vec![vec![0.0; 8]])?;
-/// let shape = common_shape(&[r], None)?;
-/// assert_eq!((shape.dofs, shape.len), (1, 8));
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn common_shape(records: &[Record], dofs: Option<usize>) -> Result<Shape> {
-    let first = records.first().ok_or(Error::NoRecords)?;
-    let n = dofs.unwrap_or(first.dofs());
-    for r in records {
-        check_against(r, n, first.sample_rate(), first.len())?;
-    }
-    Ok(Shape {
-        dofs: n,
-        sample_rate: first.sample_rate(),
-        len: first.len(),
-    })
-}
-
-/// `record` against the common shape `(n, sample_rate, len)`.
-pub(crate) fn check_against(record: &Record, n: usize, sample_rate: f64, len: usize) -> Result<()> {
-    if record.dofs() != n {
-        return Err(Error::DofMismatch {
-            record: record.label().to_owned(),
-            expected: n,
-            actual: record.dofs(),
-        });
-    }
-    if !sample_rates_agree(record.sample_rate(), sample_rate, len) {
-        return Err(Error::SampleRateMismatch {
-            record: record.label().to_owned(),
-            expected: sample_rate,
-            actual: record.sample_rate(),
-        });
-    }
-    if record.len() != len {
-        return Err(Error::RecordLengthMismatch {
-            record: record.label().to_owned(),
-            expected: len,
-            actual: record.len(),
-        });
-    }
-    Ok(())
-}
 
 /// One validated test record: forces and displacements for every degree of freedom.
 ///
@@ -371,7 +257,7 @@ impl Record {
     pub fn trimmed(&self, range: Range<usize>) -> Result<Record> {
         if range.end > self.len() || range.start > range.end {
             return Err(Error::InvalidParameter {
-                name: "trim range end",
+                name: crate::Parameter::TrimRangeEnd,
                 value: range.end as f64,
                 expected: "start ≤ end ≤ record length",
             });
@@ -429,90 +315,6 @@ fn dominant(forces: &[Vec<f64>]) -> usize {
         }
     }
     best.0
-}
-
-/// Displacement at a bearing plane `z_b` from two sensor planes `z_1`, `z_2` on a rigid shaft:
-/// $x_B = x_1 + (x_2 - x_1)\,\frac{z_B - z_1}{z_2 - z_1}$, sample by sample.
-///
-/// # Errors
-/// [`Error::LengthMismatch`] if the channels differ in length; [`Error::InvalidParameter`] if a
-/// plane position is not finite or `z_1 = z_2`, or a sample or the result is not finite.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::records::two_plane_to_bearing;
-/// let xb = two_plane_to_bearing(&[1.0, 2.0], &[3.0, 6.0], 0.0, 0.2, 0.1)?;
-/// assert_eq!(xb, vec![2.0, 4.0]);
-/// assert!(two_plane_to_bearing(&[1.0], &[3.0], 0.2, 0.2, 0.1).is_err());
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn two_plane_to_bearing(x1: &[f64], x2: &[f64], z1: f64, z2: f64, zb: f64) -> Result<Vec<f64>> {
-    if x1.len() != x2.len() {
-        return Err(Error::LengthMismatch {
-            what: "sensor channels x1 and x2",
-            expected: x1.len(),
-            actual: x2.len(),
-        });
-    }
-    let r = plane_ratio(zb - z1, z2 - z1, [z1, z2, zb], "sensor planes z1 ≠ z2")?;
-    finite_samples(x1.iter().zip(x2).map(|(a, b)| a + (b - a) * r))
-}
-
-/// Displacement at a bearing plane `z_b` from one sensor plane `z_s` for a conical mode about
-/// a pivot at `z_p`: $x_B = r\,x_S$ with $r = (z_B - z_p)/(z_S - z_p)$.
-///
-/// # Errors
-/// [`Error::InvalidParameter`] if a position is not finite, `z_s = z_p`, or a sample or the
-/// result is not finite.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::records::conical_to_bearing;
-/// // Sensor at the disk (0.3 m from the pivot), damper at 0.1 m: a third of the motion.
-/// let xb = conical_to_bearing(&[3.0e-6], 0.3, 0.0, 0.1)?;
-/// assert!((xb[0] - 1.0e-6).abs() < 1e-18);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn conical_to_bearing(xs: &[f64], zs: f64, zp: f64, zb: f64) -> Result<Vec<f64>> {
-    let r = plane_ratio(zb - zp, zs - zp, [zs, zp, zb], "sensor plane zs ≠ pivot zp")?;
-    finite_samples(xs.iter().map(|x| x * r))
-}
-
-/// `num / den` for plane positions `planes`, refused unless all are finite and `den ≠ 0`.
-fn plane_ratio(num: f64, den: f64, planes: [f64; 3], expected: &'static str) -> Result<f64> {
-    if let Some(&z) = planes.iter().find(|z| !z.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "plane position",
-            value: z,
-            expected: "finite (m)",
-        });
-    }
-    let r = num / den;
-    if !r.is_finite() {
-        return Err(Error::InvalidParameter {
-            name: "distance between the planes",
-            value: den,
-            expected,
-        });
-    }
-    Ok(r)
-}
-
-/// Collects `samples`, refusing the first that is not finite.
-fn finite_samples(samples: impl Iterator<Item = f64>) -> Result<Vec<f64>> {
-    samples
-        .map(|x| {
-            if x.is_finite() {
-                Ok(x)
-            } else {
-                Err(Error::InvalidParameter {
-                    name: "transformed sample",
-                    value: x,
-                    expected: "finite: every sample and the plane ratio finite",
-                })
-            }
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 use bearing_ident::campaign::{Campaign, Plan, RunOptions, Value};
 use bearing_ident::export::ross::{BearingElement, Table};
 use bearing_ident::job::{Channels, Job, Options, Outcome};
-use bearing_ident::{Error, Record, Response};
+use bearing_ident::{Error, ErrorKind, Record, Response};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -33,7 +33,7 @@ type PyRecordOut = (Vec<Vec<f64>>, Vec<Vec<f64>>, f64, String, Vec<String>);
 /// The crate's error as `NativeError(kind, message)`, which the package turns into the
 /// exception class of that kind.
 fn raise(e: &Error) -> PyErr {
-    NativeError::new_err((e.kind(), e.to_string()))
+    NativeError::new_err((e.kind().as_str(), e.to_string()))
 }
 
 /// An invalid argument of the binding itself (shapes, types).
@@ -369,7 +369,7 @@ fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NativeError", m.py().get_type::<NativeError>())?;
     // Every kind the crate names, and `internal` for a panic caught at the boundary.
-    let mut kinds = Error::KINDS.to_vec();
+    let mut kinds: Vec<&str> = ErrorKind::ALL.iter().map(|k| k.as_str()).collect();
     kinds.push("internal");
     m.add("ERROR_KINDS", kinds)?;
     m.add("OPTION_NAMES", Options::NAMES.to_vec())?;

@@ -70,7 +70,7 @@ pub struct Failure {
 impl From<Error> for Failure {
     fn from(e: Error) -> Self {
         Self {
-            kind: e.kind().to_owned(),
+            kind: e.kind().as_str().to_owned(),
             message: e.to_string(),
         }
     }

@@ -1,65 +1,157 @@
-//! [`Error::kind`]: the stable name of each kind of error, for scripts and logs.
+//! [`ErrorKind`] and [`Error::kind`]: the stable name of each kind of error, for scripts and logs.
+
+use std::fmt;
 
 use super::Error;
 
-impl Error {
-    /// Every name [`Error::kind`] returns, each once (bindings to other languages make an
-    /// exception class of each).
-    pub const KINDS: &'static [&'static str] = &[
-        "malformed_csv",
-        "missing_column",
-        "non_finite",
-        "nonuniform_time",
-        "inconsistent_records",
-        "bad_band",
-        "rank_deficient",
-        "not_converged",
-        "io_error",
-        "record_too_short",
-        "invalid_argument",
-        "singular",
-        "bad_coefficients",
-        "baseline_mismatch",
-        "ml_needs_repeats",
-        "plot_error",
-        "dead_channel",
-        "too_large",
-        "bad_baseline",
-        "malformed_uff",
-        "invalid_input",
-        "missing_response",
-        "underdetermined",
-        "bad_record",
-    ];
+/// Declares [`ErrorKind`] from a table of variant → name, so each kind is stated once.
+macro_rules! kinds {
+    ($($(#[$doc:meta])* $variant:ident => $name:literal,)*) => {
+        /// The kind of an [`Error`]: what a script or another language's binding tells apart.
+        ///
+        /// Several variants of [`Error`] share a kind (a NaN sample and an overflowing
+        /// spectrum are both [`ErrorKind::NonFinite`]); [`ErrorKind::as_str`] is the stable
+        /// snake_case name printed in JSON.
+        ///
+        /// # Examples
+        /// ```
+        /// use bearing_ident::ErrorKind;
+        /// assert_eq!(ErrorKind::BadBand.as_str(), "bad_band");
+        /// assert_eq!(ErrorKind::BadBand, "bad_band");
+        /// assert!(ErrorKind::ALL.contains(&ErrorKind::TooLarge));
+        /// ```
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[non_exhaustive]
+        pub enum ErrorKind {
+            $($(#[$doc])* $variant,)*
+        }
 
-    /// A stable snake_case name of the kind of error, for scripts and logs (the CLI prints it as
-    /// `{"error": KIND}`): `malformed_csv`, `missing_column`, `non_finite`, `nonuniform_time`,
-    /// `inconsistent_records`, `bad_band`, `rank_deficient`, `not_converged`, `io_error`,
-    /// `record_too_short`, `invalid_argument`, `singular`, `bad_coefficients`,
-    /// `baseline_mismatch`, `ml_needs_repeats`, `plot_error`, `dead_channel`, `too_large`,
-    /// `bad_baseline`, `malformed_uff`, and for field identification `invalid_input`,
-    /// `missing_response`, `underdetermined`. The README's table lists every one (a unit test checks it).
+        impl ErrorKind {
+            /// Every kind, each once, whatever the cargo features (bindings to other languages
+            /// make an exception class of each).
+            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$variant,)*];
+
+            /// The kind's stable snake_case name.
+            ///
+            /// # Examples
+            /// ```
+            /// use bearing_ident::ErrorKind;
+            /// assert_eq!(ErrorKind::NonFinite.as_str(), "non_finite");
+            /// ```
+            pub const fn as_str(self) -> &'static str {
+                match self {
+                    $(ErrorKind::$variant => $name,)*
+                }
+            }
+        }
+    };
+}
+
+kinds! {
+    /// A ragged CSV line, or text that is not a number.
+    MalformedCsv => "malformed_csv",
+    /// A named column is not in a CSV header.
+    MissingColumn => "missing_column",
+    /// A NaN or infinite sample, or a spectrum, impedance or result that overflows `f64`.
+    NonFinite => "non_finite",
+    /// A CSV time column off its uniform grid.
+    NonuniformTime => "nonuniform_time",
+    /// Records of different shapes or sampling rates, or an assignment that does not fit them.
+    InconsistentRecords => "inconsistent_records",
+    /// A band that is empty, inverted, above Nyquist, or holds too few lines.
+    BadBand => "bad_band",
+    /// The excitations do not span every direction.
+    RankDeficient => "rank_deficient",
+    /// An iterative fit did not converge (and was asked to fail).
+    NotConverged => "not_converged",
+    /// A file that cannot be opened, read or written.
+    IoError => "io_error",
+    /// A record too short for its segments or averages.
+    RecordTooShort => "record_too_short",
+    /// An option or setting out of its range, or a name that is not one of a choice's.
+    InvalidArgument => "invalid_argument",
+    /// A fit or a decomposition is singular.
+    Singular => "singular",
+    /// `M`, `C`, `K` of mismatched shapes or holding NaN.
+    BadCoefficients => "bad_coefficients",
+    /// A baseline identified with another band, lines, estimator or window.
+    BaselineMismatch => "baseline_mismatch",
+    /// Maximum likelihood without records for its noise model, or too few periods.
+    MlNeedsRepeats => "ml_needs_repeats",
+    /// A figure could not be drawn.
+    PlotError => "plot_error",
+    /// Every force (or displacement) channel of a record is flat.
+    DeadChannel => "dead_channel",
+    /// An input or a requested size past a documented limit.
+    TooLarge => "too_large",
+    /// A baseline file that is not a result this crate wrote.
+    BadBaseline => "bad_baseline",
+    /// A Universal File that cannot be read.
+    MalformedUff => "malformed_uff",
+    /// Field identification: a rotor model or test set that is not well formed.
+    InvalidInput => "invalid_input",
+    /// Field identification: a probe without its response at some speed and test.
+    MissingResponse => "missing_response",
+    /// Field identification: too few measured DOFs, or probes that cannot determine the bearing forces.
+    Underdetermined => "underdetermined",
+    /// The fit failed and the screening had found one record far out of scale with its siblings.
+    BadRecord => "bad_record",
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A kind equals its name: `e.kind() == "bad_band"` reads as the JSON does.
+impl PartialEq<&str> for ErrorKind {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
+
+/// A kind equals its name, from the name's side.
+impl PartialEq<ErrorKind> for &str {
+    fn eq(&self, other: &ErrorKind) -> bool {
+        *self == other.as_str()
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for ErrorKind {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
+    }
+}
+
+impl Error {
+    /// The kind of error, for scripts and logs: [`ErrorKind::as_str`] is its stable
+    /// snake_case name (the CLI prints it as `{"error": KIND}`). The README's table lists
+    /// every one (a unit test checks it).
     ///
     /// # Examples
     /// ```
-    /// use bearing_ident::Error;
-    /// assert_eq!(Error::RankDeficient { rank: 1, dofs: 2 }.kind(), "rank_deficient");
+    /// use bearing_ident::{Error, ErrorKind};
+    /// let e = Error::RankDeficient { rank: 1, dofs: 2 };
+    /// assert_eq!(e.kind(), ErrorKind::RankDeficient);
+    /// assert_eq!(e.kind().as_str(), "rank_deficient");
     /// ```
-    pub fn kind(&self) -> &'static str {
+    pub fn kind(&self) -> ErrorKind {
         match self {
             #[cfg(feature = "csv")]
-            Error::Csv { .. } => "malformed_csv",
+            Error::Csv { .. } => ErrorKind::MalformedCsv,
             #[cfg(feature = "csv")]
-            Error::MissingColumn { .. } => "missing_column",
+            Error::MissingColumn { .. } => ErrorKind::MissingColumn,
             #[cfg(feature = "csv")]
-            Error::CsvNonFinite { .. } => "non_finite",
+            Error::CsvNonFinite { .. } => ErrorKind::NonFinite,
             Error::NonFinite { .. }
             | Error::SpectrumOverflow { .. }
             | Error::NonFiniteResult { .. }
-            | Error::NonFiniteRegressor { .. } => "non_finite",
-            Error::DeadChannel { .. } => "dead_channel",
+            | Error::NonFiniteRegressor { .. } => ErrorKind::NonFinite,
+            Error::DeadChannel { .. } => ErrorKind::DeadChannel,
             #[cfg(feature = "csv")]
-            Error::NonUniformTime { .. } => "nonuniform_time",
+            Error::NonUniformTime { .. } => ErrorKind::NonuniformTime,
             Error::InvalidSampleRate { .. }
             | Error::ChannelCount { .. }
             | Error::ResponseCount { .. }
@@ -69,55 +161,60 @@ impl Error {
             | Error::SampleRateMismatch { .. }
             | Error::RecordLengthMismatch { .. }
             | Error::InvalidAssignment { .. }
-            | Error::AssignmentLength { .. } => "inconsistent_records",
+            | Error::AssignmentLength { .. } => ErrorKind::InconsistentRecords,
             Error::InvalidBand { .. }
             | Error::BandAboveNyquist { .. }
             | Error::TooFewLines { .. }
-            | Error::ResponseAtZeroFrequency { .. } => "bad_band",
-            Error::RankDeficient { .. } | Error::IncompleteStep { .. } => "rank_deficient",
-            Error::NotConverged { .. } => "not_converged",
-            Error::Io { .. } => "io_error",
-            Error::RecordTooShort { .. } | Error::TooFewAverages { .. } => "record_too_short",
+            | Error::ResponseAtZeroFrequency { .. } => ErrorKind::BadBand,
+            Error::RankDeficient { .. } | Error::IncompleteStep { .. } => ErrorKind::RankDeficient,
+            Error::NotConverged { .. } => ErrorKind::NotConverged,
+            Error::Io { .. } => ErrorKind::IoError,
+            Error::RecordTooShort { .. } | Error::TooFewAverages { .. } => {
+                ErrorKind::RecordTooShort
+            }
             Error::Baseline { source, .. } => source.kind(),
-            Error::BandText { .. } => "bad_band",
+            Error::BandText { .. } => ErrorKind::BadBand,
             Error::InvalidParameter { .. }
+            | Error::InvalidSetting { .. }
             | Error::InvalidOption { .. }
             | Error::UnknownName { .. }
-            | Error::LengthMismatch { .. } => "invalid_argument",
+            | Error::LengthMismatch { .. } => ErrorKind::InvalidArgument,
             Error::SingularFit { .. } | Error::Singular { .. } | Error::Decomposition { .. } => {
-                "singular"
+                ErrorKind::Singular
             }
             #[cfg(feature = "csv")]
-            Error::CsvLimit { .. } => "too_large",
-            Error::TooLarge { .. } => "too_large",
-            Error::FileLimit { .. } => "too_large",
-            Error::BadRecord { .. } => "bad_record",
-            Error::BaselineMismatch { .. } => "baseline_mismatch",
+            Error::CsvLimit { .. } => ErrorKind::TooLarge,
+            Error::TooLarge { .. } => ErrorKind::TooLarge,
+            Error::FileLimit { .. } => ErrorKind::TooLarge,
+            Error::BadRecord { .. } => ErrorKind::BadRecord,
+            Error::BaselineMismatch { .. } => ErrorKind::BaselineMismatch,
             #[cfg(feature = "json")]
-            Error::BadBaseline { .. } => "bad_baseline",
-            Error::MlNeedsRepeats => "ml_needs_repeats",
+            Error::BadBaseline { .. } => ErrorKind::BadBaseline,
+            Error::MlNeedsRepeats => ErrorKind::MlNeedsRepeats,
             #[cfg(feature = "plot")]
-            Error::Plot { .. } => "plot_error",
+            Error::Plot { .. } => ErrorKind::PlotError,
             Error::CoefficientShape { .. }
             | Error::NonFiniteCoefficient { .. }
-            | Error::DofCountMismatch { .. } => "bad_coefficients",
+            | Error::DofCountMismatch { .. } => ErrorKind::BadCoefficients,
             #[cfg(feature = "uff")]
-            Error::Uff { .. } => "malformed_uff",
+            Error::Uff { .. } => ErrorKind::MalformedUff,
             #[cfg(feature = "uff")]
-            Error::UffRecord { .. } => "inconsistent_records",
-            Error::ExportDofs { .. } => "invalid_argument",
-            Error::SimulationDiverged { .. } => "non_finite",
-            Error::FieldInput { .. } | Error::Plan { .. } => "invalid_input",
-            Error::FieldNonFinite { .. } => "non_finite",
-            Error::MissingResponse { .. } => "missing_response",
-            Error::Underdetermined { .. } => "underdetermined",
-            Error::FieldRankDeficient { .. } => "rank_deficient",
+            Error::UffRecord { .. } => ErrorKind::InconsistentRecords,
+            Error::ExportDofs { .. } => ErrorKind::InvalidArgument,
+            Error::SimulationDiverged { .. } => ErrorKind::NonFinite,
+            Error::FieldInput { .. } | Error::Plan { .. } => ErrorKind::InvalidInput,
+            Error::FieldNonFinite { .. } => ErrorKind::NonFinite,
+            Error::MissingResponse { .. } => ErrorKind::MissingResponse,
+            Error::Underdetermined { .. } => ErrorKind::Underdetermined,
+            Error::FieldRankDeficient { .. } => ErrorKind::RankDeficient,
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::ErrorKind;
+
     /// The quoted strings of `text` that follow `marker` (which ends in a quote).
     fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
         text.match_indices(marker)
@@ -130,32 +227,16 @@ mod tests {
 
     #[test]
     fn readme_lists_every_error_kind() {
-        let source = include_str!("kind.rs");
-        // Every string literal of `Error::kind`'s body is a kind.
-        let start = source.find("impl Error {").expect("impl Error");
-        let body = &source[start..];
-        let body = &body[body.find("pub fn kind(&self)").expect("kind")..];
-        let body = &body[..body.find("\n}\n").expect("end of impl")];
-        let mut kinds: Vec<&str> = body.split('"').skip(1).step_by(2).collect();
+        let mut kinds: Vec<&str> = ErrorKind::ALL.iter().map(|k| k.as_str()).collect();
         assert!(kinds.len() >= 17, "found only {kinds:?}");
-        // `KINDS` lists each of them once, and nothing else (the names of cargo features in
-        // the body's `cfg` attributes are not kinds).
-        let mut listed: Vec<&str> = super::Error::KINDS.to_vec();
-        let mut found: Vec<&str> = body
-            .split('"')
-            .collect::<Vec<_>>()
-            .windows(2)
-            .step_by(2)
-            .filter(|w| !w[0].ends_with("feature = "))
-            .map(|w| w[1])
-            .collect();
-        listed.sort_unstable();
-        found.sort_unstable();
-        found.dedup();
-        assert_eq!(
-            listed, found,
-            "Error::KINDS and the arms of Error::kind differ"
-        );
+        let n = kinds.len();
+        kinds.sort_unstable();
+        kinds.dedup();
+        assert_eq!(kinds.len(), n, "two kinds share a name");
+        for k in ErrorKind::ALL {
+            assert_eq!(k.to_string(), k.as_str());
+            assert_eq!(*k, k.as_str());
+        }
         // The CLI's own kinds for failures outside the library.
         kinds.extend(quoted_after(
             include_str!("../bin/bearing-ident/main.rs"),

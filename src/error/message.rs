@@ -1,5 +1,11 @@
-//! The parts of [`Error`](super::Error)'s messages that need code: the line spacing of a band, a
-//! size past a limit, the advice for a field test's dependent responses.
+//! [`Error`]'s messages (its `Display`, one arm per variant, as `warning_text.rs` holds the
+//! warnings' sentences) and the parts of them that need code: the line spacing of a band, a
+//! size past a limit, an iterative fit's last change, the advice for a field test's
+//! dependent responses.
+
+use std::fmt;
+
+use super::{Channel, Error, excerpt};
 
 /// Why a field identification's response pairs are singular everywhere, and what to change.
 pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
@@ -29,11 +35,434 @@ pub(super) fn size(value: f64) -> String {
     }
 }
 
+/// An iterative fit's last relative change as messages print it: `1.234e-5`, or `not
+/// reported` where the fit keeps none.
+pub(super) fn change_text(change: Option<f64>) -> String {
+    change.map_or_else(|| "not reported".to_owned(), |c| format!("{c:.3e}"))
+}
+
+/// The message of each [`Error`]: one sentence that names the input and carries its numbers.
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => write!(
+                f,
+                "parameter `{name}` = {value} is invalid: expected {expected}"
+            ),
+            Error::InvalidSetting { name, expected } => {
+                write!(f, "parameter `{name}` is invalid: expected {expected}")
+            }
+            Error::UnknownName {
+                what,
+                given,
+                expected,
+            } => write!(
+                f,
+                "{what} `{}` is not known: expected {expected}",
+                excerpt(given)
+            ),
+            Error::InvalidOption { message, .. } => write!(f, "{message}"),
+            Error::BandText { given } => {
+                write!(f, "--band `{given}`: expected LO,HI in Hz, e.g. 8,49")
+            }
+            Error::Baseline { path, source } => write!(f, "--baseline {path}: {source}"),
+            Error::LengthMismatch {
+                what,
+                expected,
+                actual,
+            } => write!(f, "{what}: {actual} values, expected {expected}"),
+            Error::TooLarge { what, value, limit } => {
+                write!(f, "{what} = {} is past the limit of {limit}", size(*value))
+            }
+            Error::FileLimit { path, what, limit } => {
+                write!(f, "{path}: {what} past the limit of {limit}")
+            }
+            Error::InvalidSampleRate {
+                record,
+                sample_rate,
+            } => write!(
+                f,
+                "record `{record}`: sampling rate {sample_rate} Hz is not a finite positive number"
+            ),
+            Error::ChannelCount {
+                record,
+                forces,
+                displacements,
+            } => write!(
+                f,
+                "record `{record}`: {forces} force and {displacements} displacement channels; \
+         a record needs n ≥ 1 of each, one per degree of freedom"
+            ),
+            Error::ResponseCount {
+                record,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "record `{record}`: {actual} response kinds for {expected} response channels; \
+         give one per degree of freedom"
+            ),
+            Error::ChannelLength {
+                record,
+                channel,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "record `{record}`: {channel} has {actual} samples, expected {expected}"
+            ),
+            Error::RecordTooShort {
+                record,
+                samples,
+                minimum,
+            } => write!(
+                f,
+                "record `{record}`: {samples} samples, at least {minimum} are needed"
+            ),
+            Error::NonFinite {
+                record,
+                channel,
+                sample,
+                value,
+            } => write!(
+                f,
+                "record `{record}`: {channel}, sample {sample}: value {value} is not finite"
+            ),
+            Error::DeadChannel {
+                record,
+                channel,
+                value,
+            } => write!(
+                f,
+                "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
+         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
+         that did not register); leave the record out",
+                if matches!(channel, Channel::Force(_)) {
+                    "force"
+                } else {
+                    "displacement"
+                }
+            ),
+            Error::BadRecord {
+                record,
+                finding,
+                failure,
+            } => write!(
+                f,
+                "record `{record}`: {finding}; the fit failed ({failure}) because of it: leave it out \
+         (reject the records the screening finds)"
+            ),
+            Error::NoRecords => write!(f, "no records were given"),
+            Error::DofMismatch {
+                record,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "record `{record}`: {actual} degrees of freedom, expected {expected}"
+            ),
+            Error::SampleRateMismatch {
+                record,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "record `{record}`: sampling rate {actual} Hz differs from {expected} Hz of the first record"
+            ),
+            Error::RecordLengthMismatch {
+                record,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "record `{record}`: {actual} samples, but the first record has {expected}"
+            ),
+            Error::InvalidAssignment {
+                record,
+                excitation,
+                dofs,
+            } => write!(
+                f,
+                "record `{record}`: assigned to excitation {excitation}, but there are only {dofs} degrees of freedom"
+            ),
+            Error::AssignmentLength { expected, actual } => write!(
+                f,
+                "the excitation assignment names {actual} records, but {expected} were given"
+            ),
+            Error::IncompleteStep {
+                freq_hz,
+                direction,
+                dofs,
+            } => write!(
+                f,
+                "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
+         every frequency step needs one record per direction"
+            ),
+            Error::InvalidBand { low_hz, high_hz } => write!(
+                f,
+                "band {low_hz}–{high_hz} Hz is not a valid band (need finite 0 ≤ low < high)"
+            ),
+            Error::BandAboveNyquist {
+                high_hz,
+                nyquist_hz,
+            } => write!(
+                f,
+                "band upper edge {high_hz} Hz is above the Nyquist frequency {nyquist_hz} Hz"
+            ),
+            Error::TooFewLines {
+                lines,
+                required,
+                resolution_hz,
+            } => write!(
+                f,
+                "the band holds {lines} usable frequency lines, at least {required} are needed \
+         ({}): widen the band or lengthen the records (segments)",
+                spacing(*resolution_hz)
+            ),
+            Error::ResponseAtZeroFrequency {
+                record,
+                channel,
+                response,
+                freq_hz,
+            } => write!(
+                f,
+                "record `{record}`: {channel} measures {response}, which has no displacement at \
+         {freq_hz} Hz (X = V/(iω) = A/(−ω²) needs ω ≠ 0): choose a band above 0 Hz"
+            ),
+            Error::SpectrumOverflow {
+                record,
+                stage,
+                channel,
+                freq_hz,
+                peak,
+            } => write!(
+                f,
+                "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
+         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
+         channel, e.g. to N and m)"
+            ),
+            Error::NonFiniteResult { stage, freq_hz } => write!(
+                f,
+                "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
+         estimator (rescale the channels, e.g. to N and m)"
+            ),
+            Error::RankDeficient { rank, dofs } => write!(
+                f,
+                "the excitations are rank-deficient: they span {rank} of {dofs} directions over the band; \
+         {dofs} linearly independent excitations are needed (for example impacts in x and in y)"
+            ),
+            Error::SingularFit { method } => write!(
+                f,
+                "the {method} fit is singular: the band does not determine M, C and K (try a wider band)"
+            ),
+            Error::Singular { what } => write!(f, "{what} is singular"),
+            Error::Decomposition { what } => write!(f, "the {what} decomposition did not converge"),
+            Error::NotConverged {
+                method,
+                iterations,
+                change,
+            } => write!(
+                f,
+                "{method} did not converge in {iterations} iterations (last relative change {})",
+                change_text(*change)
+            ),
+            Error::MlNeedsRepeats => write!(
+                f,
+                "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
+            ),
+            Error::CoefficientShape {
+                mass,
+                damping,
+                stiffness,
+            } => write!(
+                f,
+                "coefficient matrices must be square and of one size: M is {mass:?}, C is {damping:?}, K is {stiffness:?}"
+            ),
+            Error::NonFiniteCoefficient { matrix, row, col } => {
+                write!(f, "coefficient {matrix}[{row}][{col}] is not finite")
+            }
+            Error::DofCountMismatch { left, right } => write!(
+                f,
+                "cannot combine coefficients of {left} and {right} degrees of freedom"
+            ),
+            Error::BaselineMismatch { what } => write!(
+                f,
+                "the baseline differs from the system in its {what}: identify both with the same band, lines, estimator, window and degrees of freedom"
+            ),
+            #[cfg(feature = "json")]
+            Error::BadBaseline { message } => write!(f, "{message}"),
+            Error::SimulationDiverged {
+                record,
+                sample,
+                step_s,
+            } => write!(
+                f,
+                "record `{record}`: the nonlinear simulation diverged before sample {sample} (RK4 step \
+         {step_s:.3e} s): check the signs and sizes of the nonlinear coefficients, or raise \
+         the oversampling"
+            ),
+            Error::NonFiniteRegressor {
+                record,
+                term,
+                sample,
+            } => write!(
+                f,
+                "record `{record}`: the nonlinear term {term} is not finite at sample {sample} \
+         (rescale the channels, e.g. to N and m)"
+            ),
+            Error::TooFewAverages {
+                averages,
+                inputs,
+                required,
+            } => write!(
+                f,
+                "the records give {averages} Welch segments, but the reverse path with {inputs} inputs \
+         (displacements and nonlinear terms) needs at least {required}: give more or longer \
+         records, or shorter segments"
+            ),
+            Error::FieldInput { message } => write!(f, "{message}"),
+            Error::Plan {
+                file,
+                line,
+                message,
+            } => write!(f, "{file}:{line}: {message}"),
+            Error::FieldNonFinite { what } => write!(f, "{what} is not finite"),
+            Error::MissingResponse {
+                speed_rad_s,
+                test,
+                node,
+                dir,
+            } => write!(
+                f,
+                "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: \
+         every speed and test needs every probe"
+            ),
+            Error::Underdetermined {
+                measured,
+                bearing_dofs,
+                reason,
+            } => write!(
+                f,
+                "{measured} measured degrees of freedom for {bearing_dofs} bearing degrees of freedom: \
+         {reason}"
+            ),
+            Error::FieldRankDeficient {
+                bearing,
+                worst,
+                dependent_tests,
+            } => write!(
+                f,
+                "bearing `{bearing}`: the two tests' responses are dependent at every speed (smallest \
+         condition number {worst:.3e}): {}",
+                rank_deficient_advice(*dependent_tests)
+            ),
+            Error::Io { path, message } => write!(f, "{path}: {message}"),
+            #[cfg(feature = "csv")]
+            Error::Csv {
+                path,
+                line,
+                message,
+            } => write!(f, "{path}, line {line}: {message}"),
+            #[cfg(feature = "csv")]
+            Error::MissingColumn {
+                path,
+                column,
+                header,
+            } => write!(
+                f,
+                "{path}, line 1: no column named `{column}` (header has: {header})"
+            ),
+            #[cfg(feature = "csv")]
+            Error::CsvNonFinite { path, line, column } => write!(
+                f,
+                "{path}, line {line}, column `{column}`: value is not finite"
+            ),
+            #[cfg(feature = "csv")]
+            Error::NonUniformTime {
+                path,
+                line,
+                expected_s,
+                actual_s,
+                step_s,
+            } => write!(
+                f,
+                "{path}, line {line}: time {actual_s} s is off the uniform grid (expected {expected_s} s, \
+         step {step_s} s)"
+            ),
+            #[cfg(feature = "csv")]
+            Error::CsvLimit {
+                path,
+                line,
+                what,
+                limit,
+            } => write!(f, "{path}, line {line}: {what} past the limit of {limit}"),
+            #[cfg(feature = "uff")]
+            Error::Uff {
+                path,
+                block,
+                line,
+                message,
+            } => write!(f, "{path}, block {block}, line {line}: {message}"),
+            #[cfg(feature = "uff")]
+            Error::UffRecord {
+                path,
+                load_case,
+                message,
+            } => write!(f, "{path}: load case {load_case}: {message}"),
+            Error::ExportDofs {
+                format,
+                dofs,
+                expected,
+            } => write!(
+                f,
+                "{format} needs {expected} degrees of freedom; this identification has {dofs}"
+            ),
+            #[cfg(feature = "plot")]
+            Error::Plot { figure, message } => write!(f, "figure `{figure}`: {message}"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[cfg(feature = "csv")]
     use crate::error::CsvLimitKind;
     use crate::error::{Channel, Error};
+
+    #[test]
+    fn a_baseline_failure_keeps_its_source_and_a_missing_change_is_said() {
+        use std::error::Error as _;
+        let inner = Error::NoRecords;
+        let e = Error::Baseline {
+            path: "dry/".into(),
+            source: Box::new(inner.clone()),
+        };
+        assert_eq!(e.to_string(), "--baseline dry/: no records were given");
+        assert_eq!(e.source().map(ToString::to_string), Some(inner.to_string()));
+        let e = Error::NotConverged {
+            method: crate::Method::Ml,
+            iterations: 50,
+            change: None,
+        };
+        assert!(
+            e.to_string()
+                .ends_with("(last relative change not reported)"),
+            "{e}"
+        );
+        let e = Error::NotConverged {
+            method: crate::Method::Ivf,
+            iterations: 50,
+            change: Some(1.5e-3),
+        };
+        assert!(
+            e.to_string().ends_with("(last relative change 1.500e-3)"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn messages_carry_the_numbers() {

@@ -6,8 +6,9 @@
 //! `# Panics` where they can happen.
 //!
 //! What lives where: the [`Error`] enum is here, its variants grouped by the stage that raises
-//! them, in the order data flows; `message.rs` holds the parts of messages that need code and the
-//! tests of the messages, `kind.rs` [`Error::kind`], `convert.rs` the conversions from faer's
+//! them, in the order data flows; `message.rs` holds their messages (the `Display` arms, with
+//! the parts that need code) and the tests of the messages, `kind.rs` [`ErrorKind`] and
+//! [`Error::kind`], `parameter.rs` the [`Parameter`]s an [`Error::InvalidParameter`] names, `convert.rs` the conversions from faer's
 //! errors, `warning.rs` and `warning_text.rs` the [`Warning`]s and their sentences, `subject.rs`
 //! what errors and warnings name ([`Channel`], [`Block`], …), `quote.rs` the bound on quoted
 //! input ([`excerpt`]).
@@ -15,12 +16,14 @@
 mod convert;
 mod kind;
 mod message;
+mod parameter;
 mod quote;
 mod subject;
 mod warning;
 mod warning_text;
 
-use message::{rank_deficient_advice, size, spacing};
+pub use kind::ErrorKind;
+pub use parameter::Parameter;
 pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
@@ -33,18 +36,24 @@ pub use warning::Warning;
 pub enum Error {
     // ---- Arguments and limits, at any stage ----
     /// A numeric parameter is outside its valid range.
-    #[error("parameter `{name}` = {value} is invalid: expected {expected}")]
     InvalidParameter {
-        /// Name of the parameter.
-        name: &'static str,
+        /// Which parameter.
+        name: Parameter,
         /// The value given.
         value: f64,
         /// The valid range, in words.
         expected: &'static str,
     },
+    /// A setting that is not a number is invalid: settings that do not go together, or a
+    /// text that does not parse as the setting's items.
+    InvalidSetting {
+        /// Which setting.
+        name: Parameter,
+        /// What is accepted, in words.
+        expected: &'static str,
+    },
     /// A name given for a choice (a method, an estimator, an excitation…) is not one of its
     /// names.
-    #[error("{what} `{}` is not known: expected {expected}", excerpt(given))]
     UnknownName {
         /// What was being named: `"method"`, `"estimator"`, …
         what: &'static str,
@@ -57,7 +66,6 @@ pub enum Error {
     /// a value that does not parse, or one the records cannot take (a period without periodic
     /// records, a period longer than the records). The message names the option as the
     /// command line spells it.
-    #[error("{message}")]
     InvalidOption {
         /// The option's long name (`period`, `window`, …).
         option: &'static str,
@@ -65,14 +73,12 @@ pub enum Error {
         message: String,
     },
     /// A band given as text is not `LO,HI` in Hz.
-    #[error("--band `{given}`: expected LO,HI in Hz, e.g. 8,49")]
     BandText {
         /// The text given (at most 80 characters of it).
         given: String,
     },
     /// A dry-structure baseline could not be had: its folder of records or its JSON file
     /// failed (the kind is that of the failure inside).
-    #[error("--baseline {path}: {source}")]
     Baseline {
         /// The folder or file given.
         path: String,
@@ -80,7 +86,6 @@ pub enum Error {
         source: Box<Error>,
     },
     /// Two inputs of a library function that must have one length do not.
-    #[error("{what}: {actual} values, expected {expected}")]
     LengthMismatch {
         /// Which inputs.
         what: &'static str,
@@ -91,7 +96,6 @@ pub enum Error {
     },
     /// A requested size (samples, records, degrees of freedom, work) is past a documented limit
     /// of the crate.
-    #[error("{what} = {} is past the limit of {limit}", size(*value))]
     TooLarge {
         /// What was asked for, in words.
         what: &'static str,
@@ -103,7 +107,6 @@ pub enum Error {
     /// A file is past a reader's documented size rule (`crate::limits`): a line longer than
     /// a mebibyte, more values than a record may hold, a JSON text longer than 16 MiB. Reading
     /// stops there, before the input can exhaust memory.
-    #[error("{path}: {what} past the limit of {limit}")]
     FileLimit {
         /// The file.
         path: String,
@@ -114,7 +117,6 @@ pub enum Error {
     },
     // ---- Records and their excitations (`crate::records`, `crate::frf::assignment`, `crate::stepped`) ----
     /// A record's sampling rate is not a finite positive number.
-    #[error("record `{record}`: sampling rate {sample_rate} Hz is not a finite positive number")]
     InvalidSampleRate {
         /// Label of the record.
         record: String,
@@ -122,10 +124,6 @@ pub enum Error {
         sample_rate: f64,
     },
     /// A record has no force channels or no displacement channels, or a different number of each.
-    #[error(
-        "record `{record}`: {forces} force and {displacements} displacement channels; \
-         a record needs n ≥ 1 of each, one per degree of freedom"
-    )]
     ChannelCount {
         /// Label of the record.
         record: String,
@@ -135,10 +133,6 @@ pub enum Error {
         displacements: usize,
     },
     /// A record was given a different number of response kinds than it has response channels.
-    #[error(
-        "record `{record}`: {actual} response kinds for {expected} response channels; \
-         give one per degree of freedom"
-    )]
     ResponseCount {
         /// Label of the record.
         record: String,
@@ -148,7 +142,6 @@ pub enum Error {
         actual: usize,
     },
     /// A channel of a record is longer or shorter than the record's first force channel.
-    #[error("record `{record}`: {channel} has {actual} samples, expected {expected}")]
     ChannelLength {
         /// Label of the record.
         record: String,
@@ -160,7 +153,6 @@ pub enum Error {
         actual: usize,
     },
     /// A record is too short to carry a spectrum.
-    #[error("record `{record}`: {samples} samples, at least {minimum} are needed")]
     RecordTooShort {
         /// Label of the record.
         record: String,
@@ -170,7 +162,6 @@ pub enum Error {
         minimum: usize,
     },
     /// A sample is NaN or infinite.
-    #[error("record `{record}`: {channel}, sample {sample}: value {value} is not finite")]
     NonFinite {
         /// Label of the record.
         record: String,
@@ -183,12 +174,6 @@ pub enum Error {
     },
     /// Every force channel (or every displacement channel) of a record is flat: nothing was
     /// recorded, and the identification cannot use the record.
-    #[error(
-        "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
-         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
-         that did not register); leave the record out",
-        if matches!(channel, Channel::Force(_)) { "force" } else { "displacement" }
-    )]
     DeadChannel {
         /// Label of the record.
         record: String,
@@ -201,10 +186,6 @@ pub enum Error {
     /// (a channel dead or its level an outlier: a record scaled by 1e-12 or 1e20, a glitch
     /// sample): that record, not the excitations, is the cause. Leaving records with findings
     /// out ([`Screening::Reject`](crate::Screening::Reject)) rescues the run.
-    #[error(
-        "record `{record}`: {finding}; the fit failed ({failure}) because of it: leave it out \
-         (reject the records the screening finds)"
-    )]
     BadRecord {
         /// Label of the record.
         record: String,
@@ -214,10 +195,8 @@ pub enum Error {
         failure: String,
     },
     /// No records were given.
-    #[error("no records were given")]
     NoRecords,
     /// A record has a different number of degrees of freedom than asked for or than the others.
-    #[error("record `{record}`: {actual} degrees of freedom, expected {expected}")]
     DofMismatch {
         /// Label of the record.
         record: String,
@@ -227,9 +206,6 @@ pub enum Error {
         actual: usize,
     },
     /// Records in one identification have different sampling rates.
-    #[error(
-        "record `{record}`: sampling rate {actual} Hz differs from {expected} Hz of the first record"
-    )]
     SampleRateMismatch {
         /// Label of the record.
         record: String,
@@ -239,7 +215,6 @@ pub enum Error {
         actual: f64,
     },
     /// Records in one identification have different lengths.
-    #[error("record `{record}`: {actual} samples, but the first record has {expected}")]
     RecordLengthMismatch {
         /// Label of the record.
         record: String,
@@ -249,9 +224,6 @@ pub enum Error {
         actual: usize,
     },
     /// An explicit excitation assignment does not fit the records.
-    #[error(
-        "record `{record}`: assigned to excitation {excitation}, but there are only {dofs} degrees of freedom"
-    )]
     InvalidAssignment {
         /// Label of the record.
         record: String,
@@ -261,7 +233,6 @@ pub enum Error {
         dofs: usize,
     },
     /// An explicit excitation assignment has a different length than the record list.
-    #[error("the excitation assignment names {actual} records, but {expected} were given")]
     AssignmentLength {
         /// Number of records.
         expected: usize,
@@ -269,10 +240,6 @@ pub enum Error {
         actual: usize,
     },
     /// A step of a stepped-sine test has no record driving one of the directions.
-    #[error(
-        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
-         every frequency step needs one record per direction"
-    )]
     IncompleteStep {
         /// Drive frequency of the step (Hz).
         freq_hz: f64,
@@ -284,7 +251,6 @@ pub enum Error {
     // ---- Band, spectra and FRF (`crate::frf`, `crate::spectra`) ----
     // Overflow is named where it starts, not where a later stage would only see its effect.
     /// The frequency band is empty, inverted, negative or not finite.
-    #[error("band {low_hz}–{high_hz} Hz is not a valid band (need finite 0 ≤ low < high)")]
     InvalidBand {
         /// Lower edge (Hz).
         low_hz: f64,
@@ -292,7 +258,6 @@ pub enum Error {
         high_hz: f64,
     },
     /// The band reaches above the Nyquist frequency of the records.
-    #[error("band upper edge {high_hz} Hz is above the Nyquist frequency {nyquist_hz} Hz")]
     BandAboveNyquist {
         /// Upper edge of the band (Hz).
         high_hz: f64,
@@ -301,11 +266,6 @@ pub enum Error {
     },
     /// The band holds too few frequency lines for the number of unknowns (an empty band
     /// included).
-    #[error(
-        "the band holds {lines} usable frequency lines, at least {required} are needed \
-         ({}): widen the band or lengthen the records (segments)",
-        spacing(*resolution_hz)
-    )]
     TooFewLines {
         /// Usable lines in the band.
         lines: usize,
@@ -317,10 +277,6 @@ pub enum Error {
     },
     /// A velocity or acceleration channel cannot be turned into displacement at a line where
     /// $s = \sigma + i\omega$ is zero (DC with no exponential window): $X = V/s$ is not defined.
-    #[error(
-        "record `{record}`: {channel} measures {response}, which has no displacement at \
-         {freq_hz} Hz (X = V/(iω) = A/(−ω²) needs ω ≠ 0): choose a band above 0 Hz"
-    )]
     ResponseAtZeroFrequency {
         /// Label of the record.
         record: String,
@@ -332,11 +288,6 @@ pub enum Error {
         freq_hz: f64,
     },
     /// A spectrum, or a product of spectra, of finite samples overflowed to infinity or NaN.
-    #[error(
-        "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
-         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
-         channel, e.g. to N and m)"
-    )]
     SpectrumOverflow {
         /// Label of the record.
         record: String,
@@ -351,10 +302,6 @@ pub enum Error {
     },
     /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
     /// finite.
-    #[error(
-        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
-         estimator (rescale the channels, e.g. to N and m)"
-    )]
     NonFiniteResult {
         /// Which quantity.
         stage: Quantity,
@@ -363,10 +310,6 @@ pub enum Error {
     },
     // ---- Conditioning and the fits (`crate::conditioning`, `crate::solve`) ----
     /// The excitations do not span all degrees of freedom.
-    #[error(
-        "the excitations are rank-deficient: they span {rank} of {dofs} directions over the band; \
-         {dofs} linearly independent excitations are needed (for example impacts in x and in y)"
-    )]
     RankDeficient {
         /// Estimated rank of the excitation.
         rank: usize,
@@ -374,48 +317,35 @@ pub enum Error {
         dofs: usize,
     },
     /// The stacked least-squares or instrumental-variable system is singular.
-    #[error(
-        "the {method} fit is singular: the band does not determine M, C and K (try a wider band)"
-    )]
     SingularFit {
         /// The method that failed.
         method: crate::Method,
     },
     /// A matrix that must be inverted is singular.
-    #[error("{what} is singular")]
     Singular {
         /// What was being inverted.
         what: &'static str,
     },
     /// A matrix decomposition from faer did not converge.
-    #[error("the {what} decomposition did not converge")]
     Decomposition {
         /// Which decomposition.
         what: Factorization,
     },
     /// An iterative fit did not converge and the caller asked for convergence.
-    #[error(
-        "{method} did not converge in {iterations} iterations (last relative change {change:.3e})"
-    )]
     NotConverged {
         /// The method.
         method: crate::Method,
         /// Iterations run.
         iterations: usize,
-        /// Block-wise relative change at the last iteration.
-        change: f64,
+        /// Block-wise relative change at the last iteration (`None` where the fit does not
+        /// report one).
+        change: Option<f64>,
     },
     /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
     /// has none, and periodic records need at least 3 periods.
-    #[error(
-        "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
-    )]
     MlNeedsRepeats,
     // ---- Coefficients and baselines (`crate::model`, `crate::identify`) ----
     /// Mass, damping and stiffness matrices do not have one common square shape.
-    #[error(
-        "coefficient matrices must be square and of one size: M is {mass:?}, C is {damping:?}, K is {stiffness:?}"
-    )]
     CoefficientShape {
         /// Shape of M.
         mass: (usize, usize),
@@ -425,7 +355,6 @@ pub enum Error {
         stiffness: (usize, usize),
     },
     /// A coefficient matrix holds NaN or infinity.
-    #[error("coefficient {matrix}[{row}][{col}] is not finite")]
     NonFiniteCoefficient {
         /// The matrix: `M`, `C` or `K`.
         matrix: Block,
@@ -435,7 +364,6 @@ pub enum Error {
         col: usize,
     },
     /// Two sets of coefficients that must be combined have different sizes.
-    #[error("cannot combine coefficients of {left} and {right} degrees of freedom")]
     DofCountMismatch {
         /// Degrees of freedom of the left operand.
         left: usize,
@@ -444,16 +372,12 @@ pub enum Error {
     },
     /// A dry-structure baseline was identified differently from the system it is subtracted
     /// from.
-    #[error(
-        "the baseline differs from the system in its {what}: identify both with the same band, lines, estimator, window and degrees of freedom"
-    )]
     BaselineMismatch {
         /// What differs.
         what: BaselineField,
     },
     /// A saved baseline (the JSON of an earlier identification) cannot be read (feature
     /// `json`, [`Baseline::from_json`](crate::Baseline::from_json)).
-    #[error("{message}")]
     #[cfg(feature = "json")]
     BadBaseline {
         /// What is wrong, naming the key; at most about 80 characters of the input are quoted.
@@ -463,11 +387,6 @@ pub enum Error {
     /// A nonlinear simulation stopped being finite: a term drove the state to infinity (a
     /// softening cubic past its turning point, a negative friction or damping), or the RK4 step
     /// is too long for a rate that grows with the amplitude (cubic stiffness, quadratic damping).
-    #[error(
-        "record `{record}`: the nonlinear simulation diverged before sample {sample} (RK4 step \
-         {step_s:.3e} s): check the signs and sizes of the nonlinear coefficients, or raise \
-         the oversampling"
-    )]
     SimulationDiverged {
         /// Label of the record.
         record: String,
@@ -477,10 +396,6 @@ pub enum Error {
         step_s: f64,
     },
     /// A nonlinear regressor is not finite at a sample of a record (a cube beyond `f64`).
-    #[error(
-        "record `{record}`: the nonlinear term {term} is not finite at sample {sample} \
-         (rescale the channels, e.g. to N and m)"
-    )]
     NonFiniteRegressor {
         /// Label of the record.
         record: String,
@@ -490,11 +405,6 @@ pub enum Error {
         sample: usize,
     },
     /// The records give too few Welch averages for the inputs of the reverse path.
-    #[error(
-        "the records give {averages} Welch segments, but the reverse path with {inputs} inputs \
-         (displacements and nonlinear terms) needs at least {required}: give more or longer \
-         records, or shorter segments"
-    )]
     TooFewAverages {
         /// Welch segments over all records.
         averages: usize,
@@ -504,7 +414,6 @@ pub enum Error {
         required: usize,
     },
     /// A campaign plan or geometry file that is not well formed, at `file:line`.
-    #[error("{file}:{line}: {message}")]
     Plan {
         /// The file.
         file: String,
@@ -516,23 +425,17 @@ pub enum Error {
     // ---- Field identification (`crate::field`) ----
     /// Field identification ([`field`](crate::field)): a rotor model or test set that is not
     /// well formed (shapes, names, nodes, speeds, masses); the message names the key or record.
-    #[error("{message}")]
     FieldInput {
         /// What is wrong, naming the key or record (input quoted by at most 80 characters).
         message: String,
     },
     /// Field identification: a NaN or infinite value in a rotor model or a test set.
-    #[error("{what} is not finite")]
     FieldNonFinite {
         /// The matrix entry or response holding the value.
         what: String,
     },
     /// Field identification: a measured degree of freedom lacks its response at a speed and
     /// run (every speed and run needs the same probes).
-    #[error(
-        "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: \
-         every speed and test needs every probe"
-    )]
     MissingResponse {
         /// The speed (rad/s).
         speed_rad_s: f64,
@@ -546,10 +449,6 @@ pub enum Error {
     /// Field identification: the probes cannot determine the bearing forces — fewer measured
     /// degrees of freedom than bearing degrees of freedom, or a least-squares system singular
     /// at every speed.
-    #[error(
-        "{measured} measured degrees of freedom for {bearing_dofs} bearing degrees of freedom: \
-         {reason}"
-    )]
     Underdetermined {
         /// Measured degrees of freedom (probes).
         measured: usize,
@@ -560,11 +459,6 @@ pub enum Error {
     },
     /// Field identification: at every speed the responses of the two tests at a bearing are
     /// dependent (masses in one plane, or isotropic supports and circular orbits).
-    #[error(
-        "bearing `{bearing}`: the two tests' responses are dependent at every speed (smallest \
-         condition number {worst:.3e}): {}",
-        rank_deficient_advice(*dependent_tests)
-    )]
     FieldRankDeficient {
         /// Tag of the bearing.
         bearing: String,
@@ -575,7 +469,6 @@ pub enum Error {
     },
     // ---- Files and figures at the edge (`crate::io`, `crate::uff`, `crate::export`, `crate::plot`) ----
     /// A file could not be opened, read or written.
-    #[error("{path}: {message}")]
     Io {
         /// The file.
         path: String,
@@ -583,7 +476,6 @@ pub enum Error {
         message: String,
     },
     /// A CSV line is ragged or holds text that is not a number.
-    #[error("{path}, line {line}: {message}")]
     #[cfg(feature = "csv")]
     Csv {
         /// The file.
@@ -594,7 +486,6 @@ pub enum Error {
         message: String,
     },
     /// A named column is not in a CSV file's header.
-    #[error("{path}, line 1: no column named `{column}` (header has: {header})")]
     #[cfg(feature = "csv")]
     MissingColumn {
         /// The file.
@@ -605,7 +496,6 @@ pub enum Error {
         header: String,
     },
     /// A CSV value is NaN or infinite.
-    #[error("{path}, line {line}, column `{column}`: value is not finite")]
     #[cfg(feature = "csv")]
     CsvNonFinite {
         /// The file.
@@ -616,10 +506,6 @@ pub enum Error {
         column: String,
     },
     /// The time column of a CSV file is not uniformly sampled.
-    #[error(
-        "{path}, line {line}: time {actual_s} s is off the uniform grid (expected {expected_s} s, \
-         step {step_s} s)"
-    )]
     #[cfg(feature = "csv")]
     NonUniformTime {
         /// The file.
@@ -636,7 +522,6 @@ pub enum Error {
     /// A line of a CSV file, its number of columns, or its number of values is past the
     /// reader's documented limit (see the limits of the `io` module, feature `csv`): reading
     /// stops there, before the input can exhaust memory.
-    #[error("{path}, line {line}: {what} past the limit of {limit}")]
     #[cfg(feature = "csv")]
     CsvLimit {
         /// The file.
@@ -652,7 +537,6 @@ pub enum Error {
     /// unknown ordinate type, too few values, a binary block shorter than its byte count, a
     /// block that is never closed.
     #[cfg(feature = "uff")]
-    #[error("{path}, block {block}, line {line}: {message}")]
     Uff {
         /// The file (or the label given to [`uff::parse`](crate::uff::parse)).
         path: String,
@@ -667,7 +551,6 @@ pub enum Error {
     /// force or displacement channel, channels of different lengths or sample rates, or an
     /// uneven abscissa.
     #[cfg(feature = "uff")]
-    #[error("{path}: load case {load_case}: {message}")]
     UffRecord {
         /// The file (or the label given).
         path: String,
@@ -678,7 +561,6 @@ pub enum Error {
     },
     /// An identification exported to a format of a fixed number of degrees of freedom has
     /// another: a ROSS bearing element (feature `ross`) is 2-DOF (`x`, `y`).
-    #[error("{format} needs {expected} degrees of freedom; this identification has {dofs}")]
     ExportDofs {
         /// What was asked for.
         format: &'static str,
@@ -688,7 +570,6 @@ pub enum Error {
         expected: usize,
     },
     /// A figure could not be drawn (feature `plot`).
-    #[error("figure `{figure}`: {message}")]
     #[cfg(feature = "plot")]
     Plot {
         /// The figure.

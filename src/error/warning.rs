@@ -71,8 +71,9 @@ pub enum Warning {
     NotConverged {
         /// Iterations run.
         iterations: usize,
-        /// Block-wise relative change at the last iteration.
-        change: f64,
+        /// Block-wise relative change at the last iteration (`None` where the fit does not
+        /// report one).
+        change: Option<f64>,
     },
     /// An iterative fit diverged; the result is its best iterate.
     Diverged {

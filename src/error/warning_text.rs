@@ -56,7 +56,8 @@ impl fmt::Display for Warning {
             ),
             Warning::NotConverged { iterations, change } => write!(
                 f,
-                "not converged after {iterations} iterations (relative change {change:.3e})"
+                "not converged after {iterations} iterations (relative change {})",
+                super::message::change_text(*change)
             ),
             Warning::Diverged {
                 iterations,

@@ -303,14 +303,14 @@ impl Excitation {
                     period_s
                         .or_else(|| find_period(record))
                         .ok_or(Error::InvalidParameter {
-                            name: "period",
+                            name: crate::Parameter::Period,
                             value: f64::NAN,
                             expected: "a period (s) for periodic excitation",
                         })?;
                 let len = (period * record.sample_rate()).round();
                 if !(len >= MIN_SEGMENT as f64 && len <= record.len() as f64) {
                     return Err(Error::InvalidParameter {
-                        name: "period",
+                        name: crate::Parameter::Period,
                         value: period,
                         expected: "8 samples up to the record length",
                     });
@@ -541,7 +541,10 @@ mod tests {
             assert!(
                 matches!(
                     Excitation::Periodic.segmentation(Estimator::H1, &r, Some(period)),
-                    Err(Error::InvalidParameter { name: "period", .. })
+                    Err(Error::InvalidParameter {
+                        name: crate::Parameter::Period,
+                        ..
+                    })
                 ),
                 "{period}"
             );

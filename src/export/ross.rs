@@ -213,14 +213,14 @@ impl BearingElement {
         }
         if mass.nrows() != 2 || mass.ncols() != 2 {
             return Err(Error::InvalidParameter {
-                name: "mass matrix size",
+                name: crate::Parameter::MassMatrixSize,
                 value: mass.nrows() as f64,
                 expected: "2 × 2",
             });
         }
         if freqs.len() < MIN_POINTS || freqs.windows(2).any(|w| w[1] <= w[0]) {
             return Err(Error::InvalidParameter {
-                name: "per-frequency lines",
+                name: crate::Parameter::PerFrequencyLines,
                 value: freqs.len() as f64,
                 expected: "at least 5 lines, strictly increasing (ROSS tables)",
             });

@@ -18,6 +18,7 @@
 //! [`INTERFERENCE_GUARD`] lines beyond them on each side
 //! (a sine's leakage there is below its random scatter, yet biased).
 
+use crate::statistics::median;
 use crate::tolerance::{
     INTERFERENCE_COHERENCE_DIP, INTERFERENCE_GUARD, INTERFERENCE_RATIO, INTERFERENCE_SPREAD,
 };
@@ -36,17 +37,6 @@ pub struct Interference {
     pub channel: usize,
     /// Its auto-spectrum at the peak over the neighbours' median.
     pub ratio: f64,
-}
-
-/// The median of `v` (NaN-free, not empty), `v` reordered.
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
 }
 
 /// The interference lines of a cross-spectral estimate: `force[k][c]` the auto-spectrum of
@@ -78,8 +68,10 @@ pub fn interference_lines(force: &[Vec<f64>], coherence: &[f64]) -> Vec<Interfer
     };
     let ratio = |k: usize, c: usize| -> f64 {
         let mut around: Vec<f64> = neighbours(k).map(|j| force[j][c]).collect();
-        let m = median(&mut around);
-        if m > 0.0 { force[k][c] / m } else { 0.0 }
+        match median(&mut around) {
+            Some(m) if m > 0.0 => force[k][c] / m,
+            _ => 0.0,
+        }
     };
     let best = |k: usize| -> (usize, f64) {
         (0..channels)
@@ -94,7 +86,8 @@ pub fn interference_lines(force: &[Vec<f64>], coherence: &[f64]) -> Vec<Interfer
             continue;
         }
         let mut around: Vec<f64> = neighbours(k).map(|j| coherence[j]).collect();
-        let dips = coherence[k] < INTERFERENCE_COHERENCE_DIP * median(&mut around);
+        let dips =
+            median(&mut around).is_some_and(|m| coherence[k] < INTERFERENCE_COHERENCE_DIP * m);
         if !dips {
             continue;
         }

@@ -1,6 +1,7 @@
 //! Stage 3: impedance `H(ω)` and flexibility `G(ω) = H(ω)⁻¹` per frequency line.
 //!
-//! Two estimators turn the spectra of the records into an [`Frf`]:
+//! Two families of estimators turn the spectra of the records into an [`Frf`]: paired sets,
+//! and the cross-spectral H1, H2 and Hv:
 //!
 //! - [`Estimator::PairedSets`] (the seed's eq. 9). Records are grouped into sets of `n`, one per
 //!   linearly independent excitation; per set and line
@@ -9,7 +10,6 @@
 //!   $S_{xf} = \sum_r X_r F_r^H$ and $S_{ff} = \sum_r F_r F_r^H$; then
 //!   $G_1 = S_{xf} S_{ff}^{-1}$ and $H = G_1^{-1}$. No pairing is needed and `G₁` is unbiased
 //!   under displacement noise.
-//!
 //! - [`Estimator::H2`]: $G_2 = S_{xx} S_{fx}^{-1}$, unbiased under force noise.
 //! - [`Estimator::Hv`]: per output, the total-least-squares fit of force and displacement
 //!   together (smallest eigenvector of the augmented cross-spectral matrix), between H1 and H2
@@ -191,7 +191,7 @@ impl Frf {
     pub fn from_flexibility(freqs_hz: Vec<f64>, flexibility: &[Mat<c64>]) -> Result<Self> {
         if freqs_hz.len() != flexibility.len() || flexibility.is_empty() {
             return Err(Error::InvalidParameter {
-                name: "flexibility lines",
+                name: crate::Parameter::FlexibilityLines,
                 value: flexibility.len() as f64,
                 expected: "one matrix per frequency, at least one",
             });
@@ -205,14 +205,14 @@ impl Frf {
         for (&f, m) in freqs_hz.iter().zip(flexibility) {
             if m.nrows() != n || m.ncols() != n || n == 0 {
                 return Err(Error::InvalidParameter {
-                    name: "flexibility matrix size",
+                    name: crate::Parameter::FlexibilityMatrixSize,
                     value: m.nrows() as f64,
                     expected: "square matrices of one size",
                 });
             }
             if !finite_positive(f) {
                 return Err(Error::InvalidParameter {
-                    name: "frequency",
+                    name: crate::Parameter::Frequency,
                     value: f,
                     expected: "finite and positive (Hz)",
                 });

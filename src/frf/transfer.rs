@@ -96,7 +96,7 @@ impl ChannelTransfer {
         match *self {
             ChannelTransfer::Delay { seconds } if !seconds.is_finite() => {
                 Err(Error::InvalidParameter {
-                    name: "channel delay",
+                    name: crate::Parameter::ChannelDelay,
                     value: seconds,
                     expected: "finite seconds",
                 })
@@ -105,7 +105,7 @@ impl ChannelTransfer {
                 if !(corner_hz.is_finite() && corner_hz > 0.0) =>
             {
                 Err(Error::InvalidParameter {
-                    name: "high-pass corner",
+                    name: crate::Parameter::HighPassCorner,
                     value: corner_hz,
                     expected: "finite Hz > 0",
                 })
@@ -114,7 +114,7 @@ impl ChannelTransfer {
                 if !(1..=MAX_HIGH_PASS_ORDER).contains(&order) =>
             {
                 Err(Error::InvalidParameter {
-                    name: "high-pass order",
+                    name: crate::Parameter::HighPassOrder,
                     value: f64::from(order),
                     expected: "1 to 8",
                 })
@@ -200,7 +200,7 @@ impl ChannelTransfers {
             };
             if n.is_some_and(|n| index >= n) {
                 return Err(Error::InvalidParameter {
-                    name: "corrected channel",
+                    name: crate::Parameter::CorrectedChannel,
                     value: index as f64,
                     expected: "a channel of the records (index below their degrees of freedom)",
                 });
@@ -344,7 +344,7 @@ mod tests {
     #[test]
     fn a_bad_characteristic_is_refused_by_name() {
         let name = |t: ChannelTransfer| match t.check() {
-            Err(Error::InvalidParameter { name, .. }) => name,
+            Err(Error::InvalidParameter { name, .. }) => name.as_str(),
             other => panic!("{other:?}"),
         };
         assert_eq!(name(ChannelTransfer::delay(f64::NAN)), "channel delay");

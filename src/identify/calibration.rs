@@ -88,7 +88,8 @@ impl Calibration {
     ///
     /// # Errors
     /// [`Error::UnknownName`] for a name that is none of these; [`Error::InvalidParameter`]
-    /// for a value that is not a finite number ≥ 0 or an item without `=`.
+    /// for a value that is not a finite number ≥ 0; [`Error::InvalidSetting`] for an item
+    /// without `=`.
     pub fn parse(
         spec: &str,
         force_names: &[impl AsRef<str>],
@@ -97,9 +98,8 @@ impl Calibration {
         let mut out = Calibration::default();
         for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let Some((name, value)) = item.split_once('=') else {
-                return Err(Error::InvalidParameter {
-                    name: "calibration",
-                    value: f64::NAN,
+                return Err(Error::InvalidSetting {
+                    name: crate::Parameter::Calibration,
                     expected: "NAME=VALUE items such as force=1%,response=2%",
                 });
             };
@@ -148,7 +148,7 @@ impl Calibration {
             let channels = self.force_channels.iter().chain(&self.response_channels);
             if let Some(&(i, _)) = channels.into_iter().find(|c| c.0 >= n) {
                 return Err(Error::InvalidParameter {
-                    name: "calibration channel",
+                    name: crate::Parameter::CalibrationChannel,
                     value: i as f64,
                     expected: "a channel index below the number of degrees of freedom",
                 });
@@ -196,7 +196,7 @@ fn check_value(u: f64) -> Result<()> {
         Ok(())
     } else {
         Err(Error::InvalidParameter {
-            name: "calibration uncertainty",
+            name: crate::Parameter::CalibrationUncertainty,
             value: u,
             expected: "a finite relative standard uncertainty ≥ 0 (2% or 0.02)",
         })
@@ -212,7 +212,7 @@ mod tests {
     #[test]
     fn bad_values_and_names_are_refused() {
         let names = (["fx", "fy"], ["x", "y"]);
-        for bad in ["force=-1%", "force=nan", "x=abc", "force"] {
+        for bad in ["force=-1%", "force=nan", "x=abc"] {
             assert!(
                 matches!(
                     Calibration::parse(bad, &names.0, &names.1),
@@ -221,6 +221,13 @@ mod tests {
                 "{bad}"
             );
         }
+        let e = Calibration::parse("force", &names.0, &names.1).unwrap_err();
+        assert!(matches!(e, Error::InvalidSetting { .. }), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "parameter `calibration` is invalid: expected NAME=VALUE items such as \
+             force=1%,response=2%"
+        );
         assert!(matches!(
             Calibration::parse("z=1%", &names.0, &names.1),
             Err(Error::UnknownName { .. })

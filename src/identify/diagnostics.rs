@@ -66,7 +66,7 @@ impl Settings {
                 fallback_iteration,
             } => {
                 if fail {
-                    let change = fit.history().last().map_or(f64::NAN, Iteration::change);
+                    let change = fit.history().last().map(Iteration::change);
                     return Err(Error::NotConverged {
                         method: self.method,
                         iterations,

@@ -363,20 +363,20 @@ impl Identifier {
     ///
     /// # Errors
     /// The first fault, in this order: [`Error::InvalidBand`](crate::Error::InvalidBand) for the band; then
-    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for an ML uncertainty other than none, sandwich or auto,
-    /// fewer than 20 bootstrap replicates, a minimum coherence outside `[0, 1)`, an
+    /// [`Error::InvalidSetting`](crate::Error::InvalidSetting) for an ML uncertainty other than none, sandwich or auto;
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for fewer than 20 bootstrap replicates, a minimum coherence outside `[0, 1)`, an
     /// exponential window's decay not finite and `≥ 0`, the IVF tolerance and iteration limit,
     /// the fit gate ([`FitGate::check`]), the channel characteristics
-    /// ([`ChannelTransfers::check`] against the [`Identifier::dofs`] if given), the screening checks ([`Checks::validate`](crate::screening::Checks::validate)) and the
+    /// ([`ChannelTransfers::check`] against the [`Identifier::dofs`] if given), the screening checks ([`Checks::check`](crate::screening::Checks::check)) and the
     /// condition limits (`1 ≤ warn ≤ refuse`); [`Error::TooLarge`](crate::Error::TooLarge) for more than
     /// [`MAX_BOOTSTRAP_DRAWS`] bootstrap replicates; [`Error::InvalidParameter`](crate::Error::InvalidParameter) for ML
     /// options out of range.
     ///
     /// # Examples
     /// ```
-    /// use bearing_ident::{Error, Identifier};
+    /// use bearing_ident::{Error, Identifier, Parameter};
     /// let e = Identifier::new(8.0, 49.0).min_coherence(1.5).check().unwrap_err();
-    /// assert!(matches!(e, Error::InvalidParameter { name: "minimum coherence", .. }));
+    /// assert!(matches!(e, Error::InvalidParameter { name: Parameter::MinimumCoherence, .. }));
     /// ```
     pub fn check(&self) -> Result<Settings> {
         Settings::new(self)

@@ -109,8 +109,9 @@ pub struct ModelCheck {
     pub verdict: Verdict,
     /// Per line used: the line's share of the statistic over its own expectation (`2n²`
     /// real terms), about 1 where the model fits; empty when untested or for ML. What the
-    /// report's residual figure draws.
-    pub line_ratios: Vec<f64>,
+    /// report's residual figure draws; `None` for a line none of whose terms has a measured
+    /// scatter.
+    pub line_ratios: Vec<Option<f64>>,
 }
 
 impl ModelCheck {
@@ -188,26 +189,22 @@ impl ModelCheck {
             }
             total += line;
             terms += line_terms;
-            line_ratios.push(if line_terms > 0 {
-                line / (2 * line_terms) as f64
-            } else {
-                f64::NAN
-            });
+            line_ratios.push((line_terms > 0).then(|| line / (2 * line_terms) as f64));
         }
         let dof = (2 * terms) as f64 - p as f64;
-        if dof <= 0.0 || !total.is_finite() {
+        let worst = line_ratios
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| r.filter(|r| r.is_finite()).map(|r| (k, r)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| frf.freqs_hz()[k]);
+        let (Some(worst), true) = (worst, dof > 0.0 && total.is_finite()) else {
             return Ok((
                 ModelCheck::untested("no pure error: too few lines with a measured scatter"),
                 None,
             ));
-        }
+        };
         let p_value = chi2_upper_tail(total, dof)?;
-        let worst = line_ratios
-            .iter()
-            .enumerate()
-            .filter(|(_, r)| r.is_finite())
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .map_or(f64::NAN, |(k, _)| frf.freqs_hz()[k]);
         Ok(Self::concluded(
             total,
             dof,
@@ -236,7 +233,9 @@ impl ModelCheck {
         let (statistic, dof) = (2.0 * report.cost, 2.0 * expected);
         let p_value = chi2_upper_tail(statistic, dof)?;
         let freqs = frf.freqs_hz();
-        let centre = freqs.get(freqs.len() / 2).copied().unwrap_or(f64::NAN);
+        let Some(&centre) = freqs.get(freqs.len() / 2) else {
+            return Ok((ModelCheck::untested("no lines"), None));
+        };
         Ok(Self::concluded(
             statistic,
             dof,
@@ -251,7 +250,7 @@ impl ModelCheck {
         statistic: f64,
         dof: f64,
         p_value: f64,
-        line_ratios: Vec<f64>,
+        line_ratios: Vec<Option<f64>>,
         worst_hz: f64,
         source: &'static str,
     ) -> (Self, Option<Warning>) {

@@ -380,7 +380,7 @@ impl Settings {
         let coherence_cause = |e: Error| match e {
             Error::TooFewLines { .. } | Error::RankDeficient { .. } if low_coherence > 0 => {
                 Error::InvalidParameter {
-                    name: "min_coherence",
+                    name: crate::Parameter::MinCoherence,
                     value: self.min_coherence,
                     expected: "a multiple coherence the records reach: the lines below it \
                                leave too few to fit",
@@ -528,7 +528,7 @@ impl Settings {
                 } else {
                     Convergence::IterationLimit {
                         iterations: refined.report.iterations,
-                        change: f64::NAN,
+                        change: None,
                     }
                 };
                 Fit::refined_by_ml(&start, refined.coefficients, cov, convergence)?

@@ -143,16 +143,15 @@ impl Settings {
                 Uncertainty::Jackknife | Uncertainty::Bootstrap { .. }
             )
         {
-            return Err(Error::InvalidParameter {
-                name: "uncertainty with method ml",
-                value: f64::NAN,
+            return Err(Error::InvalidSetting {
+                name: crate::Parameter::UncertaintyWithMethodMl,
                 expected: "none, sandwich or auto: ml's covariance is the inverse Fisher information",
             });
         }
         if let Uncertainty::Bootstrap { replicates, .. } = id.uncertainty {
             if replicates < 20 {
                 return Err(Error::InvalidParameter {
-                    name: "bootstrap replicates",
+                    name: crate::Parameter::BootstrapReplicates,
                     value: replicates as f64,
                     expected: "at least 20",
                 });
@@ -160,13 +159,13 @@ impl Settings {
         }
         if !(0.0..1.0).contains(&id.min_coherence) {
             return Err(Error::InvalidParameter {
-                name: "minimum coherence",
+                name: crate::Parameter::MinimumCoherence,
                 value: id.min_coherence,
                 expected: "0 ≤ threshold < 1",
             });
         }
-        let window = id.window.checked()?;
-        id.ivf.validate()?;
+        let window = id.window.check()?;
+        id.ivf.check()?;
         id.gate.check()?;
         id.transfers.check(id.dofs)?;
         let screening = match id.screening {
@@ -175,15 +174,9 @@ impl Settings {
             Screening::Reject(c) => Some((c, true)),
         };
         if let Some((c, _)) = screening {
-            c.validate()?;
+            c.check()?;
         }
-        if !(id.limits.warn >= 1.0 && id.limits.refuse >= id.limits.warn) {
-            return Err(Error::InvalidParameter {
-                name: "condition limits",
-                value: id.limits.warn,
-                expected: "1 ≤ warn ≤ refuse",
-            });
-        }
+        id.limits.check()?;
         if let Uncertainty::Bootstrap { replicates, .. } = id.uncertainty {
             if replicates > MAX_BOOTSTRAP_DRAWS {
                 return Err(Error::TooLarge {
@@ -195,7 +188,7 @@ impl Settings {
         }
         let ml = match id.ml {
             Some(options) => {
-                options.validate()?;
+                options.check()?;
                 options
             }
             None => derived_ml(&id.ivf),
@@ -290,8 +283,10 @@ mod tests {
 
     fn invalid(id: Identifier) -> &'static str {
         match id.check() {
-            Err(Error::InvalidParameter { name, .. }) => name,
-            other => panic!("expected InvalidParameter, got {other:?}"),
+            Err(Error::InvalidParameter { name, .. } | Error::InvalidSetting { name, .. }) => {
+                name.as_str()
+            }
+            other => panic!("expected InvalidParameter or InvalidSetting, got {other:?}"),
         }
     }
 

@@ -2,7 +2,7 @@
 //! conical mode about a pivot, measured by probes at other axial positions (and perhaps driven
 //! at another plane), moved to the bearing plane before any spectrum is taken.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Parameter, Result};
 use crate::records::{Record, conical_to_bearing};
 
 /// Where the probes and forces sit along the shaft, and the bearing plane their channels are
@@ -55,18 +55,25 @@ impl Geometry {
             value,
             expected,
         };
-        for (name, z) in [("geometry pivot", pivot), ("geometry bearing", bearing)]
-            .into_iter()
-            .chain(probes.iter().map(|&z| ("geometry probes", z)))
-            .chain(forces.iter().flatten().map(|&z| ("geometry forces", z)))
-        {
+        for (name, z) in [
+            (Parameter::GeometryPivot, pivot),
+            (Parameter::GeometryBearing, bearing),
+        ]
+        .into_iter()
+        .chain(probes.iter().map(|&z| (Parameter::GeometryProbes, z)))
+        .chain(
+            forces
+                .iter()
+                .flatten()
+                .map(|&z| (Parameter::GeometryForces, z)),
+        ) {
             if !z.is_finite() {
                 return Err(bad(name, z, "a finite axial position (m)"));
             }
         }
         if probes.is_empty() {
             return Err(bad(
-                "geometry probes",
+                Parameter::GeometryProbes,
                 0.0,
                 "one position per response channel",
             ));
@@ -74,7 +81,7 @@ impl Geometry {
         let coincide = |a: f64, b: f64| (a - b).abs() < f64::MIN_POSITIVE;
         if coincide(bearing, pivot) {
             return Err(bad(
-                "geometry bearing",
+                Parameter::GeometryBearing,
                 bearing,
                 "a bearing plane away from the pivot (it does not move there)",
             ));
@@ -82,14 +89,14 @@ impl Geometry {
         let at_pivot = |z: &&f64| coincide(**z, pivot);
         if let Some(&z) = probes.iter().find(at_pivot) {
             return Err(bad(
-                "geometry probes",
+                Parameter::GeometryProbes,
                 z,
                 "probes away from the pivot (a probe there sees no motion)",
             ));
         }
         if let Some(&z) = forces.iter().flatten().find(at_pivot) {
             return Err(bad(
-                "geometry forces",
+                Parameter::GeometryForces,
                 z,
                 "forces away from the pivot (a force there does no work)",
             ));
@@ -289,23 +296,23 @@ mod tests {
         };
         assert_eq!(
             name(Geometry::conical(0.0, 0.1, vec![0.0], None).unwrap_err()),
-            "geometry probes"
+            Parameter::GeometryProbes
         );
         assert_eq!(
             name(Geometry::conical(0.0, 0.0, vec![0.2], None).unwrap_err()),
-            "geometry bearing"
+            Parameter::GeometryBearing
         );
         assert_eq!(
             name(Geometry::conical(f64::NAN, 0.1, vec![0.2], None).unwrap_err()),
-            "geometry pivot"
+            Parameter::GeometryPivot
         );
         assert_eq!(
             name(Geometry::conical(0.0, 0.1, vec![0.2], Some(vec![0.0])).unwrap_err()),
-            "geometry forces"
+            Parameter::GeometryForces
         );
         assert_eq!(
             name(Geometry::conical(0.0, 0.1, vec![], None).unwrap_err()),
-            "geometry probes"
+            Parameter::GeometryProbes
         );
         let g = Geometry::conical(0.0, 0.1, vec![0.2], None).unwrap();
         let r = Record::new("r", 10.0, vec![vec![1.0; 8]; 2], vec![vec![1.0; 8]; 2]).unwrap();

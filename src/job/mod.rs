@@ -381,7 +381,10 @@ impl Job {
                 len: o.nperseg.unwrap_or(len),
             },
             Ok(segmentation) => segmentation,
-            Err(Error::InvalidParameter { name: "period", .. }) => {
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::Period,
+                ..
+            }) => {
                 return Err(Error::InvalidOption {
                     option: "period",
                     message: match o.period_s {

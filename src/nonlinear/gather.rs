@@ -220,7 +220,7 @@ pub(crate) fn gather(
         freqs_hz,
         blocks,
         velocity: VelocityChoice {
-            differentiation: differentiation.checked()?,
+            differentiation: differentiation.check()?,
             sources,
         },
     })

@@ -91,7 +91,7 @@ impl Regressor {
     pub fn terms(self, dofs: usize) -> Result<Vec<Term>> {
         match self {
             Regressor::CoulombPlanar if dofs < 2 => Err(Error::InvalidParameter {
-                name: "degrees of freedom for coulomb-planar",
+                name: crate::Parameter::DegreesOfFreedomForCoulombPlanar,
                 value: dofs as f64,
                 expected: "at least 2",
             }),

@@ -124,6 +124,30 @@ impl ReversePath {
         self
     }
 
+    /// Checks the settings that do not depend on the records: the band, the IVF options and
+    /// the velocity cutoff. [`ReversePath::identify`] calls it first; what needs the records
+    /// (the segment length against their length, the regressors against their degrees of
+    /// freedom) is checked there.
+    ///
+    /// # Errors
+    /// [`Error::InvalidBand`]; [`Error::InvalidParameter`] for the IVF options or a cutoff
+    /// that is not finite and positive.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::nonlinear::{Differentiation, Regressor, ReversePath};
+    /// assert!(ReversePath::new(5.0, 40.0, &[Regressor::Coulomb]).check().is_ok());
+    /// let bad = ReversePath::new(5.0, 40.0, &[]).differentiation(Differentiation::Cutoff(-1.0));
+    /// assert!(bad.check().is_err());
+    /// assert!(ReversePath::new(40.0, 5.0, &[]).check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        Band::new(self.low_hz, self.high_hz)?;
+        self.ivf.check()?;
+        self.differentiation.check()?;
+        Ok(())
+    }
+
     /// Identifies the linear coefficients and the nonlinear terms from `records`.
     ///
     /// # Errors
@@ -139,9 +163,9 @@ impl ReversePath {
     pub fn identify(&self, records: &[Record]) -> Result<NonlinearIdentification> {
         let start = Instant::now();
         let mut timings = Timings::default();
+        self.check()?;
         let band = Band::new(self.low_hz, self.high_hz)?;
-        self.ivf.validate()?;
-        let differentiation = self.differentiation.checked()?;
+        let differentiation = self.differentiation;
         let shape = common_shape(records, None)?;
         let n = shape.dofs;
         let terms = Regressor::expand(&self.regressors, n)?;

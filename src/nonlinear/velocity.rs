@@ -35,6 +35,7 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use crate::error::{Error, Result};
 use crate::frf::Band;
 use crate::records::Response;
+use crate::statistics::quantile;
 use crate::tolerance::{WIENER_MIN_FLOOR_LINES, WIENER_OVERSUBTRACTION, WIENER_SMOOTHING_LINES};
 
 /// How velocities are derived from the records ([`crate::nonlinear::ReversePath::differentiation`]).
@@ -78,11 +79,11 @@ impl Differentiation {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a cutoff that is not finite and positive.
-    pub fn checked(self) -> Result<Self> {
+    pub fn check(self) -> Result<Self> {
         match self {
             Differentiation::Cutoff(hz) if !(hz.is_finite() && hz > 0.0) => {
                 Err(Error::InvalidParameter {
-                    name: "velocity cutoff",
+                    name: crate::Parameter::VelocityCutoff,
                     value: hz,
                     expected: "finite and positive (Hz)",
                 })
@@ -158,7 +159,7 @@ impl Differentiator {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for fewer than 8 samples, a sample rate that is not finite
-    /// and positive, or a bad cutoff ([`Differentiation::checked`]).
+    /// and positive, or a bad cutoff ([`Differentiation::check`]).
     pub fn new(
         len: usize,
         sample_rate: f64,
@@ -167,17 +168,17 @@ impl Differentiator {
     ) -> Result<Self> {
         if len < 8 {
             return Err(Error::InvalidParameter {
-                name: "samples to differentiate",
+                name: crate::Parameter::SamplesToDifferentiate,
                 value: len as f64,
                 expected: "at least 8",
             });
         }
         crate::records::require_finite_positive(
-            "sample rate",
+            crate::Parameter::SampleRate,
             sample_rate,
             "finite and positive (Hz)",
         )?;
-        let differentiation = differentiation.checked()?;
+        let differentiation = differentiation.check()?;
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(len);
         let inverse = planner.plan_fft_inverse(len);
@@ -323,16 +324,6 @@ fn moving_average(values: &[f64], h: usize, out: &mut [f64]) {
             count -= 1;
         }
     }
-}
-
-/// The `q` quantile (nearest rank) of `values`, reordering them; 0 for an empty slice.
-fn quantile(values: &mut [f64], q: f64) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let rank = ((values.len() - 1) as f64 * q).round() as usize;
-    let (_, v, _) = values.select_nth_unstable_by(rank, f64::total_cmp);
-    *v
 }
 
 #[cfg(test)]

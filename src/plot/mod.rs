@@ -14,6 +14,7 @@
 //! | [`per_frequency`] | `K_ij(ω)` and `C_ij(ω)` line by line ([`PerFrequency`](crate::per_frequency::PerFrequency)) with error bars, and the constant fit |
 //! | [`records`] | force (N) and displacement per record against time, the impact (peak of the dominant force) marked, double hits and clipping from [`check_record`](crate::quality::check_record) marked, the force gate shaded and an exponential window drawn |
 //! | [`convergence`] | the IVF history: the block-wise relative changes of `M`, `C`, `K` per iteration (log scale) |
+//! | [`residual`] | the model check: each line's share of the χ² statistic over its expectation ([`ModelCheck::line_ratios`](crate::identify::ModelCheck::line_ratios)), about 1 where the model fits, with the 95 % band of pure error |
 //! | [`nonlinear`] | the reverse path's coefficient spectra `Âⱼ(ω)`: real part with the fitted constant, imaginary part with zero, `±σ` |
 //! | [`field`] | field identification: per bearing `K(Ω)`, `C(Ω)` with `±σ` and the condition number of the response pair against speed ([`field_report`] writes it with a table) |
 //!

@@ -3,9 +3,9 @@
 //! needs, and the shortcuts that skip them when the answer is known without.
 
 use crate::lanes;
+use crate::statistics::{MAD_TO_SIGMA, select};
 
-use super::select;
-use super::{ImpactChecks, MAD_TO_SIGMA, NOISE_SIGMAS, QUIET_SAMPLES, RETURN_FRACTION, Scan};
+use super::{ImpactChecks, NOISE_SIGMAS, QUIET_SAMPLES, RETURN_FRACTION, Scan};
 
 /// Below this range of the force (and above zero), `f − b` may square to zero: the
 /// double-hit check then runs even when no crest factor can pass, to keep its answer on
@@ -130,8 +130,8 @@ pub(super) fn double_hit(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quality::median;
     use crate::quality::tests::pulse;
+    use crate::statistics::upper_median;
 
     /// Uniform numbers in `[0, 1)` from a 64-bit linear congruential generator seeded by `seed`.
     fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
@@ -172,7 +172,7 @@ mod tests {
         ];
         for (k, f) in signals.iter().enumerate() {
             let scan = Scan::new(f);
-            let b = median(&mut f.clone());
+            let b = upper_median(&mut f.clone());
             let peak = f.iter().fold(0.0, |p: f64, v| p.max((v - b).abs()));
             let rms = (f.iter().map(|v| (v - b) * (v - b)).sum::<f64>() / n as f64).sqrt();
             let crest = peak / rms;
@@ -223,7 +223,7 @@ mod tests {
             let mut keys = Vec::new();
             lanes::total_order_keys(&f, &mut keys);
             let by_key = from_total_order_key(*keys.select_nth_unstable(n / 2).1);
-            assert_eq!(by_key.to_bits(), median(&mut f.clone()).to_bits());
+            assert_eq!(by_key.to_bits(), upper_median(&mut f.clone()).to_bits());
         }
     }
 
@@ -238,10 +238,10 @@ mod tests {
             for n in [9000, 9001] {
                 let mut f: Vec<f64> = (0..n).map(|_| 2.0 + level * noise()).collect();
                 pulse(&mut f, 3000, 1.0);
-                let baseline = median(&mut f.clone());
+                let baseline = upper_median(&mut f.clone());
                 let (_, peak) = lanes::peak(&f, baseline);
                 let mut dev: Vec<f64> = f.iter().map(|v| (v - baseline).abs()).collect();
-                let sigma = MAD_TO_SIGMA * median(&mut dev);
+                let sigma = MAD_TO_SIGMA * upper_median(&mut dev);
                 let plain = (RETURN_FRACTION * peak).max(NOISE_SIGMAS * sigma);
                 let level_here = quiet_level(&f, baseline, peak, &mut vec![0; n]);
                 assert_eq!(

@@ -1,5 +1,9 @@
 //! Quality checks of impact records: double hits and clipping.
 //!
+//! What lives where: the thresholds ([`ImpactChecks`]), the issues and the record's check are
+//! here; the one pass over a channel shared with the screening in `scan.rs`, the double-hit
+//! check in `double_hit.rs`, the clipping check in `clipping.rs`.
+//!
 //! Two faults spoil a real impact test without making the record invalid:
 //!
 //! - a **double hit**: the hammer bounces and strikes again, so the force holds two pulses and
@@ -17,7 +21,7 @@
 //! use bearing_ident::simulate::{ImpactTest, seed_rig};
 //!
 //! let checks = ImpactChecks::default();
-//! checks.validate()?;
+//! checks.check()?;
 //! let records = ImpactTest { per_direction: 1, noise: 0.05, ..ImpactTest::seed_rig() }
 //!     .run(&seed_rig())?;
 //! for record in &records {
@@ -26,15 +30,14 @@
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
 
+mod clipping;
 mod double_hit;
 mod scan;
-mod select;
+use clipping::clipping;
 use double_hit::double_hit;
 pub(crate) use scan::Scan;
 
 use std::fmt;
-
-use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 use crate::error::{Channel, Error, Result, Warning};
 use crate::records::Record;
@@ -57,10 +60,6 @@ pub use crate::tolerance::CLIP_LEVEL as CLIP_TOLERANCE;
 /// channel's range away from the channel's mean: a flat stretch at the resting level (the
 /// exactly-zero pre-trigger of a one-sided force pulse, say) is not an overload.
 pub const CLIP_SIDE_FRACTION: f64 = 0.25;
-
-/// `1/Φ⁻¹(3/4)`: the median absolute deviation of Gaussian noise times this is its standard
-/// deviation.
-pub(crate) const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
 
 /// Crest factor at and above which a record's force is an impact.
 ///
@@ -87,7 +86,7 @@ pub const IMPACT_CREST_FACTOR: f64 = 8.0;
 /// assert_eq!(checks.clip_run, 3);
 /// assert!((checks.double_hit_ratio - 0.1).abs() < 1e-15);
 /// assert!((checks.min_crest_factor - 8.0).abs() < 1e-15);
-/// assert!(checks.validate().is_ok());
+/// assert!(checks.check().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImpactChecks {
@@ -126,31 +125,31 @@ impl ImpactChecks {
     /// # Examples
     /// ```
     /// use bearing_ident::quality::ImpactChecks;
-    /// use bearing_ident::Error;
+    /// use bearing_ident::{Error, Parameter};
     /// let bad = ImpactChecks { clip_run: 1, ..ImpactChecks::default() };
     /// assert!(matches!(
-    ///     bad.validate(),
-    ///     Err(Error::InvalidParameter { name: "clip_run", .. })
+    ///     bad.check(),
+    ///     Err(Error::InvalidParameter { name: Parameter::ClipRun, .. })
     /// ));
     /// ```
-    pub fn validate(&self) -> Result<()> {
+    pub fn check(&self) -> Result<()> {
         if !(self.double_hit_ratio > 0.0 && self.double_hit_ratio < 1.0) {
             return Err(Error::InvalidParameter {
-                name: "double_hit_ratio",
+                name: crate::Parameter::DoubleHitRatio,
                 value: self.double_hit_ratio,
                 expected: "0 < ratio < 1",
             });
         }
         if self.clip_run < 2 {
             return Err(Error::InvalidParameter {
-                name: "clip_run",
+                name: crate::Parameter::ClipRun,
                 value: self.clip_run as f64,
                 expected: "at least 2 samples",
             });
         }
         if !(self.min_crest_factor >= 0.0 && self.min_crest_factor.is_finite()) {
             return Err(Error::InvalidParameter {
-                name: "min_crest_factor",
+                name: crate::Parameter::MinCrestFactor,
                 value: self.min_crest_factor,
                 expected: "finite and ≥ 0",
             });
@@ -327,7 +326,7 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// when `min_crest_factor` is infinite), two passes over it and two passes over every channel
 /// (one shared with the screening, one for the runs); nothing else is allocated per sample.
 ///
-/// The thresholds are not validated here: call [`ImpactChecks::validate`] once for a batch
+/// The thresholds are not validated here: call [`ImpactChecks::check`] once for a batch
 /// (invalid thresholds give meaningless issues, never a panic).
 ///
 /// # Examples
@@ -398,137 +397,6 @@ pub(crate) fn check_scanned(
     issues
 }
 
-/// The (upper) median of `values`, reordering them; NaN for none. The one median of the
-/// record checks (here and in [`screening`](crate::screening)).
-pub(crate) fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mid = values.len() / 2;
-    if values.len() <= SORT_MAX {
-        // A few values (the siblings of a record): sorting them is faster than the
-        // selection's set-up, and puts the same element in the middle.
-        values.sort_unstable_by(f64::total_cmp);
-        return values[mid];
-    }
-    *values.select_nth_unstable_by(mid, f64::total_cmp).1
-}
-
-/// Most values [`median`] sorts rather than selects among.
-const SORT_MAX: usize = 16;
-
-/// Longest run of consecutive samples meeting a condition, tracked one sample at a time.
-#[derive(Debug, Clone, Copy, Default)]
-struct Run {
-    current: usize,
-    current_start: usize,
-    longest: usize,
-    longest_start: usize,
-}
-
-impl Run {
-    #[inline(always)]
-    fn push(&mut self, i: usize, hit: bool) {
-        if !hit {
-            self.current = 0;
-            return;
-        }
-        if self.current == 0 {
-            self.current_start = i;
-        }
-        self.current += 1;
-        if self.current > self.longest {
-            (self.longest, self.longest_start) = (self.current, self.current_start);
-        }
-    }
-}
-
-/// The longest runs of samples at or above `top` and at or below `bottom` ([`clipping`]), as
-/// an operation of faer's SIMD dispatch (a named type, so that the pass is compiled for the
-/// instruction set chosen).
-struct ExtremeRuns<'a> {
-    x: &'a [f64],
-    top: f64,
-    bottom: f64,
-}
-
-impl WithSimd for ExtremeRuns<'_> {
-    type Output = (Run, Run);
-
-    #[inline(always)]
-    fn with_simd<S: Simd>(self, _: S) -> (Run, Run) {
-        let Self { x, top, bottom } = self;
-        let (mut at_hi, mut at_lo) = (Run::default(), Run::default());
-        // Most blocks hold no sample near either extreme: one (vectorised) test clears a block.
-        for (k, block) in x.chunks(CLIP_BLOCK).enumerate() {
-            if !block
-                .iter()
-                .fold(false, |a, &v| a | (v >= top) | (v <= bottom))
-            {
-                at_hi.current = 0;
-                at_lo.current = 0;
-                continue;
-            }
-            for (j, &v) in block.iter().enumerate() {
-                let i = k * CLIP_BLOCK + j;
-                at_hi.push(i, v >= top);
-                at_lo.push(i, v <= bottom);
-            }
-        }
-        (at_hi, at_lo)
-    }
-}
-
-/// Samples tested at once for a sample near an extreme ([`clipping`]).
-const CLIP_BLOCK: usize = 16;
-
-/// Pushes a [`ImpactIssue::Clipped`] for each clipped extreme of channel `x`.
-fn clipping(
-    channel: Channel,
-    x: &[f64],
-    scan: &Scan,
-    fs: f64,
-    checks: &ImpactChecks,
-    issues: &mut Vec<ImpactIssue>,
-) {
-    let (lo, hi) = (scan.lo, scan.hi);
-    let range = hi - lo;
-    if range <= 0.0 {
-        return;
-    }
-    let mean = scan.mean;
-    // The quantisation step: the smallest non-zero change between consecutive samples.
-    let step = scan.step;
-    let tol = CLIP_TOLERANCE * range;
-    let (top, bottom) = (hi - tol, lo + tol);
-    let (at_hi, at_lo) = Arch::new().dispatch(ExtremeRuns { x, top, bottom });
-    for (value, run) in [(hi, at_hi), (lo, at_lo)] {
-        // A smooth peak of a quantised signal sits on its top code for a few samples too, but
-        // is flanked on both sides by samples one step below: not an overload.
-        let end = run.longest_start + run.longest;
-        let flanks = [
-            run.longest_start.checked_sub(1).map(|i| x[i]),
-            x.get(end).copied(),
-        ];
-        let quantised_peak = flanks.iter().all(|v| {
-            v.is_some_and(|v| {
-                (value - v).abs() <= step * (1.0 + crate::tolerance::QUANTISATION_STEP)
-            })
-        });
-        if run.longest >= checks.clip_run
-            && !quantised_peak
-            && (value - mean).abs() >= CLIP_SIDE_FRACTION * range
-        {
-            issues.push(ImpactIssue::Clipped {
-                channel,
-                value,
-                run: run.longest,
-                at_s: run.longest_start as f64 / fs,
-            });
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -591,57 +459,14 @@ mod tests {
             ),
         ];
         for (checks, field) in cases {
-            let e = checks.validate().unwrap_err();
+            let e = checks.check().unwrap_err();
             assert!(
-                matches!(e, Error::InvalidParameter { name, .. } if name == field),
+                matches!(e, Error::InvalidParameter { name, .. } if name.as_str() == field),
                 "{checks:?}: {e:?}"
             );
             assert_eq!(e.kind(), "invalid_argument");
         }
-        assert_eq!(ImpactChecks { clip_run: 2, ..d }.validate(), Ok(()));
-    }
-
-    #[test]
-    fn median_is_the_upper_middle() {
-        assert!((median(&mut [3.0, 1.0, 2.0]) - 2.0).abs() < 1e-15);
-        assert!((median(&mut [4.0, 1.0, 3.0, 2.0]) - 3.0).abs() < 1e-15);
-    }
-
-    /// The sorted middle bit for bit, ties, signed zeros, infinities and NaN included, on both
-    /// sides of [`SORT_MAX`].
-    #[test]
-    fn median_is_the_sorted_middle() {
-        use rand::{RngExt, SeedableRng};
-        let mut rng = rand::rngs::StdRng::seed_from_u64(17);
-        let pool = [
-            -0.0,
-            0.0,
-            1.0,
-            -1.0,
-            2.5,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-            -f64::NAN,
-            1e-310,
-        ];
-        for len in 1..=SORT_MAX + 3 {
-            for trial in 0..400 {
-                let values: Vec<f64> = (0..len)
-                    .map(|_| {
-                        if trial % 2 == 0 {
-                            pool[rng.random_range(0..pool.len())]
-                        } else {
-                            rng.random_range(-1.0..1.0)
-                        }
-                    })
-                    .collect();
-                let mut sorted = values.clone();
-                sorted.sort_unstable_by(f64::total_cmp);
-                let ours = median(&mut values.clone());
-                assert_eq!(ours.to_bits(), sorted[len / 2].to_bits(), "{values:?}");
-            }
-        }
+        assert_eq!(ImpactChecks { clip_run: 2, ..d }.check(), Ok(()));
     }
 
     #[test]

@@ -93,7 +93,8 @@ pub use screener::Screener;
 pub use summary::Summary;
 
 use crate::error::{Error, Result, Warning};
-use crate::quality::{ImpactChecks, MAD_TO_SIGMA, median};
+use crate::quality::ImpactChecks;
+use crate::statistics::{MAD_TO_SIGMA, upper_median};
 
 pub use crate::tolerance::FLAT_CHANNEL as FLAT_TOLERANCE;
 
@@ -113,7 +114,7 @@ pub const DOMINANCE: f64 = 3.0;
 /// assert!(checks.impact.is_some());
 /// assert_eq!(checks.clip_run, 3);
 /// assert!((checks.dead_ratio - 0.01).abs() < 1e-15);
-/// assert!(checks.validate().is_ok());
+/// assert!(checks.check().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Checks {
@@ -185,18 +186,18 @@ impl Checks {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first field out of range (the impact checks'
-    /// own, see [`ImpactChecks::validate`]).
+    /// own, see [`ImpactChecks::check`]).
     ///
     /// # Examples
     /// ```
     /// use bearing_ident::screening::Checks;
-    /// use bearing_ident::Error;
+    /// use bearing_ident::{Error, Parameter};
     /// let bad = Checks { dead_ratio: 1.5, ..Checks::default() };
-    /// assert!(matches!(bad.validate(), Err(Error::InvalidParameter { name: "dead_ratio", .. })));
+    /// assert!(matches!(bad.check(), Err(Error::InvalidParameter { name: Parameter::DeadRatio, .. })));
     /// ```
-    pub fn validate(&self) -> Result<()> {
+    pub fn check(&self) -> Result<()> {
         if let Some(impact) = self.impact {
-            impact.validate()?;
+            impact.check()?;
         }
         let fail = |name, value, expected| {
             Err(Error::InvalidParameter {
@@ -206,25 +207,49 @@ impl Checks {
             })
         };
         if self.clip_run < 2 {
-            return fail("clip_run", self.clip_run as f64, "at least 2 samples");
+            return fail(
+                crate::Parameter::ClipRun,
+                self.clip_run as f64,
+                "at least 2 samples",
+            );
         }
         if !(self.dead_ratio > 0.0 && self.dead_ratio < 1.0) {
-            return fail("dead_ratio", self.dead_ratio, "0 < ratio < 1");
+            return fail(
+                crate::Parameter::DeadRatio,
+                self.dead_ratio,
+                "0 < ratio < 1",
+            );
         }
         if !(self.level_sigmas > 0.0 && self.level_sigmas.is_finite()) {
-            return fail("level_sigmas", self.level_sigmas, "finite and > 0");
+            return fail(
+                crate::Parameter::LevelSigmas,
+                self.level_sigmas,
+                "finite and > 0",
+            );
         }
         if !(self.level_factor > 1.0 && self.level_factor.is_finite()) {
-            return fail("level_factor", self.level_factor, "finite and > 1");
+            return fail(
+                crate::Parameter::LevelFactor,
+                self.level_factor,
+                "finite and > 1",
+            );
         }
         if !(self.set_sigmas > 0.0 && self.set_sigmas.is_finite()) {
-            return fail("set_sigmas", self.set_sigmas, "finite and > 0");
+            return fail(
+                crate::Parameter::SetSigmas,
+                self.set_sigmas,
+                "finite and > 0",
+            );
         }
         if !(self.set_floor >= 0.0 && self.set_floor.is_finite()) {
-            return fail("set_floor", self.set_floor, "finite and ≥ 0");
+            return fail(crate::Parameter::SetFloor, self.set_floor, "finite and ≥ 0");
         }
         if !(self.set_fraction > 0.0 && self.set_fraction < 1.0) {
-            return fail("set_fraction", self.set_fraction, "0 < fraction < 1");
+            return fail(
+                crate::Parameter::SetFraction,
+                self.set_fraction,
+                "0 < fraction < 1",
+            );
         }
         Ok(())
     }
@@ -322,13 +347,13 @@ mod tests {
             ),
         ];
         for (checks, field) in cases {
-            let e = checks.validate().unwrap_err();
+            let e = checks.check().unwrap_err();
             assert!(
-                matches!(e, Error::InvalidParameter { name, .. } if name == field),
+                matches!(e, Error::InvalidParameter { name, .. } if name.as_str() == field),
                 "{checks:?}: {e:?}"
             );
         }
-        assert_eq!(Checks::without_double_hits().validate(), Ok(()));
+        assert_eq!(Checks::without_double_hits().check(), Ok(()));
     }
 
     #[test]

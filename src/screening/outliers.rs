@@ -4,7 +4,7 @@
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 use faer::{Mat, MatRef, c64};
 
-use super::{Checks, MAD_TO_SIGMA, median};
+use super::{Checks, MAD_TO_SIGMA, upper_median};
 use crate::lanes;
 
 /// A paired set found far from the others by [`outlier_sets`].
@@ -167,7 +167,7 @@ impl ColumnMedians {
             for e in 0..m {
                 self.column.clear();
                 self.column.extend(x.iter().skip(e).step_by(m));
-                self.out[e] = median(&mut self.column);
+                self.out[e] = upper_median(&mut self.column);
             }
             return &self.out;
         }

@@ -8,7 +8,7 @@ use crate::quality::{self, ImpactChecks, Scan};
 use crate::records::{Record, Response};
 
 use super::summary::{Summary, flat};
-use super::{Checks, MAD_TO_SIGMA, MIN_SIBLINGS, median};
+use super::{Checks, MAD_TO_SIGMA, MIN_SIBLINGS, upper_median};
 
 /// Screens records one at a time, keeping only their [`Summary`], then across them.
 ///
@@ -41,7 +41,7 @@ pub struct Screener {
 }
 
 impl Screener {
-    /// A screener with `checks` (validate them first: [`Checks::validate`]; invalid
+    /// A screener with `checks` (check them first: [`Checks::check`]; invalid
     /// thresholds give meaningless findings, never a panic).
     pub fn new(checks: Checks) -> Self {
         Self {
@@ -206,18 +206,18 @@ impl Screener {
             .filter(|&&r| self.summaries[r].kind(channel) == kind)
             .map(|&r| self.summaries[r].rms(channel))
             .collect();
-        let median_rms = median(&mut values.clone());
+        let median_rms = upper_median(&mut values.clone());
         let mut logs: Vec<f64> = values
             .iter()
             .filter(|&&v| v >= self.checks.dead_ratio * median_rms && v > 0.0)
             .map(|v| v.ln())
             .collect();
-        let centre = median(&mut logs);
+        let centre = upper_median(&mut logs);
         logs.iter_mut().for_each(|l| *l = (*l - centre).abs());
         Siblings {
             median_rms,
             centre,
-            sigma: MAD_TO_SIGMA * median(&mut logs),
+            sigma: MAD_TO_SIGMA * upper_median(&mut logs),
         }
     }
 }

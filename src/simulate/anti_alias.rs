@@ -47,14 +47,14 @@ impl AntiAlias {
             } => {
                 if !(2..=16).contains(&order) || order % 2 != 0 {
                     return Err(Error::InvalidParameter {
-                        name: "anti-alias order",
+                        name: crate::Parameter::AntiAliasOrder,
                         value: order as f64,
                         expected: "even, 2 to 16",
                     });
                 }
                 if !(cutoff_ratio > 0.0 && cutoff_ratio < 0.5) {
                     return Err(Error::InvalidParameter {
-                        name: "anti-alias cutoff ratio",
+                        name: crate::Parameter::AntiAliasCutoffRatio,
                         value: cutoff_ratio,
                         expected: "0 < ratio < 0.5",
                     });

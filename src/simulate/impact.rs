@@ -117,7 +117,7 @@ impl ImpactTest {
         let decays = slowest * decay_time >= crate::tolerance::SIM_DECAY_NEPERS;
         if !decays {
             return Err(Error::InvalidParameter {
-                name: "record duration",
+                name: crate::Parameter::RecordDuration,
                 value: self.duration_s,
                 expected: "long enough for the slowest mode to decay to 1e-6",
             });

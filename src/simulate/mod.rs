@@ -81,8 +81,16 @@ use crate::records::{finite_positive, require_finite_positive};
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn sample_count(duration_s: f64, sample_rate: f64) -> Result<usize> {
-    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
-    require_finite_positive("record duration", duration_s, "finite and positive (s)")?;
+    require_finite_positive(
+        crate::Parameter::SampleRate,
+        sample_rate,
+        "finite and positive (Hz)",
+    )?;
+    require_finite_positive(
+        crate::Parameter::RecordDuration,
+        duration_s,
+        "finite and positive (s)",
+    )?;
     let samples = (duration_s * sample_rate).round();
     at_most("samples per record", samples, MAX_SAMPLES)?;
     Ok(samples as usize)
@@ -188,7 +196,7 @@ mod tests {
         assert!(matches!(
             short.run(&sys),
             Err(Error::InvalidParameter {
-                name: "record duration",
+                name: crate::Parameter::RecordDuration,
                 ..
             })
         ));

@@ -31,7 +31,7 @@ use crate::records::Record;
 pub fn add_noise(record: &Record, level: f64, rng: &mut StdRng) -> Result<Record> {
     if !(level >= 0.0 && level.is_finite()) {
         return Err(Error::InvalidParameter {
-            name: "noise level",
+            name: crate::Parameter::NoiseLevel,
             value: level,
             expected: "finite and ≥ 0",
         });

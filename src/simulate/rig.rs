@@ -34,7 +34,7 @@ pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
     let mass = min_sym_eig(system.mass().as_ref())?;
     if mass.is_nan() || mass <= 0.0 {
         return Err(Error::InvalidParameter {
-            name: "mass matrix",
+            name: crate::Parameter::MassMatrix,
             value: mass,
             expected: "positive definite (smallest eigenvalue of its symmetric part > 0)",
         });
@@ -48,13 +48,13 @@ pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
         let stiffness = min_sym_eig(system.stiffness().as_ref())?;
         return Err(if stiffness > 0.0 {
             Error::InvalidParameter {
-                name: "damping matrix",
+                name: crate::Parameter::DampingMatrix,
                 value: slowest + 0.0, // no "-0" in the message
                 expected: "a decay rate > 0 for every mode (−Re λ, 1/s)",
             }
         } else {
             Error::InvalidParameter {
-                name: "stiffness matrix",
+                name: crate::Parameter::StiffnessMatrix,
                 value: stiffness,
                 expected: "positive definite, or every mode decays",
             }
@@ -84,7 +84,7 @@ mod tests {
     #[test]
     fn matrices_without_decay_are_named() {
         let name = |m, c, k| match slowest_decay(&Coefficients::new(m, c, k).unwrap()) {
-            Err(Error::InvalidParameter { name, .. }) => name,
+            Err(Error::InvalidParameter { name, .. }) => name.as_str(),
             other => panic!("{other:?}"),
         };
         let (m, c, k) = (
@@ -112,7 +112,7 @@ mod tests {
         assert!(matches!(
             ImpactTest::seed_rig().run(&undamped),
             Err(Error::InvalidParameter {
-                name: "damping matrix",
+                name: crate::Parameter::DampingMatrix,
                 ..
             })
         ));

@@ -64,12 +64,16 @@ impl Simulator {
         anti_alias: AntiAlias,
     ) -> Result<Self> {
         use faer::prelude::Solve;
-        require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+        require_finite_positive(
+            crate::Parameter::SampleRate,
+            sample_rate,
+            "finite and positive (Hz)",
+        )?;
         at_most("samples per record", samples as f64, MAX_SAMPLES)?;
         at_most("degrees of freedom", system.dofs() as f64, MAX_DOFS)?;
         if samples < crate::records::MIN_SAMPLES {
             return Err(Error::InvalidParameter {
-                name: "samples",
+                name: crate::Parameter::Samples,
                 value: samples as f64,
                 expected: "at least 8",
             });
@@ -258,7 +262,7 @@ impl Simulator {
             .ok()
             .filter(|_| finite_positive(force_rms))
             .ok_or(Error::InvalidParameter {
-                name: "force rms",
+                name: crate::Parameter::ForceRms,
                 value: force_rms,
                 expected: "finite and positive (N)",
             })?;
@@ -315,19 +319,27 @@ impl Simulator {
                     expected,
                 })
             };
-            require_finite_positive("pulse duration", hit.duration_s, "finite and positive (s)")?;
+            require_finite_positive(
+                crate::Parameter::PulseDuration,
+                hit.duration_s,
+                "finite and positive (s)",
+            )?;
             if !(hit.peak_n.is_finite()) {
-                return bad("pulse peak", hit.peak_n, "finite (N)");
+                return bad(crate::Parameter::PulsePeak, hit.peak_n, "finite (N)");
             }
             if hit.direction.len() != self.n || hit.direction.iter().any(|d| !d.is_finite()) {
                 return bad(
-                    "pulse direction length",
+                    crate::Parameter::PulseDirectionLength,
                     hit.direction.len() as f64,
                     "one finite entry per degree of freedom",
                 );
             }
             if !(hit.start_s >= 0.0 && hit.start_s + hit.duration_s <= duration_total) {
-                return bad("pulse start", hit.start_s, "pulse inside the record");
+                return bad(
+                    crate::Parameter::PulseStart,
+                    hit.start_s,
+                    "pulse inside the record",
+                );
             }
         }
         let mut events: Vec<(f64, usize, bool)> = impacts
@@ -343,7 +355,7 @@ impl Simulator {
                 (false, Some(a)) if a == k => active = None,
                 _ => {
                     return Err(Error::InvalidParameter {
-                        name: "pulse start",
+                        name: crate::Parameter::PulseStart,
                         value: impacts[k].start_s,
                         expected: "pulses that do not overlap in time",
                     });
@@ -451,7 +463,7 @@ pub(super) fn check_held_forces(
 ) -> Result<()> {
     if forces.len() != n {
         return Err(Error::InvalidParameter {
-            name: "held force channels",
+            name: crate::Parameter::HeldForceChannels,
             value: forces.len() as f64,
             expected: "one channel per degree of freedom",
         });
@@ -459,7 +471,7 @@ pub(super) fn check_held_forces(
     for (c, channel) in forces.iter().enumerate() {
         if channel.len() != samples {
             return Err(Error::InvalidParameter {
-                name: "held force length",
+                name: crate::Parameter::HeldForceLength,
                 value: channel.len() as f64,
                 expected: "exactly the simulator's number of samples",
             });
@@ -519,14 +531,14 @@ mod tests {
         assert!(matches!(
             sim.held_record("r", std::slice::from_ref(&ok)),
             Err(Error::InvalidParameter {
-                name: "held force channels",
+                name: crate::Parameter::HeldForceChannels,
                 ..
             })
         ));
         assert!(matches!(
             sim.held_record("r", &[ok.clone(), vec![0.0; 99]]),
             Err(Error::InvalidParameter {
-                name: "held force length",
+                name: crate::Parameter::HeldForceLength,
                 ..
             })
         ));

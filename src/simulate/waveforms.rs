@@ -15,8 +15,12 @@ use crate::error::{Error, Result};
 const MAX_MULTISINE_WORK: usize = 1 << 32;
 
 /// Checks a sampling rate and a frequency strictly between DC and Nyquist.
-fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result<()> {
-    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+fn check_frequency(name: crate::Parameter, freq_hz: f64, sample_rate: f64) -> Result<()> {
+    require_finite_positive(
+        crate::Parameter::SampleRate,
+        sample_rate,
+        "finite and positive (Hz)",
+    )?;
     if !(freq_hz.is_finite() && freq_hz > 0.0 && freq_hz < sample_rate / 2.0) {
         return Err(Error::InvalidParameter {
             name,
@@ -47,11 +51,11 @@ fn check_frequency(name: &'static str, freq_hz: f64, sample_rate: f64) -> Result
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn sine(freq_hz: f64, amplitude_n: f64, sample_rate: f64, samples: usize) -> Result<Vec<f64>> {
-    check_frequency("sine frequency", freq_hz, sample_rate)?;
+    check_frequency(crate::Parameter::SineFrequency, freq_hz, sample_rate)?;
     at_most("samples per record", samples as f64, MAX_SAMPLES)?;
     if !amplitude_n.is_finite() {
         return Err(Error::InvalidParameter {
-            name: "sine amplitude",
+            name: crate::Parameter::SineAmplitude,
             value: amplitude_n,
             expected: "finite (N)",
         });
@@ -99,7 +103,7 @@ pub fn multisine(
 ) -> Result<Vec<f64>> {
     if period < crate::records::MIN_SAMPLES {
         return Err(Error::InvalidParameter {
-            name: "multisine period",
+            name: crate::Parameter::MultisinePeriod,
             value: period as f64,
             expected: "at least 8 samples",
         });
@@ -107,12 +111,16 @@ pub fn multisine(
     let (first, last) = (*lines.start(), *lines.end());
     if lines.is_empty() || first == 0 || 2 * last >= period {
         return Err(Error::InvalidParameter {
-            name: "multisine lines",
+            name: crate::Parameter::MultisineLines,
             value: if first == 0 { 0.0 } else { last as f64 },
             expected: "a non-empty range of lines 1 ≤ k < period / 2",
         });
     }
-    require_finite_positive("multisine rms", rms_n, "finite and positive (N)")?;
+    require_finite_positive(
+        crate::Parameter::MultisineRms,
+        rms_n,
+        "finite and positive (N)",
+    )?;
     at_most(
         "samples per record",
         samples.max(period) as f64,
@@ -184,21 +192,21 @@ pub fn sweep(
     sample_rate: f64,
     samples: usize,
 ) -> Result<Vec<f64>> {
-    check_frequency("sweep start frequency", f0_hz, sample_rate)?;
-    check_frequency("sweep end frequency", f1_hz, sample_rate)?;
+    check_frequency(crate::Parameter::SweepStartFrequency, f0_hz, sample_rate)?;
+    check_frequency(crate::Parameter::SweepEndFrequency, f1_hz, sample_rate)?;
     at_most("samples per record", samples as f64, MAX_SAMPLES)?;
     if !(finite_positive(sweep_s)
         && sweep_s * sample_rate <= samples as f64 + crate::tolerance::SWEEP_FIT_SAMPLES)
     {
         return Err(Error::InvalidParameter {
-            name: "sweep duration",
+            name: crate::Parameter::SweepDuration,
             value: sweep_s,
             expected: "finite, positive and within the record (s)",
         });
     }
     if !amplitude_n.is_finite() {
         return Err(Error::InvalidParameter {
-            name: "sweep amplitude",
+            name: crate::Parameter::SweepAmplitude,
             value: amplitude_n,
             expected: "finite (N)",
         });
@@ -256,13 +264,21 @@ pub fn band_noise(
     samples: usize,
     seed: u64,
 ) -> Result<Vec<f64>> {
-    check_frequency("band noise low frequency", low_hz, sample_rate)?;
-    check_frequency("band noise high frequency", high_hz, sample_rate)?;
-    require_finite_positive("band noise rms", rms_n, "finite and positive (N)")?;
+    check_frequency(crate::Parameter::BandNoiseLowFrequency, low_hz, sample_rate)?;
+    check_frequency(
+        crate::Parameter::BandNoiseHighFrequency,
+        high_hz,
+        sample_rate,
+    )?;
+    require_finite_positive(
+        crate::Parameter::BandNoiseRms,
+        rms_n,
+        "finite and positive (N)",
+    )?;
     at_most("samples per record", samples as f64, MAX_SAMPLES)?;
     if samples < crate::records::MIN_SAMPLES {
         return Err(Error::InvalidParameter {
-            name: "band noise samples",
+            name: crate::Parameter::BandNoiseSamples,
             value: samples as f64,
             expected: "at least 8",
         });
@@ -272,7 +288,7 @@ pub fn band_noise(
     let last = ((high_hz / df).floor() as usize).min((samples - 1) / 2);
     if low_hz >= high_hz || first > last {
         return Err(Error::InvalidParameter {
-            name: "band noise high frequency",
+            name: crate::Parameter::BandNoiseHighFrequency,
             value: high_hz,
             expected: "above the low frequency, with at least one DFT line of the record between",
         });

@@ -38,11 +38,11 @@ impl IvfOptions {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a tolerance outside `(0, 1)` or zero iterations.
-    pub fn validate(&self) -> Result<()> {
-        super::check_tolerance(self.tolerance, "ivf tolerance")?;
+    pub fn check(&self) -> Result<()> {
+        super::check_tolerance(self.tolerance, crate::Parameter::IvfTolerance)?;
         if self.max_iterations == 0 {
             return Err(crate::Error::InvalidParameter {
-                name: "ivf max iterations",
+                name: crate::Parameter::IvfMaxIterations,
                 value: 0.0,
                 expected: "at least 1",
             });
@@ -137,7 +137,7 @@ impl IvfSolver {
     /// [`Error::InvalidParameter`] for invalid options, and the least-squares errors
     /// ([`Error::TooFewLines`], [`Error::SingularFit`]).
     pub fn new(frf: &Frf, options: IvfOptions) -> Result<Self> {
-        options.validate()?;
+        options.check()?;
         let (theta, sys) = ls::solve(frf, Method::Ivf)?;
         let (n, m) = (sys.n, sys.a.nrows());
         let p = 3 * n;
@@ -274,7 +274,7 @@ impl IvfSolver {
         }
         let convergence = convergence.unwrap_or(Convergence::IterationLimit {
             iterations: self.options.max_iterations,
-            change: self.history.last().map_or(f64::NAN, Iteration::change),
+            change: self.history.last().map(Iteration::change),
         });
         if let Convergence::Diverged { .. } = convergence {
             self.theta = best.2;

@@ -1,6 +1,6 @@
 //! Stage 5: fitting `M`, `C`, `K` to the measured impedances and flexibilities.
 //!
-//! Three methods, from simplest to best:
+//! Four methods, from simplest to best:
 //!
 //! - [`Method::Direct`] (seed eq. 10): per element, `Re H_ij = K_ij − ω² M_ij` and
 //!   `Im H_ij = ω C_ij` by least squares, with `r²`. Simple; biased under noise.
@@ -16,6 +16,9 @@
 //!   `G(ω; Θ_m) = H(ω; Θ_m)⁻¹`, which carries no measurement noise; then
 //!   `Θ_{m+1} = (Wᵀ A)⁻¹ Wᵀ Ī`, with the same column scaling, iterated from the
 //!   least-squares start. Unbiased.
+//! - [`Method::Ml`] (Pintelon & Schoukens; [`ml`]): maximum likelihood with errors in
+//!   variables, from periodic records whose repeated periods give the noise covariances,
+//!   started from IVF; its Cramér–Rao bound gives the error bars.
 
 mod direct;
 mod ivf;
@@ -97,10 +100,10 @@ impl std::fmt::Display for Method {
     }
 }
 
-/// The one check of an iterative fit's tolerance ([`IvfOptions::validate`],
-/// [`MlOptions::validate`](ml::MlOptions::validate)): relative, in `(0, 1)`; `name` is the
+/// The one check of an iterative fit's tolerance ([`IvfOptions::check`],
+/// [`MlOptions::check`](ml::MlOptions::check)): relative, in `(0, 1)`; `name` is the
 /// parameter as the error names it.
-pub(crate) fn check_tolerance(tolerance: f64, name: &'static str) -> Result<()> {
+pub(crate) fn check_tolerance(tolerance: f64, name: crate::Parameter) -> Result<()> {
     if tolerance > 0.0 && tolerance < 1.0 {
         Ok(())
     } else {
@@ -127,8 +130,9 @@ pub enum Convergence {
     IterationLimit {
         /// Iterations run.
         iterations: usize,
-        /// Block-wise relative change of the last iteration.
-        change: f64,
+        /// Block-wise relative change of the last iteration (`None` where the fit does not
+        /// report one: maximum likelihood's limit).
+        change: Option<f64>,
     },
     /// The change rose three times in a row (or the model became singular); the iterate with
     /// the smallest change is returned.
@@ -494,18 +498,12 @@ mod tests {
             tolerance: 0.0,
             ..IvfOptions::default()
         };
-        assert!(matches!(
-            bad.validate(),
-            Err(Error::InvalidParameter { .. })
-        ));
+        assert!(matches!(bad.check(), Err(Error::InvalidParameter { .. })));
         let bad = IvfOptions {
             max_iterations: 0,
             ..IvfOptions::default()
         };
-        assert!(matches!(
-            bad.validate(),
-            Err(Error::InvalidParameter { .. })
-        ));
+        assert!(matches!(bad.check(), Err(Error::InvalidParameter { .. })));
     }
 
     #[test]

@@ -150,7 +150,7 @@ fn io(e: std::io::Error) -> Error {
     }
 }
 
-fn invalid(name: &'static str, value: f64, expected: &'static str) -> Error {
+fn invalid(name: crate::Parameter, value: f64, expected: &'static str) -> Error {
     Error::InvalidParameter {
         name,
         value,
@@ -162,7 +162,7 @@ fn invalid(name: &'static str, value: f64, expected: &'static str) -> Error {
 fn check(f: &Function) -> Result<()> {
     if f.abscissa.len() != f.ordinate.len() {
         return Err(invalid(
-            "abscissa length",
+            crate::Parameter::AbscissaLength,
             f.abscissa.len() as f64,
             "the number of ordinate values",
         ));
@@ -176,7 +176,7 @@ fn check(f: &Function) -> Result<()> {
     } && f.z_value.is_finite();
     if !finite {
         return Err(invalid(
-            "UFF value",
+            crate::Parameter::UffValue,
             f64::NAN,
             "finite abscissa, ordinate and z values",
         ));
@@ -201,7 +201,7 @@ fn fixed(s: &str, width: usize) -> String {
 }
 
 /// An integer right-aligned in `width` characters.
-fn int(v: i64, width: usize, name: &'static str) -> Result<String> {
+fn int(v: i64, width: usize, name: crate::Parameter) -> Result<String> {
     let s = format!("{v:>width$}");
     if s.len() > width {
         return Err(invalid(name, v as f64, "an integer that fits its field"));
@@ -222,16 +222,24 @@ fn header(f: &Function, dataset: String) -> Result<String> {
     }
     s.push_str(&format!(
         "{}{}{}{} {}{}{} {}{}{}\n",
-        int(i64::from(f.function_type.code()), 5, "function type")?,
-        int(f.function_id, 10, "function ID")?,
-        int(f.version, 5, "version number")?,
-        int(f.load_case, 10, "load case")?,
+        int(
+            i64::from(f.function_type.code()),
+            5,
+            crate::Parameter::FunctionType
+        )?,
+        int(f.function_id, 10, crate::Parameter::FunctionId)?,
+        int(f.version, 5, crate::Parameter::VersionNumber)?,
+        int(f.load_case, 10, crate::Parameter::LoadCase)?,
         fixed(&f.response.entity, 10),
-        int(f.response.node, 10, "response node")?,
-        int(f.response.direction, 4, "response direction")?,
+        int(f.response.node, 10, crate::Parameter::ResponseNode)?,
+        int(f.response.direction, 4, crate::Parameter::ResponseDirection)?,
         fixed(&f.reference.entity, 10),
-        int(f.reference.node, 10, "reference node")?,
-        int(f.reference.direction, 4, "reference direction")?,
+        int(f.reference.node, 10, crate::Parameter::ReferenceNode)?,
+        int(
+            f.reference.direction,
+            4,
+            crate::Parameter::ReferenceDirection
+        )?,
     ));
     let (even, x0, dx) = match &f.abscissa {
         Abscissa::Even { x0, dx, .. } => (1, *x0, *dx),
@@ -239,8 +247,16 @@ fn header(f: &Function, dataset: String) -> Result<String> {
     };
     s.push_str(&format!(
         "{}{}{:>10}{}{}{}\n",
-        int(i64::from(f.ordinate_type()), 10, "ordinate type")?,
-        int(f.ordinate.len() as i64, 10, "number of points")?,
+        int(
+            i64::from(f.ordinate_type()),
+            10,
+            crate::Parameter::OrdinateType
+        )?,
+        int(
+            f.ordinate.len() as i64,
+            10,
+            crate::Parameter::NumberOfPoints
+        )?,
         even,
         e_field(x0, 5, 13),
         e_field(dx, 5, 13),
@@ -255,10 +271,26 @@ fn header(f: &Function, dataset: String) -> Result<String> {
 fn axis_line(a: &Axis) -> Result<String> {
     Ok(format!(
         "{}{}{}{} {} {}\n",
-        int(i64::from(a.data_type.code()), 10, "data type")?,
-        int(i64::from(a.length_exponent), 5, "length exponent")?,
-        int(i64::from(a.force_exponent), 5, "force exponent")?,
-        int(i64::from(a.temperature_exponent), 5, "temperature exponent")?,
+        int(
+            i64::from(a.data_type.code()),
+            10,
+            crate::Parameter::DataType
+        )?,
+        int(
+            i64::from(a.length_exponent),
+            5,
+            crate::Parameter::LengthExponent
+        )?,
+        int(
+            i64::from(a.force_exponent),
+            5,
+            crate::Parameter::ForceExponent
+        )?,
+        int(
+            i64::from(a.temperature_exponent),
+            5,
+            crate::Parameter::TemperatureExponent
+        )?,
         fixed(&a.label, 20),
         fixed(&a.units, 20),
     ))

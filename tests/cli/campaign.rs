@@ -376,8 +376,8 @@ fn plan_faults_name_the_line() {
 }
 
 /// `--ross`: one bearing element over the `speed` condition in rad/s, each speed's terms
-/// those of its point (the bearing's own, less the baseline); points differing in another
-/// condition are refused unless `--ross-where` picks a slice.
+/// those of its point (the bearing's own, less the baseline; the baseline point left out);
+/// points differing in another condition are refused unless `--ross-where` picks a slice.
 #[test]
 fn ross_speed_table() {
     let tmp = tempfile::tempdir().unwrap();
@@ -399,6 +399,8 @@ fn ross_speed_table() {
             "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\nload = 200\nbaseline = \"dry\"\n"
         ));
     }
+    // Another load at one speed (its records those of s0): a slice of its own.
+    plan.push_str("[[point]]\nname = \"heavy\"\nfiles = \"s0/*.csv\"\nspeed = 1000\nload = 400\nbaseline = \"dry\"\n");
     let path = dir.join("plan.toml");
     std::fs::write(&path, &plan).unwrap();
     let ross = dir.join("brg.toml");

@@ -128,7 +128,7 @@ fn settings_out_of_range_are_refused() {
     assert!(matches!(
         Identifier::new(8.0, 49.0).tolerance(0.0).identify(&recs),
         Err(Error::InvalidParameter {
-            name: "ivf tolerance",
+            name: bearing_ident::Parameter::IvfTolerance,
             ..
         })
     ));
@@ -141,7 +141,7 @@ fn settings_out_of_range_are_refused() {
             .condition_limits(limits)
             .identify(&recs),
         Err(Error::InvalidParameter {
-            name: "condition limits",
+            name: bearing_ident::Parameter::ConditionLimits,
             ..
         })
     ));
@@ -225,7 +225,7 @@ fn low_coherence_lines_are_dropped_and_reported() {
             .min_coherence(1.5)
             .identify(&recs),
         Err(Error::InvalidParameter {
-            name: "minimum coherence",
+            name: bearing_ident::Parameter::MinimumCoherence,
             ..
         })
     ));

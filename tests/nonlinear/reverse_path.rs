@@ -311,7 +311,7 @@ fn planar_friction_needs_two_dofs() {
         matches!(
             e,
             Error::InvalidParameter {
-                name: "degrees of freedom for coulomb-planar",
+                name: bearing_ident::Parameter::DegreesOfFreedomForCoulombPlanar,
                 ..
             }
         ),

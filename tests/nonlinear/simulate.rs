@@ -259,14 +259,14 @@ fn bad_inputs_are_typed_errors() {
     assert!(matches!(
         sim.held_record("r", std::slice::from_ref(&ok)),
         Err(Error::InvalidParameter {
-            name: "held force channels",
+            name: bearing_ident::Parameter::HeldForceChannels,
             ..
         })
     ));
     assert!(matches!(
         sim.held_record("r", &[ok.clone(), vec![0.0; 99]]),
         Err(Error::InvalidParameter {
-            name: "held force length",
+            name: bearing_ident::Parameter::HeldForceLength,
             ..
         })
     ));
@@ -286,7 +286,7 @@ fn bad_inputs_are_typed_errors() {
     assert!(matches!(
         coarse.held_record("r", std::slice::from_ref(&ok)),
         Err(Error::InvalidParameter {
-            name: "oversampling",
+            name: bearing_ident::Parameter::Oversampling,
             ..
         })
     ));

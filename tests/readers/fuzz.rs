@@ -126,7 +126,12 @@ fn check_csv(bytes: &[u8], layout: &CsvLayout) -> Result<(), TestCaseError> {
         Err(e) => {
             let message = e.to_string();
             // A reading error of the kinds the README lists for data, naming the file.
-            prop_assert!(READ_KINDS.contains(&e.kind()), "{}: {}", e.kind(), message);
+            prop_assert!(
+                READ_KINDS.contains(&e.kind().as_str()),
+                "{}: {}",
+                e.kind(),
+                message
+            );
             prop_assert!(message.contains("fuzz.csv"), "{}", message);
             prop_assert!(
                 message.chars().count() <= MAX_MESSAGE,

@@ -20,7 +20,7 @@ impl From<bearing_ident::Error> for Failure {
             message.push_str(" (on the command line: `--reject-bad-records`)");
         }
         Failure {
-            kind: e.kind(),
+            kind: e.kind().as_str(),
             message,
         }
     }

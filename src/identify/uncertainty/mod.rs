@@ -6,7 +6,6 @@
 mod bootstrap;
 mod budget;
 mod jackknife;
-mod student_t;
 
 use std::str::FromStr;
 
@@ -19,8 +18,8 @@ use crate::model::Coefficients;
 use crate::solve::{self, Fit, Method};
 
 use super::{ModelCheck, Settings};
+use crate::statistics::t975;
 pub use budget::Budget;
-use student_t::t975;
 
 /// How the standard deviations of the coefficients are estimated.
 ///

@@ -1,4 +1,4 @@
-//! The six figures, one per file, and the helpers they share: `canvas` (the SVG string, series
+//! The figures, one per file (each a [`Figure`](super::Figure) arm), and the helpers they share: `canvas` (the SVG string, series
 //! groups, palette, title and legend) and `chart` (charts, ticks, ranges, error bars).
 
 #[cfg(feature = "campaign")]

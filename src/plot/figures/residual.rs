@@ -39,8 +39,7 @@ pub fn residual(id: &Identification, options: &FigureOptions) -> Result<String> 
     let points: Vec<(f64, f64)> = freqs
         .iter()
         .zip(ratios)
-        .filter(|(_, r)| r.is_finite() && **r > 0.0)
-        .map(|(&f, &r)| (f, r))
+        .filter_map(|(&f, r)| r.filter(|r| r.is_finite() && *r > 0.0).map(|r| (f, r)))
         .collect();
     let terms = (2 * n * n) as f64;
     let band = (

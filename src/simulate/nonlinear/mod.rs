@@ -158,12 +158,16 @@ impl NonlinearSimulator {
         anti_alias: AntiAlias,
     ) -> Result<Self> {
         use faer::prelude::Solve;
-        require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")?;
+        require_finite_positive(
+            crate::Parameter::SampleRate,
+            sample_rate,
+            "finite and positive (Hz)",
+        )?;
         at_most("samples per record", samples as f64, MAX_SAMPLES)?;
         at_most("degrees of freedom", system.dofs() as f64, MAX_DOFS)?;
         if samples < crate::records::MIN_SAMPLES {
             return Err(Error::InvalidParameter {
-                name: "samples",
+                name: crate::Parameter::Samples,
                 value: samples as f64,
                 expected: "at least 8",
             });
@@ -202,7 +206,7 @@ impl NonlinearSimulator {
     pub fn with_term(mut self, term: Term, coefficient: f64) -> Result<Self> {
         if !coefficient.is_finite() {
             return Err(Error::InvalidParameter {
-                name: "nonlinear coefficient",
+                name: crate::Parameter::NonlinearCoefficient,
                 value: coefficient,
                 expected: "finite",
             });
@@ -213,10 +217,15 @@ impl NonlinearSimulator {
             (_, None) => false,
         };
         if !fits {
-            return Err(Error::InvalidParameter {
-                name: "nonlinear term degree of freedom",
-                value: term.dof.map_or(f64::NAN, |d| d as f64),
-                expected: "a DOF of the system (coulomb-planar: a system of at least 2 DOFs)",
+            let name = crate::Parameter::NonlinearTermDegreeOfFreedom;
+            let expected = "a DOF of the system (coulomb-planar: a system of at least 2 DOFs)";
+            return Err(match term.dof {
+                Some(dof) => Error::InvalidParameter {
+                    name,
+                    value: dof as f64,
+                    expected,
+                },
+                None => Error::InvalidSetting { name, expected },
             });
         }
         self.terms.push((term, coefficient));
@@ -229,7 +238,11 @@ impl NonlinearSimulator {
     /// # Errors
     /// [`Error::InvalidParameter`] unless finite and positive.
     pub fn with_smoothing(mut self, smoothing: f64) -> Result<Self> {
-        require_finite_positive("friction smoothing", smoothing, "finite and positive (m/s)")?;
+        require_finite_positive(
+            crate::Parameter::FrictionSmoothing,
+            smoothing,
+            "finite and positive (m/s)",
+        )?;
         self.smoothing = smoothing;
         Ok(self)
     }
@@ -243,7 +256,7 @@ impl NonlinearSimulator {
     pub fn with_oversampling(mut self, steps: usize) -> Result<Self> {
         if !(1..=MAX_OVERSAMPLING).contains(&steps) {
             return Err(Error::InvalidParameter {
-                name: "oversampling",
+                name: crate::Parameter::Oversampling,
                 value: steps as f64,
                 expected: "1 to 4096 RK4 steps per sample",
             });
@@ -307,7 +320,7 @@ impl NonlinearSimulator {
         let steps = match self.oversampling {
             Some(s) if s < needed => {
                 return Err(Error::InvalidParameter {
-                    name: "oversampling",
+                    name: crate::Parameter::Oversampling,
                     value: s as f64,
                     expected: "enough RK4 steps per sample for a stable step (ρh ≤ 2, ρ the \
                                fastest rate of the structure and the anti-alias filter)",
@@ -369,7 +382,10 @@ impl NonlinearSimulator {
         x0: &[f64],
         v0: &[f64],
     ) -> Result<Record> {
-        for (name, start) in [("initial displacement", x0), ("initial velocity", v0)] {
+        for (name, start) in [
+            (crate::Parameter::InitialDisplacement, x0),
+            (crate::Parameter::InitialVelocity, v0),
+        ] {
             if start.len() != self.n || start.iter().any(|v| !v.is_finite()) {
                 return Err(Error::InvalidParameter {
                     name,
@@ -403,7 +419,13 @@ mod tests {
             sim.clone().with_oversampling(MAX_OVERSAMPLING + 1),
         ];
         for b in bad {
-            assert!(matches!(b, Err(Error::InvalidParameter { .. })), "{b:?}");
+            assert!(
+                matches!(
+                    b,
+                    Err(Error::InvalidParameter { .. } | Error::InvalidSetting { .. })
+                ),
+                "{b:?}"
+            );
         }
         let sdof =
             Coefficients::new(faer::mat![[1.0]], faer::mat![[1.0]], faer::mat![[1.0]]).unwrap();

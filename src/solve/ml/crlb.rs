@@ -44,7 +44,7 @@ pub fn crlb(system: &Coefficients, data: &MlData) -> Result<Coefficients> {
     let n = data.n;
     if system.dofs() != n {
         return Err(Error::InvalidParameter {
-            name: "system size",
+            name: crate::Parameter::SystemSize,
             value: system.dofs() as f64,
             expected: "the data's degrees of freedom",
         });

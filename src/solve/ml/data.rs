@@ -58,7 +58,7 @@ impl MlData {
         let lines = freqs_hz.len();
         if lines == 0 || [x.len(), f.len(), cx.len(), cf.len(), cxf.len()] != [lines; 5] {
             return Err(bad(
-                "ml data lines",
+                crate::Parameter::MlDataLines,
                 lines as f64,
                 "one x, f, C_X, C_F, C_XF per frequency, at least one line",
             ));
@@ -66,7 +66,7 @@ impl MlData {
         let (n, columns) = (x[0].nrows(), x[0].ncols());
         if n == 0 || columns < n {
             return Err(bad(
-                "ml data columns",
+                crate::Parameter::MlDataColumns,
                 columns as f64,
                 "at least as many excitations as degrees of freedom",
             ));
@@ -87,7 +87,11 @@ impl MlData {
         for k in 0..lines {
             let w = data.freqs_hz[k];
             if !finite_positive(w) {
-                return Err(bad("frequency", w, "finite and positive (Hz)"));
+                return Err(bad(
+                    crate::Parameter::Frequency,
+                    w,
+                    "finite and positive (Hz)",
+                ));
             }
             let shapes_ok = [&x[k], &f[k]]
                 .iter()
@@ -97,7 +101,7 @@ impl MlData {
                     .all(|m| m.nrows() == n && m.ncols() == n);
             if !shapes_ok {
                 return Err(bad(
-                    "ml data shape",
+                    crate::Parameter::MlDataShape,
                     k as f64,
                     "x, f n × J and covariances n × n on every line",
                 ));
@@ -122,7 +126,7 @@ impl MlData {
             .iter()
             .all(|v| finite(v))
         {
-            return Err(bad("ml data", f64::NAN, "finite entries"));
+            return Err(bad(crate::Parameter::MlData, f64::NAN, "finite entries"));
         }
         Ok(data)
     }

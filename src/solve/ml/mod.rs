@@ -64,11 +64,11 @@ impl MlOptions {
     /// # Examples
     /// ```
     /// use bearing_ident::MlOptions;
-    /// assert!(MlOptions::default().validate().is_ok());
-    /// assert!(MlOptions { tolerance: 0.0, max_iterations: 10 }.validate().is_err());
+    /// assert!(MlOptions::default().check().is_ok());
+    /// assert!(MlOptions { tolerance: 0.0, max_iterations: 10 }.check().is_err());
     /// ```
-    pub fn validate(&self) -> Result<()> {
-        super::check_tolerance(self.tolerance, "ml tolerance")
+    pub fn check(&self) -> Result<()> {
+        super::check_tolerance(self.tolerance, crate::Parameter::MlTolerance)
     }
 }
 
@@ -299,7 +299,7 @@ pub struct MlFit {
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] if `start` and `data` differ in size or `options` are out of
-/// range ([`MlOptions::validate`]).
+/// range ([`MlOptions::check`]).
 ///
 /// # Examples
 /// ```
@@ -320,11 +320,11 @@ pub struct MlFit {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<MlFit> {
-    options.validate()?;
+    options.check()?;
     let n = data.n;
     if start.dofs() != n {
         return Err(Error::InvalidParameter {
-            name: "start size",
+            name: crate::Parameter::StartSize,
             value: start.dofs() as f64,
             expected: "the data's degrees of freedom",
         });

@@ -127,7 +127,7 @@ pub(crate) fn residual_data(moments: &RecordMoments, start: &Coefficients) -> Re
     let spectra = moments.observations.max(1);
     if moments.szz.iter().any(|s| s.nrows() != 2 * n) {
         return Err(Error::InvalidParameter {
-            name: "start size",
+            name: crate::Parameter::StartSize,
             value: n as f64,
             expected: "the records' degrees of freedom",
         });

@@ -94,7 +94,7 @@ pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Resu
     let id = path.identify(&records)?;
     let compute_ms = compute.elapsed().as_secs_f64() * 1e3;
     if !id.fit().convergence().is_converged() && !args.allow_unconverged {
-        let change = id.fit().history().last().map_or(f64::NAN, |h| h.change());
+        let change = id.fit().history().last().map(|h| h.change());
         return Err(bearing_ident::Error::NotConverged {
             method,
             iterations: id.fit().convergence().iterations(),

@@ -1,11 +1,21 @@
-//! The reference distributions of the crate's statistical tests, in one place: upper tails of
-//! χ² and F (from `statrs`), used by the model check of a fit
-//! ([`ModelCheck`](crate::identify::ModelCheck)).
+//! The crate's statistics, in one place: the reference distributions of its statistical tests
+//! (upper tails of χ² and F, from `statrs`, used by the model check of a fit,
+//! [`ModelCheck`](crate::identify::ModelCheck)), and inside the crate the medians, the median
+//! absolute deviation's scale and quantiles of samples (`median.rs`), the selection of a rank
+//! among integer keys (`select.rs`) and the Student-t quantiles of the error bars'
+//! intervals (`student_t.rs`).
 //!
 //! An upper tail `Q(x) = P(X > x)` is the p-value of an observed statistic `x`: small means the
 //! observation is unlikely under the reference distribution.
 
+mod median;
+pub(crate) mod select;
+mod student_t;
+
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
+
+pub(crate) use median::{MAD_TO_SIGMA, median, quantile, upper_median};
+pub(crate) use student_t::t975;
 
 use crate::error::{Error, Result};
 
@@ -25,11 +35,12 @@ use crate::error::{Error, Result};
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn chi2_upper_tail(x: f64, dof: f64) -> Result<f64> {
-    check(x, dof, "χ² degrees of freedom")?;
+    check(x, dof, crate::Parameter::ChiSquaredDegreesOfFreedom)?;
     if x <= 0.0 {
         return Ok(1.0);
     }
-    let d = ChiSquared::new(dof).map_err(|_| invalid("χ² degrees of freedom", dof))?;
+    let d = ChiSquared::new(dof)
+        .map_err(|_| invalid(crate::Parameter::ChiSquaredDegreesOfFreedom, dof))?;
     Ok(d.sf(x))
 }
 
@@ -48,12 +59,13 @@ pub fn chi2_upper_tail(x: f64, dof: f64) -> Result<f64> {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn f_upper_tail(x: f64, dof1: f64, dof2: f64) -> Result<f64> {
-    check(x, dof1, "F numerator degrees of freedom")?;
-    check(x, dof2, "F denominator degrees of freedom")?;
+    check(x, dof1, crate::Parameter::FNumeratorDegreesOfFreedom)?;
+    check(x, dof2, crate::Parameter::FDenominatorDegreesOfFreedom)?;
     if x <= 0.0 {
         return Ok(1.0);
     }
-    let d = FisherSnedecor::new(dof1, dof2).map_err(|_| invalid("F degrees of freedom", dof1))?;
+    let d = FisherSnedecor::new(dof1, dof2)
+        .map_err(|_| invalid(crate::Parameter::FDegreesOfFreedom, dof1))?;
     Ok(d.sf(x))
 }
 
@@ -71,24 +83,25 @@ pub fn f_upper_tail(x: f64, dof1: f64, dof2: f64) -> Result<f64> {
 /// ```
 pub fn chi2_upper_point(q: f64, dof: f64) -> Result<f64> {
     if !(q > 0.0 && q < 1.0) {
-        return Err(invalid("tail probability", q));
+        return Err(invalid(crate::Parameter::TailProbability, q));
     }
-    check(1.0, dof, "χ² degrees of freedom")?;
-    let d = ChiSquared::new(dof).map_err(|_| invalid("χ² degrees of freedom", dof))?;
+    check(1.0, dof, crate::Parameter::ChiSquaredDegreesOfFreedom)?;
+    let d = ChiSquared::new(dof)
+        .map_err(|_| invalid(crate::Parameter::ChiSquaredDegreesOfFreedom, dof))?;
     Ok(d.inverse_cdf(1.0 - q))
 }
 
-fn check(x: f64, dof: f64, name: &'static str) -> Result<()> {
+fn check(x: f64, dof: f64, name: crate::Parameter) -> Result<()> {
     if !(dof.is_finite() && dof > 0.0) {
         return Err(invalid(name, dof));
     }
     if x.is_nan() {
-        return Err(invalid("test statistic", x));
+        return Err(invalid(crate::Parameter::TestStatistic, x));
     }
     Ok(())
 }
 
-fn invalid(name: &'static str, value: f64) -> Error {
+fn invalid(name: crate::Parameter, value: f64) -> Error {
     Error::InvalidParameter {
         name,
         value,

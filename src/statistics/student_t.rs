@@ -8,7 +8,7 @@
 /// The two-sided 95 % quantile of Student's t with `dof` degrees of freedom (table to 30,
 /// `1.96 + 2.4/dof` beyond, within 0.002 of the exact value; the normal 1.96 for `dof = 0`,
 /// meaning "normal").
-pub(super) fn t975(dof: usize) -> f64 {
+pub(crate) fn t975(dof: usize) -> f64 {
     const TABLE: [f64; 30] = [
         12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
         2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,

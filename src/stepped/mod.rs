@@ -19,6 +19,14 @@
 //! has phasor `P`. For `x = A cos(ωt + φ)`, `P = A e^{iφ}`. This is the crate's DFT convention
 //! (`X(ω) = Σ x(t) e^{−iωt}` gives `X ≈ (N/2) P`), so `F = H X` holds between the phasors of
 //! one record, and any common time shift of force and displacement cancels in `H`.
+//!
+//! What lives where: the FRF assembly ([`stepped_sine`]) is here; the phasor in `phasor.rs`,
+//! the drive-frequency estimate in `drive.rs`, their small least-squares solver in
+//! `least_squares.rs`.
+
+mod drive;
+mod least_squares;
+mod phasor;
 
 use std::f64::consts::PI;
 
@@ -26,317 +34,11 @@ use faer::c64;
 
 use crate::error::{Channel, Error, Result};
 use crate::frf::{Assignment, Estimator, Frf, PairedKernel, Share};
-use crate::records::{MIN_SAMPLES, Record, finite_positive, require_finite_positive};
-use crate::spectra::{SpectralEstimator, Window};
-use crate::tolerance::{FLAT_SIGNAL, FREQUENCY_STEP};
+use crate::records::Record;
 
-/// Smallest pivot of the Jacobi-scaled normal equations (a correlation matrix) accepted: below
-/// it (a condition number above about `10⁸`) the sine, cosine and offset are too nearly
-/// dependent over the record (frequency near DC or Nyquist, or far less than a period of data)
-/// to be told apart.
-const MIN_PIVOT: f64 = 1e-8;
-
-/// Gauss–Newton refinements of the frequency at most, in [`drive_frequency`].
-const NEWTON_STEPS: usize = 20;
-
-/// Adds one row `u` (target `r`) to the normal equations: the upper triangle of the row-major
-/// `k × k` Gram matrix gets `u uᵀ`, the right-hand side `u r`.
-fn accumulate(gram: &mut [f64], rhs: &mut [f64], u: &[f64], r: f64) {
-    let k = u.len();
-    for i in 0..k {
-        for j in i..k {
-            gram[i * k + j] += u[i] * u[j];
-        }
-        rhs[i] += u[i] * r;
-    }
-}
-
-/// Copies the upper triangle of the row-major `k × k` matrix `a` into its lower triangle.
-fn symmetrise(a: &mut [f64], k: usize) {
-    for i in 0..k {
-        for j in 0..i {
-            a[i * k + j] = a[j * k + i];
-        }
-    }
-}
-
-/// Solves the symmetric positive semi-definite `k × k` system `a x = b` (`a` row-major, both
-/// destroyed, `x` left in `b`) after scaling it to unit diagonal; `false` if a pivot of the
-/// scaled system falls below [`MIN_PIVOT`].
-fn solve_normal(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
-    let scale: Vec<f64> = (0..k).map(|i| a[i * k + i].sqrt()).collect();
-    if scale.iter().any(|s| !finite_positive(*s)) {
-        return false;
-    }
-    for i in 0..k {
-        for j in 0..k {
-            a[i * k + j] /= scale[i] * scale[j];
-        }
-        b[i] /= scale[i];
-    }
-    for c in 0..k {
-        let p = (c..k)
-            .max_by(|&i, &j| a[i * k + c].abs().total_cmp(&a[j * k + c].abs()))
-            .unwrap_or(c);
-        if a[p * k + c].abs() < MIN_PIVOT {
-            return false;
-        }
-        if p != c {
-            for j in 0..k {
-                a.swap(p * k + j, c * k + j);
-            }
-            b.swap(p, c);
-        }
-        for i in c + 1..k {
-            let factor = a[i * k + c] / a[c * k + c];
-            for j in c..k {
-                a[i * k + j] -= factor * a[c * k + j];
-            }
-            b[i] -= factor * b[c];
-        }
-    }
-    for c in (0..k).rev() {
-        let mut s = b[c];
-        for j in c + 1..k {
-            s -= a[c * k + j] * b[j];
-        }
-        b[c] = s / a[c * k + c];
-    }
-    for i in 0..k {
-        b[i] /= scale[i];
-    }
-    b.iter().all(|v| v.is_finite())
-}
-
-/// Least-squares fit of `a cos(w m) + b sin(w m) + d` to `signal` (`w` in radians per sample):
-/// `[a, b, d]` and the residual sum of squares, `None` if the three are not separable.
-fn fit_sine(signal: &[f64], w: f64) -> Option<([f64; 3], f64)> {
-    let mut gram = [0.0; 9];
-    let mut rhs = [0.0; 3];
-    for (m, &x) in signal.iter().enumerate() {
-        let (s, c) = (w * m as f64).sin_cos();
-        accumulate(&mut gram, &mut rhs, &[c, s, 1.0], x);
-    }
-    symmetrise(&mut gram, 3);
-    if !solve_normal(&mut gram, &mut rhs, 3) {
-        return None;
-    }
-    let rss = signal
-        .iter()
-        .enumerate()
-        .map(|(m, &x)| {
-            let (s, c) = (w * m as f64).sin_cos();
-            (x - rhs[0] * c - rhs[1] * s - rhs[2]).powi(2)
-        })
-        .sum();
-    Some((rhs, rss))
-}
-
-fn check_rate(sample_rate: f64) -> Result<()> {
-    require_finite_positive("sample rate", sample_rate, "finite and positive (Hz)")
-}
-
-fn check_signal(signal: &[f64]) -> Result<()> {
-    if signal.len() < MIN_SAMPLES {
-        return Err(Error::InvalidParameter {
-            name: "signal length",
-            value: signal.len() as f64,
-            expected: "at least 8 samples",
-        });
-    }
-    match signal.iter().find(|v| !v.is_finite()) {
-        Some(&value) => Err(Error::InvalidParameter {
-            name: "signal sample",
-            value,
-            expected: "finite",
-        }),
-        None => Ok(()),
-    }
-}
-
-/// The complex amplitude of `signal` at `freq_hz`: the least-squares fit
-///
-/// $$ x_m \approx a \cos\omega t_m + b \sin\omega t_m + d, \qquad t_m = m / f_s, $$
-///
-/// returned as the phasor $P = a - i b$, so that $x(t) \approx \operatorname{Re}(P e^{i\omega t}) + d$
-/// (see the [module docs](self) for the convention). The fit needs no whole number of periods
-/// and no window; the offset `d` absorbs a sensor's DC level. For a stationary sine in white
-/// noise it is the maximum-likelihood amplitude at a known frequency.
-///
-/// # Errors
-/// [`Error::InvalidParameter`] for fewer than 8 samples, a non-finite sample, a sampling rate
-/// that is not finite and positive, a frequency outside `0 < f < f_s/2`, or a record too short
-/// (or a frequency too close to DC or Nyquist) for the sine, cosine and offset to be separated.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::stepped::phasor;
-/// // 3 cos(ωt + 0.5) + 1 at 12.3 Hz, 1000 samples/s, 0.37 s (not a whole number of periods).
-/// let w = 2.0 * std::f64::consts::PI * 12.3;
-/// let x: Vec<f64> = (0..370).map(|m| 3.0 * (w * m as f64 / 1000.0 + 0.5).cos() + 1.0).collect();
-/// let p = phasor(&x, 12.3, 1000.0)?;
-/// assert!((p.norm() - 3.0).abs() < 1e-12);
-/// assert!((p.arg() - 0.5).abs() < 1e-12);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn phasor(signal: &[f64], freq_hz: f64, sample_rate: f64) -> Result<c64> {
-    check_rate(sample_rate)?;
-    check_signal(signal)?;
-    if !(finite_positive(freq_hz) && freq_hz < sample_rate / 2.0) {
-        return Err(Error::InvalidParameter {
-            name: "phasor frequency",
-            value: freq_hz,
-            expected: "0 < frequency < sample rate / 2 (Hz)",
-        });
-    }
-    let w = 2.0 * PI * freq_hz / sample_rate;
-    let ([a, b, _], _) = fit_sine(signal, w).ok_or(Error::InvalidParameter {
-        name: "phasor frequency",
-        value: freq_hz,
-        expected: "a frequency the record resolves (about half a period or more, \
-                   away from DC and Nyquist)",
-    })?;
-    Ok(c64::new(a, -b))
-}
-
-/// The frequency (Hz) of the sine in `signal`, for records of a stepped-sine test.
-///
-/// The mean is removed and a Hann window applied; the largest line of the real FFT
-/// (realfft) is refined by a parabola through the logarithms of it and its two neighbours
-/// (exact for a Gaussian peak, within a few hundredths of a line for Hann), then by
-/// Gauss–Newton steps on the nonlinear least-squares fit of `a cos ωt + b sin ωt + d`, each
-/// accepted only if it lowers the residual. For a sine in white noise the result is the
-/// maximum-likelihood frequency, far finer than the FFT's line spacing `f_s/N`.
-///
-/// # Errors
-/// [`Error::InvalidParameter`] for fewer than 8 samples, a non-finite sample, a sampling rate
-/// that is not finite and positive, or a flat signal (nothing but its mean).
-///
-/// # Examples
-/// ```
-/// use bearing_ident::stepped::drive_frequency;
-/// // 17.77 Hz at 500 samples/s for 2 s: the FFT lines are 0.5 Hz apart.
-/// let w = 2.0 * std::f64::consts::PI * 17.77;
-/// let x: Vec<f64> = (0..1000).map(|m| (w * m as f64 / 500.0 + 1.0).sin() + 0.2).collect();
-/// let f = drive_frequency(&x, 500.0)?;
-/// assert!((f - 17.77).abs() < 1e-9);
-/// assert!(drive_frequency(&vec![0.1; 1000], 500.0).is_err()); // flat
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn drive_frequency(signal: &[f64], sample_rate: f64) -> Result<f64> {
-    DriveFrequency::default().estimate(signal, sample_rate)
-}
-
-/// [`drive_frequency`] for many records: the Hann-windowed FFT ([`SpectralEstimator`]) is
-/// planned once per record length and sampling rate and reused while they stay the same.
-#[derive(Debug, Default)]
-struct DriveFrequency {
-    /// The plan and the sampling rate it was made for.
-    spectral: Option<(f64, SpectralEstimator)>,
-}
-
-impl DriveFrequency {
-    /// As [`drive_frequency`].
-    fn estimate(&mut self, signal: &[f64], sample_rate: f64) -> Result<f64> {
-        check_rate(sample_rate)?;
-        check_signal(signal)?;
-        let len = signal.len();
-        // Flat: no swing beyond rounding of its level (a constant, or zero).
-        let flat = Error::InvalidParameter {
-            name: "signal",
-            value: 0.0,
-            expected: "a sine drive, not a flat signal",
-        };
-        let (lo, hi) = signal
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
-        if hi - lo <= FLAT_SIGNAL * lo.abs().max(hi.abs()) {
-            return Err(flat);
-        }
-        let planned = self
-            .spectral
-            .as_ref()
-            .is_some_and(|(rate, e)| e.len() == len && rate.to_bits() == sample_rate.to_bits());
-        if !planned {
-            let spectral = SpectralEstimator::new(len, sample_rate, Window::Hann)?;
-            self.spectral = Some((sample_rate, spectral));
-        }
-        let (_, spectral) = self.spectral.as_mut().expect("planned above");
-        // Mean removed, Hann window, one-sided DFT.
-        let power: Vec<f64> = spectral
-            .transform(signal)
-            .iter()
-            .map(|v| v.norm_sqr())
-            .collect();
-        refine(signal, &power, sample_rate).ok_or(flat)
-    }
-}
-
-/// The frequency (Hz) of the sine in `signal` from its windowed `power` spectrum: the peak
-/// line refined by a parabola through the log powers, then by Gauss–Newton on the sine fit.
-/// `None` for a spectrum with no power.
-fn refine(signal: &[f64], power: &[f64], sample_rate: f64) -> Option<f64> {
-    let len = signal.len();
-    let (peak, &top) = power
-        .iter()
-        .enumerate()
-        .skip(1)
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .unwrap_or((0, &0.0));
-    if top <= 0.0 {
-        return None;
-    }
-    // Parabola through the log powers of the peak and its neighbours.
-    let mut line = peak as f64;
-    if peak + 1 < power.len() {
-        let (l, c, r) = (power[peak - 1].ln(), top.ln(), power[peak + 1].ln());
-        let curvature = l - 2.0 * c + r;
-        if curvature < 0.0 && l.is_finite() && r.is_finite() {
-            line += (0.5 * (l - r) / curvature).clamp(-0.5, 0.5);
-        }
-    }
-    let nyquist_w = PI;
-    let mut w = 2.0 * PI * line / len as f64;
-    let Some((mut coef, mut rss)) = fit_sine(signal, w) else {
-        return Some(w * sample_rate / (2.0 * PI));
-    };
-    for _ in 0..NEWTON_STEPS {
-        // Gauss–Newton on (a, b, d, w): Jacobian columns cos, sin, 1, m(−a sin + b cos).
-        let mut gram = [0.0; 16];
-        let mut rhs = [0.0; 4];
-        for (m, &x) in signal.iter().enumerate() {
-            let (s, c) = (w * m as f64).sin_cos();
-            let u = [c, s, 1.0, m as f64 * (-coef[0] * s + coef[1] * c)];
-            let r = x - coef[0] * c - coef[1] * s - coef[2];
-            accumulate(&mut gram, &mut rhs, &u, r);
-        }
-        symmetrise(&mut gram, 4);
-        if !solve_normal(&mut gram, &mut rhs, 4) {
-            break;
-        }
-        let mut step = rhs[3];
-        let mut accepted = false;
-        // Halve the step until the residual drops (three tries).
-        for _ in 0..3 {
-            let trial = w + step;
-            if trial > 0.0 && trial < nyquist_w {
-                if let Some((c, r)) = fit_sine(signal, trial) {
-                    if r <= rss {
-                        (w, coef, rss, accepted) = (trial, c, r, true);
-                        break;
-                    }
-                }
-            }
-            step *= 0.5;
-        }
-        if !accepted || step.abs() <= FREQUENCY_STEP * w {
-            break;
-        }
-    }
-    Some(w * sample_rate / (2.0 * PI))
-}
+use drive::DriveFrequency;
+pub use drive::drive_frequency;
+pub use phasor::phasor;
 
 /// Impedances and flexibilities at the drive frequencies of a stepped-sine test.
 ///
@@ -406,7 +108,7 @@ pub fn stepped_sine(
     }
     if !(tolerance_hz.is_finite() && tolerance_hz >= 0.0) {
         return Err(Error::InvalidParameter {
-            name: "step tolerance",
+            name: crate::Parameter::StepTolerance,
             value: tolerance_hz,
             expected: "finite and ≥ 0 (Hz)",
         });
@@ -560,7 +262,7 @@ mod tests {
         assert!(matches!(
             phasor(&x[..10], 0.01, 100.0),
             Err(Error::InvalidParameter {
-                name: "phasor frequency",
+                name: crate::Parameter::PhasorFrequency,
                 ..
             })
         ));
@@ -590,7 +292,10 @@ mod tests {
         assert!((got - 21.7).abs() < 2e-3, "{got}");
         assert!(matches!(
             drive_frequency(&[0.0; 64], 400.0),
-            Err(Error::InvalidParameter { name: "signal", .. })
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::Signal,
+                ..
+            })
         ));
         assert!(drive_frequency(&[1.0; 4], 400.0).is_err());
         assert!(drive_frequency(&x, -1.0).is_err());
@@ -675,7 +380,10 @@ mod tests {
         let flat = Record::new("flat", fs, vec![vec![0.0; 64]; 2], vec![vec![0.0; 64]; 2]);
         assert!(matches!(
             stepped_sine(&[flat.unwrap()], &Assignment::DominantForce, None, 0.1),
-            Err(Error::InvalidParameter { name: "signal", .. })
+            Err(Error::InvalidParameter {
+                name: crate::Parameter::Signal,
+                ..
+            })
         ));
         // Both records drive x: the paired matrix is singular, so the step is dropped.
         let explicit = Assignment::Explicit(vec![0, 1]);
