@@ -283,7 +283,7 @@ impl fmt::Display for Warning {
                 f,
                 "the response has not decayed by the record's end ({:.2} % of the slowest \
                  mode's envelope left): truncation biases {block}[{row}][{col}] by {:+.2} % \
-                 ({sigmas:.1} σ); an exponential window falling to {window_end:.1e} at the \
+                 ({sigmas:.1} σ), carried in the error bars; an exponential window falling to {window_end:.1e} at the \
                  record's end (`--window exp:{window_end:.1e}`, corrected exactly) removes it",
                 100.0 * remaining,
                 100.0 * relative
@@ -298,8 +298,8 @@ impl fmt::Display for Warning {
             } => write!(
                 f,
                 "Welch segments with {spacing_hz:.4} Hz line spacing leak: predicted bias of \
-                 {block}[{row}][{col}] {:+.2} % ({sigmas:.1} σ); longer segments \
-                 (`--nperseg`) remove it",
+                 {block}[{row}][{col}] {:+.2} % ({sigmas:.1} σ), carried in the error bars; \
+                 longer segments (`--nperseg`) remove it",
                 100.0 * relative
             ),
             Warning::PeriodMismatch {

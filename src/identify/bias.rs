@@ -125,6 +125,38 @@ mod tests {
             .expect("not_decayed");
         println!("{warning}");
         let bias = id.predicted_bias().expect("predicted");
+        // The bias is carried: the model component holds it, and the combined intervals
+        // cover the truth on every element of K and C (the issue found K_xy +23 % at 86 σ).
+        let budget = id.budget().expect("a budget");
+        let std = id.std_dev().expect("error bars");
+        for (b, m, sd, est, t) in [
+            (
+                bias.bias.stiffness(),
+                budget.model.stiffness(),
+                std.stiffness(),
+                id.coefficients().stiffness(),
+                truth.stiffness(),
+            ),
+            (
+                bias.bias.damping(),
+                budget.model.damping(),
+                std.damping(),
+                id.coefficients().damping(),
+                truth.damping(),
+            ),
+        ] {
+            for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                assert!(
+                    m[(i, j)] >= b[(i, j)].abs(),
+                    "model {} < bias {}",
+                    m[(i, j)],
+                    b[(i, j)]
+                );
+                let z = (est[(i, j)] - t[(i, j)]) / sd[(i, j)];
+                println!("[{i}][{j}]: {z:+.2} combined σ");
+                assert!(z.abs() < 2.5, "[{i}][{j}] {z} σ");
+            }
+        }
         // Noise-free, the error against the truth is the truncation's.
         let clean = ImpactTest { noise: 0.0, ..test };
         let exact = Identifier::new(5.0, 50.0)

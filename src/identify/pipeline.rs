@@ -416,14 +416,9 @@ impl Settings {
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         t.solve += solve_start.elapsed();
-        let bars = timed(&mut t.uncertainty, || {
+        let mut bars = timed(&mut t.uncertainty, || {
             self.error_bars(&fit, &frf, builder, &model_check, &mut warnings)
         })?;
-        // Calibration is left out: a common gain scales M, C, K alike and moves no mode.
-        let modes_std = bars.budget.as_ref().and_then(|b| {
-            let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
-            mode_std(fit.coefficients(), &cov).ok()
-        });
         // A bias is judged against the random error: the model component may already be
         // widened by the very misfit the bias makes.
         let random = bars.budget.as_ref().map(|b| &b.random);
@@ -434,6 +429,17 @@ impl Settings {
             random.or(bars.std_dev.as_ref()),
             &mut warnings,
         );
+        // A bias past the threshold (warned above) is carried by the model component, so the
+        // combined intervals cover it.
+        if let (Some(bias), Some(budget)) = (&predicted_bias, bars.budget.as_mut()) {
+            budget.carry_bias(&bias.bias)?;
+            bars.std_dev = Some(budget.combined()?);
+        }
+        // Calibration is left out: a common gain scales M, C, K alike and moves no mode.
+        let modes_std = bars.budget.as_ref().and_then(|b| {
+            let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
+            mode_std(fit.coefficients(), &cov).ok()
+        });
         t.total = start.elapsed();
         Ok(Identification {
             ml,

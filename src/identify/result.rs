@@ -54,8 +54,9 @@ impl Identification {
     /// ([`crate::gate::leaked_flexibility`]) or the truncation of impact records whose
     /// response has not decayed ([`crate::gate::truncated_flexibility`]). A warning names it
     /// too ([`Warning::LeakageBias`], [`Warning::NotDecayed`]). It is not removed from the
-    /// coefficients nor added to their standard deviations: it is a model component of the
-    /// uncertainty budget, to be removed by the remedy the warning names.
+    /// coefficients: it enters the model component of the uncertainty budget in quadrature,
+    /// so the combined standard deviations and intervals cover it, until the remedy the
+    /// warning names removes it.
     ///
     /// # Examples
     /// ```

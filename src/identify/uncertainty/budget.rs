@@ -13,7 +13,11 @@
 //!   that leans on lines the model does not describe moves when they go; a right model's
 //!   moves by its random error alone, so the band part is carried only when the model
 //!   check does not say the model fits (misfit, or untested for want of replicates).
-//!   Maximum likelihood refits by IVF and takes the change of IVF's estimate.
+//!   Maximum likelihood refits by IVF and takes the change of IVF's estimate. A bias the
+//!   processing is predicted to add ([`PredictedBias`](crate::gate::PredictedBias): the
+//!   leakage of Welch segments, the truncation of records that have not decayed) enters in
+//!   quadrature too when it passes half a random standard deviation (the threshold of its
+//!   warning, `leakage_bias` or `not_decayed`).
 //! - **calibration**: the stated gain uncertainties ([`Calibration::std_dev`]).
 //!
 //! The combined standard uncertainty is
@@ -81,6 +85,16 @@ impl Budget {
     /// None in practice (the components share one shape).
     pub fn random_and_model(&self) -> Result<Coefficients> {
         quadrature(&[&self.random, &self.model])
+    }
+
+    /// Adds a predicted bias (absolute, per coefficient) to the model component in
+    /// quadrature: $\sigma_m \leftarrow \sqrt{\sigma_m^2 + b^2}$.
+    ///
+    /// # Errors
+    /// None in practice (one shape).
+    pub(in crate::identify) fn carry_bias(&mut self, bias: &Coefficients) -> Result<()> {
+        self.model = quadrature(&[&self.model, bias])?;
+        Ok(())
     }
 }
 
