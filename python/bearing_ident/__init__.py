@@ -18,6 +18,7 @@ same options, the same results and the same errors as the ``bearing-ident identi
 from __future__ import annotations
 
 import json as _json
+import os
 import math as _math
 from typing import Any, Iterable, Sequence
 
@@ -30,6 +31,7 @@ __all__ = [
     "Campaign",
     "Identification",
     "Record",
+    "field",
     "identify",
     "read_csv",
     "read_uff",
@@ -284,6 +286,33 @@ class Campaign:
 
     def __repr__(self) -> str:
         return f"Campaign(points={len(self.points)}, failed={len(self.failed)})"
+
+
+def _json_text(value: Any) -> str:
+    """A JSON input given as a path, a JSON string or a dict."""
+    if isinstance(value, dict):
+        return _json.dumps(value)
+    if isinstance(value, (str, os.PathLike)) and not str(value).lstrip().startswith("{"):
+        with open(value, encoding="utf-8") as f:
+            return f.read()
+    return str(value)
+
+
+def field(rotor: Any, tests: Any) -> dict:
+    """Field identification of a running machine's bearings (``bearing-ident field``): the
+    bearings' ``K(Ω)``, ``C(Ω)`` at each speed from imbalance responses and a model of the free
+    rotor. ``rotor`` and ``tests`` are JSON files (paths), JSON strings or dicts, in the forms
+    ``bearing-ident field --rotor --tests`` reads; the result is the dict ``field --json``
+    prints. The GIL is released while it runs.
+
+    >>> import bearing_ident as bi
+    >>> try:
+    ...     bi.field({"dof_per_node": 4}, "{}")
+    ... except bi.BearingIdentError as e:
+    ...     print(e.kind, str(e).startswith("rotor: "))
+    invalid_input True
+    """
+    return _json.loads(_call(_native.field, _json_text(rotor), _json_text(tests)))
 
 
 def run_campaign(

@@ -301,6 +301,26 @@ fn campaign(
     Ok(NativeCampaign { campaign })
 }
 
+/// Field identification from the rotor model's and the tests' JSON texts (as `bearing-ident
+/// field --rotor --tests` reads them), the GIL released; the result's JSON as `field --json`
+/// prints it.
+#[pyfunction]
+fn field(py: Python<'_>, rotor: String, tests: String) -> PyResult<String> {
+    use bearing_ident::field::{FieldTests, RotorModel, identify};
+    let in_input =
+        |what: &str, e: Error| NativeError::new_err((e.kind().as_str(), format!("{what}: {e}")));
+    let rotor = RotorModel::from_json(&rotor).map_err(|e| in_input("rotor", e))?;
+    let tests = FieldTests::from_json(&tests).map_err(|e| in_input("tests", e))?;
+    let start = std::time::Instant::now();
+    let id = py
+        .detach(|| {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| identify(&rotor, &tests)))
+        })
+        .map_err(|_| NativeError::new_err(("internal", "the field identification panicked")))?
+        .map_err(|e| raise(&e))?;
+    Ok(id.to_json(start.elapsed().as_secs_f64() * 1e3).to_string())
+}
+
 /// Records of the seed's rig (or a given system) simulated by the crate: `kind` `impact` (hits
 /// per direction `count`) or `random` (`count` records of `duration` s).
 #[pyfunction]
@@ -376,6 +396,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeResult>()?;
     m.add_class::<NativeCampaign>()?;
     m.add_function(wrap_pyfunction!(campaign, m)?)?;
+    m.add_function(wrap_pyfunction!(field, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(read_files, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;

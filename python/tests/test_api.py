@@ -292,3 +292,18 @@ def test_campaign_faults():
         bi.run_campaign(path)
     with pytest.raises(bi.InvalidArgumentError):
         bi.run_campaign(path, jobs=0)
+
+
+@needs_cli
+def test_field_equals_the_cli():
+    """Field identification from Python gives the CLI's `field --json` (wall time aside),
+    from paths, JSON strings and dicts alike."""
+    rotor, tests = ROOT / "examples" / "field" / "ROTOR.json", ROOT / "examples" / "field" / "TESTS_bearings.json"
+    cli = _run("field", "--json", "--rotor", str(rotor), "--tests", str(tests))
+    untimed = lambda d: {k: v for k, v in d.items() if k != "compute_ms"}
+    got = bi.field(str(rotor), str(tests))
+    assert untimed(got) == untimed(cli)
+    as_dicts = bi.field(json.loads(rotor.read_text()), tests.read_text())
+    assert untimed(as_dicts) == untimed(cli)
+    with pytest.raises(bi.InvalidInputError, match="^tests: "):
+        bi.field(str(rotor), "{}")

@@ -2,10 +2,11 @@
 //! [`FieldTests::from_json`]).
 
 use faer::{Mat, c64};
-use serde_json::Value;
+use serde_json::{Value, json};
 
 use super::inputs::{FieldTests, Imbalance, Probe, Response, Run};
 use super::model::{BearingSite, Direction, RotorModel};
+use super::result::FieldIdentification;
 use crate::error::{Error, Result, excerpt};
 
 fn bad(message: impl AsRef<str>) -> Error {
@@ -254,6 +255,72 @@ impl FieldTests {
         Ok(FieldTests {
             imbalances,
             responses,
+        })
+    }
+}
+
+/// A 2×2 matrix as rows, or null.
+fn matrix_out(m: Option<[[f64; 2]; 2]>) -> Value {
+    m.map_or(Value::Null, |m| json!(m))
+}
+
+/// A finite number, or null (JSON has no ∞).
+fn finite(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+impl FieldIdentification {
+    /// The result as `bearing-ident field --json` prints it: `speeds_rad_s`, per bearing
+    /// (`bearings`) its `tag`, `node`, `K`, `C`, `K_std`, `C_std` per speed (rows, null where the
+    /// pair is singular), `condition_number`, `noise_gain` and the constant fit `fit`
+    /// (`K`, `C`, `M`, their `*_std`, `speeds`); `measured` probes, `model_residual`,
+    /// `residual_ratio`, `pinned_critical_speeds_rad_s`, `compute_ms` (given), `warnings` and
+    /// `warning_kinds`. Numbers that are not finite are null.
+    pub fn to_json(&self, compute_ms: f64) -> Value {
+        let id = self;
+        let fits = super::fit_constant(id);
+        let bearings: Vec<Value> = id
+        .bearings()
+        .iter()
+        .zip(&fits)
+        .map(|(b, fit)| {
+            let per = |f: &dyn Fn(&super::SpeedCoefficients) -> Option<[[f64; 2]; 2]>| {
+                b.coefficients
+                    .iter()
+                    .map(|c| matrix_out(c.as_ref().and_then(f)))
+                    .collect::<Vec<Value>>()
+            };
+            json!({
+                "tag": b.tag,
+                "node": b.node,
+                "K": per(&|c| Some(c.stiffness)),
+                "C": per(&|c| Some(c.damping)),
+                "K_std": per(&|c| c.stiffness_std),
+                "C_std": per(&|c| c.damping_std),
+                "condition_number": b.condition_number.iter().map(|&c| finite(c)).collect::<Vec<_>>(),
+                "noise_gain": b.coefficients.iter().map(|c| c.map_or(Value::Null, |c| finite(c.noise_gain))).collect::<Vec<_>>(),
+                "fit": fit.map(|f| json!({
+                    "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds,
+                    "K_std": f.stiffness_std, "C_std": f.damping_std, "M_std": f.mass_std
+                })),
+            })
+        })
+        .collect();
+        let measured: Vec<Value> = id
+            .probes()
+            .iter()
+            .map(|p| json!({"node": p.node, "dir": p.dir.name()}))
+            .collect();
+        json!({
+            "speeds_rad_s": id.speeds_rad_s(),
+            "bearings": bearings,
+            "measured": measured,
+            "model_residual": id.model_residual().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
+            "residual_ratio": id.residual_ratio().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
+            "pinned_critical_speeds_rad_s": id.pinned_critical_speeds(),
+            "compute_ms": compute_ms,
+            "warnings": id.warnings().iter().map(ToString::to_string).collect::<Vec<_>>(),
+            "warning_kinds": id.warnings().iter().map(|w| w.kind()).collect::<Vec<_>>(),
         })
     }
 }

@@ -9,7 +9,6 @@ use std::time::Instant;
 use bearing_ident::Error;
 use bearing_ident::field::{self, FieldIdentification, FieldTests, RotorModel};
 use bearing_ident::plot::{field_cells, significant as sig};
-use serde_json::{Value, json};
 
 use crate::failure::{Failure, print_out};
 
@@ -70,69 +69,10 @@ pub fn field(args: &FieldArgs) -> Result<(), Failure> {
         ));
     }
     if args.json {
-        print_out(format_args!("{}\n", to_json(&id, compute_ms)))
+        print_out(format_args!("{}\n", id.to_json(compute_ms)))
     } else {
         print_out(format_args!("{}", table(&id)))
     }
-}
-
-/// A 2×2 matrix as rows, or null.
-fn matrix(m: Option<[[f64; 2]; 2]>) -> Value {
-    m.map_or(Value::Null, |m| json!(m))
-}
-
-/// A finite number, or null (JSON has no ∞).
-fn finite(v: f64) -> Value {
-    if v.is_finite() { json!(v) } else { Value::Null }
-}
-
-/// The JSON of issue 16's contract, plus error bars, the constant fit and the pinned critical
-/// speeds.
-fn to_json(id: &FieldIdentification, compute_ms: f64) -> Value {
-    let fits = field::fit_constant(id);
-    let bearings: Vec<Value> = id
-        .bearings()
-        .iter()
-        .zip(&fits)
-        .map(|(b, fit)| {
-            let per = |f: &dyn Fn(&field::SpeedCoefficients) -> Option<[[f64; 2]; 2]>| {
-                b.coefficients
-                    .iter()
-                    .map(|c| matrix(c.as_ref().and_then(f)))
-                    .collect::<Vec<Value>>()
-            };
-            json!({
-                "tag": b.tag,
-                "node": b.node,
-                "K": per(&|c| Some(c.stiffness)),
-                "C": per(&|c| Some(c.damping)),
-                "K_std": per(&|c| c.stiffness_std),
-                "C_std": per(&|c| c.damping_std),
-                "condition_number": b.condition_number.iter().map(|&c| finite(c)).collect::<Vec<_>>(),
-                "noise_gain": b.coefficients.iter().map(|c| c.map_or(Value::Null, |c| finite(c.noise_gain))).collect::<Vec<_>>(),
-                "fit": fit.map(|f| json!({
-                    "K": f.stiffness, "C": f.damping, "M": f.mass, "speeds": f.speeds,
-                    "K_std": f.stiffness_std, "C_std": f.damping_std, "M_std": f.mass_std
-                })),
-            })
-        })
-        .collect();
-    let measured: Vec<Value> = id
-        .probes()
-        .iter()
-        .map(|p| json!({"node": p.node, "dir": p.dir.name()}))
-        .collect();
-    json!({
-        "speeds_rad_s": id.speeds_rad_s(),
-        "bearings": bearings,
-        "measured": measured,
-        "model_residual": id.model_residual().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
-        "residual_ratio": id.residual_ratio().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
-        "pinned_critical_speeds_rad_s": id.pinned_critical_speeds(),
-        "compute_ms": compute_ms,
-        "warnings": id.warnings().iter().map(ToString::to_string).collect::<Vec<_>>(),
-        "warning_kinds": id.warnings().iter().map(|w| w.kind()).collect::<Vec<_>>(),
-    })
 }
 
 /// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known), the
