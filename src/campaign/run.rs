@@ -126,6 +126,9 @@ pub struct Fit {
     pub checks: Vec<Check>,
     /// Whether the result came from the cache.
     pub reused: bool,
+    /// The run itself, for a point identified now (`None` when taken from the cache): its
+    /// identification with the spectra, fit and diagnostics a report draws.
+    pub outcome: Option<Box<Outcome>>,
 }
 
 impl Fit {
@@ -212,6 +215,25 @@ impl Plan {
             });
         }
         Ok((o, channels))
+    }
+
+    /// The channels the point named `name` reads its files by (its channel settings and the
+    /// plan's geometry).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a name that is no point; the channel settings' errors.
+    pub fn channels_of(&self, name: &str) -> Result<Channels> {
+        let point =
+            self.points
+                .iter()
+                .find(|p| p.name == name)
+                .ok_or_else(|| Error::InvalidOption {
+                    option: "point",
+                    message: format!("no point `{}` in the plan", excerpt(name)),
+                })?;
+        let (_, settings) = self.options_of(point)?;
+        let files = self.files(point).unwrap_or_default();
+        self.channels(&settings, &files)
     }
 
     /// The channels of a point from its channel settings, for `files`.
@@ -323,11 +345,13 @@ impl Plan {
                 (None, None) => unreachable!("every point not in the cache is identified"),
             })
             .collect();
+        let mut outcomes = outcomes;
         for (i, point) in self.points.iter().enumerate() {
             let (Some(j), None, Some(Ok(outcome))) = (point.baseline, &cached[i], &outcomes[i])
             else {
                 continue;
             };
+            let outcome = outcome.clone();
             json[i] = match &json[j] {
                 Err(e) => Err(Failure {
                     kind: e.kind.clone(),
@@ -338,13 +362,15 @@ impl Plan {
                     ),
                 }),
                 Ok(dry) => {
-                    let mut outcome = outcome.clone();
-                    Baseline::from_json(&dry.to_string())
+                    let mut outcome = outcome;
+                    let json = Baseline::from_json(&dry.to_string())
                         .and_then(|b| {
                             outcome.subtract_baseline(b, &format!("point {}", self.points[j].name))
                         })
                         .and_then(|()| outcome.to_json(run.per_frequency))
-                        .map_err(Failure::from)
+                        .map_err(Failure::from);
+                    outcomes[i] = Some(Ok(outcome));
+                    json
                 }
             };
         }
@@ -361,7 +387,8 @@ impl Plan {
             .zip(json)
             .zip(&prepared)
             .zip(&cached)
-            .map(|(((point, json), prepared), cached)| {
+            .zip(outcomes)
+            .map(|((((point, json), prepared), cached), outcome)| {
                 let files = match prepared {
                     Ok(p) => p.files.iter().map(|f| f.display().to_string()).collect(),
                     Err(_) => Vec::new(),
@@ -370,7 +397,12 @@ impl Plan {
                     name: point.name.clone(),
                     values: point.values.clone(),
                     files,
-                    result: json.and_then(|j| fit(point, j, cached.is_some())),
+                    result: json
+                        .and_then(|j| fit(point, j, cached.is_some()))
+                        .map(|mut f| {
+                            f.outcome = outcome.and_then(std::result::Result::ok).map(Box::new);
+                            f
+                        }),
                 }
             })
             .collect();
@@ -483,6 +515,7 @@ fn fit(point: &Point, json: Json, reused: bool) -> std::result::Result<Fit, Fail
         bearing,
         checks: Vec::new(),
         reused,
+        outcome: None,
     };
     for e in &point.expect {
         let (c, s) = fit.reported();

@@ -13,9 +13,10 @@ use crate::error::{Error, Result, excerpt};
 /// [`campaign`](super::campaign) of each block against condition `x`, by name; the first
 /// condition when `None`) and an `index.html` into `dir` (created if needed): the figures
 /// inline, then per point its conditions, the diagonal coefficients `± σ`, the references
-/// checked with their z-scores, its warnings or error, and a link to the point's JSON
-/// (`NAME.json`, as `campaign --out` writes it beside). Returns the files written,
-/// `index.html` last.
+/// checked with their z-scores, its warnings or error, and a link to its own report: each
+/// point identified in this run gets one under `points/NAME/` ([`report`](super::report),
+/// its records read again); a point taken from a cache links its JSON (`NAME.json`, as
+/// `campaign --out` writes it). Returns the files written, `index.html` last.
 ///
 /// # Errors
 /// [`Error::InvalidOption`] (`x`) for a condition the plan does not have or a plan without
@@ -63,11 +64,54 @@ pub fn campaign_report(
         written.push(write_file(&dir.join(file), &svg)?);
         svgs.push(svg);
     }
+    // Each point identified in this run (not taken from a cache) gets its own report.
+    for p in &campaign.points {
+        let Some(outcome) = p.result.as_ref().ok().and_then(|f| f.outcome.as_deref()) else {
+            continue;
+        };
+        let channels = campaign.plan.channels_of(&p.name)?;
+        let records = outcome
+            .files()
+            .iter()
+            .map(Path::new)
+            .filter(|f| f.exists())
+            .take(options.max_records.max(1) * 4)
+            .map(|f| crate::job::read_first(f, &channels))
+            .collect::<Result<Vec<_>>>()?;
+        let point_options = ReportOptions {
+            title: format!("Test point {}", p.name),
+            context: vec![format!(
+                "{} records, excitation {}; part of the campaign ../../index.html.",
+                outcome.files().len(),
+                outcome.excitation().name()
+            )],
+            checks: (outcome.excitation() == crate::excitation::Excitation::Impact)
+                .then(crate::quality::ImpactChecks::default),
+            ..options.clone()
+        };
+        let folder = dir.join("points").join(point_folder(&p.name));
+        written.extend(super::report(
+            outcome.identification(),
+            &records,
+            &folder,
+            &point_options,
+        )?);
+    }
     written.push(write_file(
         &dir.join("index.html"),
         &page(campaign, x, options, &svgs),
     )?);
     Ok(written)
+}
+
+/// The folder of a point's own report under `points/`: its name as [`json_file_name`]
+/// spells files, without the extension.
+///
+/// [`json_file_name`]: crate::campaign::json_file_name
+fn point_folder(name: &str) -> String {
+    crate::campaign::json_file_name(name)
+        .trim_end_matches(".json")
+        .to_owned()
 }
 
 fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String]) -> String {
@@ -102,7 +146,11 @@ fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String])
         "<th>diagonal K, C, M ± σ</th><th>references (z)</th><th>warnings</th></tr>"
     );
     for p in &campaign.points {
-        let link = super::super::campaign::json_file_name(&p.name);
+        // Its own report when it was identified in this run, else its JSON (`--out`).
+        let link = match p.result.as_ref().ok().and_then(|f| f.outcome.as_ref()) {
+            Some(_) => format!("points/{}/index.html", point_folder(&p.name)),
+            None => crate::campaign::json_file_name(&p.name),
+        };
         let _ = write!(
             h,
             "<tr><td><a href=\"{}\">{}</a></td>",

@@ -128,12 +128,15 @@ fn points_are_identify_bit_for_bit() {
     study(dir);
     let out_dir = dir.join("out");
     let plan = dir.join("plan.toml");
+    let report = dir.join("report");
     let out = run(&[
         "campaign".as_ref(),
         plan.as_os_str(),
         "--json".as_ref(),
         "--out".as_ref(),
         out_dir.as_os_str(),
+        "--plot".as_ref(),
+        report.as_os_str(),
     ]);
     assert!(
         out.status.success(),
@@ -141,6 +144,24 @@ fn points_are_identify_bit_for_bit() {
         String::from_utf8_lossy(&out.stderr)
     );
     let campaign = json_of(&out);
+    // The report: three figures, and each point's own report linked from the index.
+    let index = std::fs::read_to_string(report.join("index.html")).unwrap();
+    for point in ["dry", "oil"] {
+        assert!(index.contains(&format!("href=\"points/{point}/index.html\"")));
+        assert!(
+            report
+                .join("points")
+                .join(point)
+                .join("impedance.svg")
+                .exists()
+        );
+    }
+    let svg = std::fs::read_to_string(report.join("damping.svg")).unwrap();
+    assert!(
+        svg.contains("data-series=\"C_xx less dry\""),
+        "series named by what they draw"
+    );
+    assert!(svg.contains("data-series=\"C_xx reference\""));
 
     let geometry = dir.join("geometry.toml").display().to_string();
     let mut args = vec![

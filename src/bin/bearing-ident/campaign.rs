@@ -116,7 +116,7 @@ pub fn campaign(args: &CampaignArgs) -> Result<bool, Failure> {
     Ok(!campaign.any_failed())
 }
 
-/// The figures and report of `--plot`.
+/// The figures and report of `--plot` (each point identified in this run with its own report).
 fn plot(campaign: &Campaign, dir: &std::path::Path, x: Option<&str>) -> Result<(), Failure> {
     let options = bearing_ident::plot::ReportOptions {
         title: "bearing-ident campaign".into(),
@@ -124,8 +124,8 @@ fn plot(campaign: &Campaign, dir: &std::path::Path, x: Option<&str>) -> Result<(
     };
     let files = bearing_ident::plot::campaign_report(campaign, dir, x, &options)?;
     crate::failure::print_err(format_args!(
-        "wrote {} figures and index.html into {}",
-        files.len() - 1,
+        "wrote {} files (figures, the campaign's index.html and each point's report) into {}",
+        files.len(),
         excerpt(&dir.display().to_string())
     ));
     Ok(())

@@ -332,28 +332,12 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
 
 /// What the report says of the run besides the identification.
 fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Failure> {
-    let id = outcome.identification();
-    Ok(report::Context {
-        excitation: outcome.excitation().name(),
-        excitation_auto: outcome.excitation_detected(),
-        crest_factor: outcome.crest_factor(),
-        segment_len: outcome.segment_len(),
-        welch_choice: outcome.welch_choice().copied(),
-        sample_rate: outcome.sample_rate(),
-        files: outcome.files().to_vec(),
-        compute_ms: outcome.compute_time().as_secs_f64() * 1e3,
-        read_ms: outcome.read_time().as_secs_f64() * 1e3,
-        show_timings: args.timings,
-        axes: if args.disp.is_empty() {
-            CsvLayout::default().displacements
-        } else {
-            args.disp.clone()
-        },
-        bearing: outcome
-            .bearing()
-            .map(|b| (b.coefficients.clone(), b.std_dev.clone(), b.source.clone())),
-        per_frequency: args.per_frequency.then(|| id.per_frequency()).transpose()?,
-    })
+    let axes = if args.disp.is_empty() {
+        CsvLayout::default().displacements
+    } else {
+        args.disp.clone()
+    };
+    report::Context::of(outcome, args.timings, axes, args.per_frequency)
 }
 
 /// Files read again for the record figure of `identify --plot`.

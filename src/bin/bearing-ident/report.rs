@@ -38,6 +38,36 @@ pub struct Context {
     pub per_frequency: Option<PerFrequency>,
 }
 
+impl Context {
+    /// The context of a run of the library's `Job`: its excitation, Welch choice, files and
+    /// times, the bearing less its baseline, and the per-line coefficients when asked for.
+    pub fn of(
+        outcome: &bearing_ident::job::Outcome,
+        show_timings: bool,
+        axes: Vec<String>,
+        per_frequency: bool,
+    ) -> Result<Self, crate::failure::Failure> {
+        let id = outcome.identification();
+        Ok(Context {
+            excitation: outcome.excitation().name(),
+            excitation_auto: outcome.excitation_detected(),
+            crest_factor: outcome.crest_factor(),
+            segment_len: outcome.segment_len(),
+            welch_choice: outcome.welch_choice().copied(),
+            sample_rate: outcome.sample_rate(),
+            files: outcome.files().to_vec(),
+            compute_ms: outcome.compute_time().as_secs_f64() * 1e3,
+            read_ms: outcome.read_time().as_secs_f64() * 1e3,
+            show_timings,
+            axes,
+            bearing: outcome
+                .bearing()
+                .map(|b| (b.coefficients.clone(), b.std_dev.clone(), b.source.clone())),
+            per_frequency: per_frequency.then(|| id.per_frequency()).transpose()?,
+        })
+    }
+}
+
 /// The library's JSON of `id` with the run's own fields ([`bearing_ident::job::json`]).
 pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::Value> {
     let facts = Facts {
