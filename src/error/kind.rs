@@ -182,33 +182,59 @@ mod tests {
     use super::ErrorKind;
 
     /// The quoted strings of `text` that follow `marker` (which ends in a quote).
-    fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+    fn quoted_after(text: &str, marker: &str) -> Vec<String> {
         text.match_indices(marker)
             .map(|(at, _)| {
                 let rest = &text[at + marker.len()..];
-                &rest[..rest.find('"').expect("closing quote")]
+                rest[..rest.find('"').expect("closing quote")].to_owned()
             })
             .collect()
     }
 
+    /// The kinds the command-line tool gives its own failures (`kind: "…"` in any file of
+    /// `src/bin/`).
+    fn cli_kinds(dir: &std::path::Path, out: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).expect("src/bin is readable") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                cli_kinds(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).expect("a source file");
+                out.extend(quoted_after(&text, "kind: \""));
+            }
+        }
+    }
+
+    /// README's error table and the kinds agree both ways: every kind of the library and of
+    /// the command-line tool has a row, and every row is such a kind.
     #[test]
     fn readme_lists_every_error_kind() {
-        let mut kinds: Vec<&str> = ErrorKind::ALL.iter().map(|k| k.as_str()).collect();
+        let mut kinds: Vec<String> = ErrorKind::ALL.iter().map(|k| k.as_str().into()).collect();
         assert!(kinds.len() >= 17, "found only {kinds:?}");
         for k in ErrorKind::ALL {
             assert_eq!(*k, k.as_str());
         }
-        // The CLI's own kinds for failures outside the library.
-        kinds.extend(quoted_after(
-            include_str!("../bin/bearing-ident/main.rs"),
-            "kind: \"",
-        ));
+        let bin = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/bin");
+        let mut cli = Vec::new();
+        cli_kinds(&bin, &mut cli);
+        assert!(
+            cli.iter().any(|k| k == "io_error"),
+            "no CLI kinds found: {cli:?}"
+        );
+        kinds.extend(cli);
+        kinds.sort_unstable();
+        kinds.dedup();
         let readme = include_str!("../../README.md");
-        for kind in kinds {
-            assert!(
-                readme.contains(&format!("| `{kind}` |")),
-                "README's error table lacks `{kind}`"
-            );
-        }
+        let table = &readme[readme
+            .find("| KIND | cause |")
+            .expect("README's error table")..];
+        let table = &table[..table.find("\n\n").expect("the table's end")];
+        let mut rows: Vec<String> = table
+            .lines()
+            .filter_map(|line| line.strip_prefix("| `")?.split('`').next())
+            .map(str::to_owned)
+            .collect();
+        rows.sort_unstable();
+        assert_eq!(rows, kinds, "README's error table and the kinds differ");
     }
 }
