@@ -1,106 +1,72 @@
 //! [`ErrorKind`] and [`Error::kind`]: the stable name of each kind of error, for scripts and logs.
 
-use std::fmt;
-
 use super::Error;
+use super::table::named_table;
 
-/// Declares [`ErrorKind`] from a table of variant → name, so each kind is stated once.
-macro_rules! kinds {
-    ($($(#[$doc:meta])* $variant:ident => $name:literal,)*) => {
-        /// The kind of an [`Error`]: what a script or another language's binding tells apart.
-        ///
-        /// Several variants of [`Error`] share a kind (a NaN sample and an overflowing
-        /// spectrum are both [`ErrorKind::NonFinite`]); [`ErrorKind::as_str`] is the stable
-        /// snake_case name printed in JSON.
-        ///
-        /// # Examples
-        /// ```
-        /// use bearing_ident::ErrorKind;
-        /// assert_eq!(ErrorKind::BadBand.as_str(), "bad_band");
-        /// assert_eq!(ErrorKind::BadBand, "bad_band");
-        /// assert!(ErrorKind::ALL.contains(&ErrorKind::TooLarge));
-        /// ```
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[non_exhaustive]
-        pub enum ErrorKind {
-            $($(#[$doc])* $variant,)*
-        }
-
-        impl ErrorKind {
-            /// Every kind, each once, whatever the cargo features (bindings to other languages
-            /// make an exception class of each).
-            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$variant,)*];
-
-            /// The kind's stable snake_case name.
-            ///
-            /// # Examples
-            /// ```
-            /// use bearing_ident::ErrorKind;
-            /// assert_eq!(ErrorKind::NonFinite.as_str(), "non_finite");
-            /// ```
-            pub const fn as_str(self) -> &'static str {
-                match self {
-                    $(ErrorKind::$variant => $name,)*
-                }
-            }
-        }
-    };
-}
-
-kinds! {
-    /// A ragged CSV line, or text that is not a number.
-    MalformedCsv => "malformed_csv",
-    /// A named column is not in a CSV header.
-    MissingColumn => "missing_column",
-    /// A NaN or infinite sample, or a spectrum, impedance or result that overflows `f64`.
-    NonFinite => "non_finite",
-    /// A CSV time column off its uniform grid.
-    NonuniformTime => "nonuniform_time",
-    /// Records of different shapes or sampling rates, or an assignment that does not fit them.
-    InconsistentRecords => "inconsistent_records",
-    /// A band that is empty, inverted, above Nyquist, or holds too few lines.
-    BadBand => "bad_band",
-    /// The excitations do not span every direction.
-    RankDeficient => "rank_deficient",
-    /// An iterative fit did not converge (and was asked to fail).
-    NotConverged => "not_converged",
-    /// A file that cannot be opened, read or written.
-    IoError => "io_error",
-    /// A record too short for its segments or averages.
-    RecordTooShort => "record_too_short",
-    /// An option or setting out of its range, or a name that is not one of a choice's.
-    InvalidArgument => "invalid_argument",
-    /// A fit or a decomposition is singular.
-    Singular => "singular",
-    /// `M`, `C`, `K` of mismatched shapes or holding NaN.
-    BadCoefficients => "bad_coefficients",
-    /// A baseline identified with another band, lines, estimator or window.
-    BaselineMismatch => "baseline_mismatch",
-    /// Maximum likelihood without records for its noise model, or too few periods.
-    MlNeedsRepeats => "ml_needs_repeats",
-    /// A figure could not be drawn.
-    PlotError => "plot_error",
-    /// Every force (or displacement) channel of a record is flat.
-    DeadChannel => "dead_channel",
-    /// An input or a requested size past a documented limit.
-    TooLarge => "too_large",
-    /// A baseline file that is not a result this crate wrote.
-    BadBaseline => "bad_baseline",
-    /// A Universal File that cannot be read.
-    MalformedUff => "malformed_uff",
-    /// Field identification: a rotor model or test set that is not well formed.
-    InvalidInput => "invalid_input",
-    /// Field identification: a probe without its response at some speed and test.
-    MissingResponse => "missing_response",
-    /// Field identification: too few measured DOFs, or probes that cannot determine the bearing forces.
-    Underdetermined => "underdetermined",
-    /// The fit failed and the screening had found one record far out of scale with its siblings.
-    BadRecord => "bad_record",
-}
-
-impl fmt::Display for ErrorKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
+named_table! {
+    /// The kind of an [`Error`]: what a script or another language's binding tells apart.
+    ///
+    /// Several variants of [`Error`] share a kind (a NaN sample and an overflowing spectrum are
+    /// both [`ErrorKind::NonFinite`]); [`ErrorKind::as_str`] is the stable snake_case name
+    /// printed in JSON. [`ErrorKind::ALL`] lists every kind whatever the cargo features
+    /// (bindings to other languages make an exception class of each).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::ErrorKind;
+    /// assert_eq!(ErrorKind::BadBand.as_str(), "bad_band");
+    /// assert_eq!(ErrorKind::BadBand, "bad_band");
+    /// assert!(ErrorKind::ALL.contains(&ErrorKind::TooLarge));
+    /// ```
+    pub enum ErrorKind {
+        /// A ragged CSV line, or text that is not a number.
+        MalformedCsv => "malformed_csv",
+        /// A named column is not in a CSV header.
+        MissingColumn => "missing_column",
+        /// A NaN or infinite sample, or a spectrum, impedance or result that overflows `f64`.
+        NonFinite => "non_finite",
+        /// A CSV time column off its uniform grid.
+        NonuniformTime => "nonuniform_time",
+        /// Records of different shapes or sampling rates, or an assignment that does not fit them.
+        InconsistentRecords => "inconsistent_records",
+        /// A band that is empty, inverted, above Nyquist, or holds too few lines.
+        BadBand => "bad_band",
+        /// The excitations do not span every direction.
+        RankDeficient => "rank_deficient",
+        /// An iterative fit did not converge (and was asked to fail).
+        NotConverged => "not_converged",
+        /// A file that cannot be opened, read or written.
+        IoError => "io_error",
+        /// A record too short for its segments or averages.
+        RecordTooShort => "record_too_short",
+        /// An option or setting out of its range, or a name that is not one of a choice's.
+        InvalidArgument => "invalid_argument",
+        /// A fit or a decomposition is singular.
+        Singular => "singular",
+        /// `M`, `C`, `K` of mismatched shapes or holding NaN.
+        BadCoefficients => "bad_coefficients",
+        /// A baseline identified with another band, lines, estimator or window.
+        BaselineMismatch => "baseline_mismatch",
+        /// Maximum likelihood without records for its noise model, or too few periods.
+        MlNeedsRepeats => "ml_needs_repeats",
+        /// A figure could not be drawn.
+        PlotError => "plot_error",
+        /// Every force (or displacement) channel of a record is flat.
+        DeadChannel => "dead_channel",
+        /// An input or a requested size past a documented limit.
+        TooLarge => "too_large",
+        /// A baseline file that is not a result this crate wrote.
+        BadBaseline => "bad_baseline",
+        /// A Universal File that cannot be read.
+        MalformedUff => "malformed_uff",
+        /// Field identification: a rotor model or test set that is not well formed.
+        InvalidInput => "invalid_input",
+        /// Field identification: a probe without its response at some speed and test.
+        MissingResponse => "missing_response",
+        /// Field identification: too few measured DOFs, or probes that cannot determine the bearing forces.
+        Underdetermined => "underdetermined",
+        /// The fit failed and the screening had found one record far out of scale with its siblings.
+        BadRecord => "bad_record",
     }
 }
 
@@ -216,38 +182,59 @@ mod tests {
     use super::ErrorKind;
 
     /// The quoted strings of `text` that follow `marker` (which ends in a quote).
-    fn quoted_after<'a>(text: &'a str, marker: &str) -> Vec<&'a str> {
+    fn quoted_after(text: &str, marker: &str) -> Vec<String> {
         text.match_indices(marker)
             .map(|(at, _)| {
                 let rest = &text[at + marker.len()..];
-                &rest[..rest.find('"').expect("closing quote")]
+                rest[..rest.find('"').expect("closing quote")].to_owned()
             })
             .collect()
     }
 
+    /// The kinds the command-line tool gives its own failures (`kind: "…"` in any file of
+    /// `src/bin/`).
+    fn cli_kinds(dir: &std::path::Path, out: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).expect("src/bin is readable") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                cli_kinds(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).expect("a source file");
+                out.extend(quoted_after(&text, "kind: \""));
+            }
+        }
+    }
+
+    /// README's error table and the kinds agree both ways: every kind of the library and of
+    /// the command-line tool has a row, and every row is such a kind.
     #[test]
     fn readme_lists_every_error_kind() {
-        let mut kinds: Vec<&str> = ErrorKind::ALL.iter().map(|k| k.as_str()).collect();
+        let mut kinds: Vec<String> = ErrorKind::ALL.iter().map(|k| k.as_str().into()).collect();
         assert!(kinds.len() >= 17, "found only {kinds:?}");
-        let n = kinds.len();
-        kinds.sort_unstable();
-        kinds.dedup();
-        assert_eq!(kinds.len(), n, "two kinds share a name");
         for k in ErrorKind::ALL {
-            assert_eq!(k.to_string(), k.as_str());
             assert_eq!(*k, k.as_str());
         }
-        // The CLI's own kinds for failures outside the library.
-        kinds.extend(quoted_after(
-            include_str!("../bin/bearing-ident/main.rs"),
-            "kind: \"",
-        ));
+        let bin = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/bin");
+        let mut cli = Vec::new();
+        cli_kinds(&bin, &mut cli);
+        assert!(
+            cli.iter().any(|k| k == "io_error"),
+            "no CLI kinds found: {cli:?}"
+        );
+        kinds.extend(cli);
+        kinds.sort_unstable();
+        kinds.dedup();
         let readme = include_str!("../../README.md");
-        for kind in kinds {
-            assert!(
-                readme.contains(&format!("| `{kind}` |")),
-                "README's error table lacks `{kind}`"
-            );
-        }
+        let table = &readme[readme
+            .find("| KIND | cause |")
+            .expect("README's error table")..];
+        let table = &table[..table.find("\n\n").expect("the table's end")];
+        let mut rows: Vec<String> = table
+            .lines()
+            .filter_map(|line| line.strip_prefix("| `")?.split('`').next())
+            .map(str::to_owned)
+            .collect();
+        rows.sort_unstable();
+        assert_eq!(rows, kinds, "README's error table and the kinds differ");
     }
 }

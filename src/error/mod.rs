@@ -19,6 +19,7 @@ mod message;
 mod parameter;
 mod quote;
 mod subject;
+mod table;
 mod warning;
 mod warning_text;
 

@@ -4,7 +4,8 @@
 //! (of a neighbourhood of lines, of coherences: a statistic that is reported or compared),
 //! and [`upper_median`], one element of the values found by selection (the record checks,
 //! over channels of millions of samples, and their siblings); the integer-key selection
-//! behind a channel's median is [`select`](super::select).
+//! behind a channel's median is [`select`](super::select), the upper medians of every column
+//! of a small table at once [`ColumnMedians`](super::ColumnMedians).
 
 /// `1/Φ⁻¹(3/4)`: the median absolute deviation of Gaussian noise times this is its standard
 /// deviation.

@@ -1,19 +1,22 @@
 //! The crate's statistics, in one place: the reference distributions of its statistical tests
 //! (upper tails of χ² and F, from `statrs`, used by the model check of a fit,
 //! [`ModelCheck`](crate::identify::ModelCheck)), and inside the crate the medians, the median
-//! absolute deviation's scale and quantiles of samples (`median.rs`), the selection of a rank
+//! absolute deviation's scale and quantiles of samples (`median.rs`), the medians of every
+//! column of a small table at once (`column_median.rs`), the selection of a rank
 //! among integer keys (`select.rs`) and the Student-t quantiles of the error bars'
 //! intervals (`student_t.rs`).
 //!
 //! An upper tail `Q(x) = P(X > x)` is the p-value of an observed statistic `x`: small means the
 //! observation is unlikely under the reference distribution.
 
+mod column_median;
 mod median;
 pub(crate) mod select;
 mod student_t;
 
 use statrs::distribution::{ChiSquared, ContinuousCDF, FisherSnedecor};
 
+pub(crate) use column_median::ColumnMedians;
 pub(crate) use median::{MAD_TO_SIGMA, median, quantile, upper_median};
 pub(crate) use student_t::t975;
 
