@@ -56,7 +56,10 @@ impl Error {
             Error::NonFinite { .. }
             | Error::SpectrumOverflow { .. }
             | Error::NonFiniteResult { .. }
-            | Error::NonFiniteRegressor { .. } => "non_finite",
+            | Error::NonFiniteRegressor { .. }
+            | Error::LevelOutOfRange { .. }
+            | Error::ImpedanceScale { .. }
+            | Error::IterationNonFinite { .. } => "non_finite",
             Error::DeadChannel { .. } => "dead_channel",
             #[cfg(feature = "csv")]
             Error::NonUniformTime { .. } => "nonuniform_time",

@@ -20,7 +20,11 @@ mod subject;
 mod warning;
 mod warning_text;
 
-use message::{rank_deficient_advice, size, spacing};
+use message::{
+    bad_record, channel_count, dead_channel, field_rank_deficient, impedance_scale,
+    iteration_non_finite, level_out_of_range, ml_needs_repeats, response_count,
+    simulation_diverged, size, spectrum_overflow, too_few_averages, too_few_lines,
+};
 pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
@@ -122,10 +126,7 @@ pub enum Error {
         sample_rate: f64,
     },
     /// A record has no force channels or no displacement channels, or a different number of each.
-    #[error(
-        "record `{record}`: {forces} force and {displacements} displacement channels; \
-         a record needs n ≥ 1 of each, one per degree of freedom"
-    )]
+    #[error("{}", channel_count(record, *forces, *displacements))]
     ChannelCount {
         /// Label of the record.
         record: String,
@@ -135,10 +136,7 @@ pub enum Error {
         displacements: usize,
     },
     /// A record was given a different number of response kinds than it has response channels.
-    #[error(
-        "record `{record}`: {actual} response kinds for {expected} response channels; \
-         give one per degree of freedom"
-    )]
+    #[error("{}", response_count(record, *expected, *actual))]
     ResponseCount {
         /// Label of the record.
         record: String,
@@ -183,12 +181,7 @@ pub enum Error {
     },
     /// Every force channel (or every displacement channel) of a record is flat: nothing was
     /// recorded, and the identification cannot use the record.
-    #[error(
-        "record `{record}`: {channel} and every other {} channel is flat at {value:e} over the \
-         whole record: the channel was not recorded (dead sensor or amplifier, or a hammer hit \
-         that did not register); leave the record out",
-        if matches!(channel, Channel::Force(_)) { "force" } else { "displacement" }
-    )]
+    #[error("{}", dead_channel(record, *channel, *value))]
     DeadChannel {
         /// Label of the record.
         record: String,
@@ -201,10 +194,7 @@ pub enum Error {
     /// (a channel dead or its level an outlier: a record scaled by 1e-12 or 1e20, a glitch
     /// sample): that record, not the excitations, is the cause. Leaving records with findings
     /// out ([`Screening::Reject`](crate::Screening::Reject)) rescues the run.
-    #[error(
-        "record `{record}`: {finding}; the fit failed ({failure}) because of it: leave it out \
-         (reject the records the screening finds)"
-    )]
+    #[error("{}", bad_record(record, finding, failure))]
     BadRecord {
         /// Label of the record.
         record: String,
@@ -301,11 +291,7 @@ pub enum Error {
     },
     /// The band holds too few frequency lines for the number of unknowns (an empty band
     /// included).
-    #[error(
-        "the band holds {lines} usable frequency lines, at least {required} are needed \
-         ({}): widen the band or lengthen the records (segments)",
-        spacing(*resolution_hz)
-    )]
+    #[error("{}", too_few_lines(*lines, *required, *resolution_hz))]
     TooFewLines {
         /// Usable lines in the band.
         lines: usize,
@@ -332,11 +318,7 @@ pub enum Error {
         freq_hz: f64,
     },
     /// A spectrum, or a product of spectra, of finite samples overflowed to infinity or NaN.
-    #[error(
-        "record `{record}`: the {stage} of {channel} at {freq_hz} Hz is not finite: samples up \
-         to {peak:e} are too large for the transforms and their products in f64 (rescale the \
-         channel, e.g. to N and m)"
-    )]
+    #[error("{}", spectrum_overflow(record, *stage, *channel, *freq_hz, *peak))]
     SpectrumOverflow {
         /// Label of the record.
         record: String,
@@ -348,6 +330,25 @@ pub enum Error {
         freq_hz: f64,
         /// Largest absolute sample of the channel.
         peak: f64,
+    },
+    /// Every force (or every displacement) channel of a record peaks so low that its squares
+    /// underflow f64 (subnormal samples included), or a channel so high that they overflow:
+    /// noted per record and named when the fit then fails.
+    #[error("{}", level_out_of_range(record, *channel, *peak))]
+    LevelOutOfRange {
+        /// Label of the record.
+        record: String,
+        /// The channel (for an underflow, the kind's highest).
+        channel: Channel,
+        /// Its largest absolute sample.
+        peak: f64,
+    },
+    /// The fit failed, and the impedance's level (force over response) is so far from 1 that
+    /// the squares the fit forms of it or of its inverse leave f64: units far apart.
+    #[error("{}", impedance_scale(*magnitude))]
+    ImpedanceScale {
+        /// Median over the lines of the largest `|H_ij|` (N/m).
+        magnitude: f64,
     },
     /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
     /// finite.
@@ -405,11 +406,20 @@ pub enum Error {
         /// Block-wise relative change at the last iteration.
         change: f64,
     },
+    /// An iteration of the IVF (the fit, ML's start, the reverse path's linear part) met NaN or
+    /// infinity: at a line (the model's impedance or its inverse), or in its normal equations.
+    #[error("{}", iteration_non_finite(*method, *iteration, *freq_hz))]
+    IterationNonFinite {
+        /// The iterative method.
+        method: crate::Method,
+        /// The iteration (1 = the first after the least-squares start).
+        iteration: usize,
+        /// The line (Hz); `None` for the normal equations of all lines together.
+        freq_hz: Option<f64>,
+    },
     /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
     /// has none, and periodic records need at least 3 periods.
-    #[error(
-        "method ml needs the records' spectra for its noise model (a ready-made FRF has none) and, for periodic records (`Segmentation::Periods`), at least 3 periods per record"
-    )]
+    #[error("{}", ml_needs_repeats())]
     MlNeedsRepeats,
     // ---- Coefficients and baselines (`crate::model`, `crate::identify`) ----
     /// Mass, damping and stiffness matrices do not have one common square shape.
@@ -463,11 +473,7 @@ pub enum Error {
     /// A nonlinear simulation stopped being finite: a term drove the state to infinity (a
     /// softening cubic past its turning point, a negative friction or damping), or the RK4 step
     /// is too long for a rate that grows with the amplitude (cubic stiffness, quadratic damping).
-    #[error(
-        "record `{record}`: the nonlinear simulation diverged before sample {sample} (RK4 step \
-         {step_s:.3e} s): check the signs and sizes of the nonlinear coefficients, or raise \
-         the oversampling"
-    )]
+    #[error("{}", simulation_diverged(record, *sample, *step_s))]
     SimulationDiverged {
         /// Label of the record.
         record: String,
@@ -490,11 +496,7 @@ pub enum Error {
         sample: usize,
     },
     /// The records give too few Welch averages for the inputs of the reverse path.
-    #[error(
-        "the records give {averages} Welch segments, but the reverse path with {inputs} inputs \
-         (displacements and nonlinear terms) needs at least {required}: give more or longer \
-         records, or shorter segments"
-    )]
+    #[error("{}", too_few_averages(*averages, *inputs, *required))]
     TooFewAverages {
         /// Welch segments over all records.
         averages: usize,
@@ -550,11 +552,7 @@ pub enum Error {
     },
     /// Field identification: at every speed the responses of the two tests at a bearing are
     /// dependent (masses in one plane, or isotropic supports and circular orbits).
-    #[error(
-        "bearing `{bearing}`: the two tests' responses are dependent at every speed (smallest \
-         condition number {worst:.3e}): {}",
-        rank_deficient_advice(*dependent_tests)
-    )]
+    #[error("{}", field_rank_deficient(bearing, *worst, *dependent_tests))]
     FieldRankDeficient {
         /// Tag of the bearing.
         bearing: String,

@@ -217,8 +217,9 @@ impl Job {
     /// Welch length is chosen from a first fit.
     ///
     /// # Errors
-    /// [`Error::NoRecords`] for no files; the readers' errors naming the file; those of
-    /// [`Job::run_records`].
+    /// [`Error::NoRecords`] for no files; [`Error::InvalidOption`] for a channel named twice
+    /// ([`Channels::check`]), before any file is read; the readers' errors naming the file;
+    /// those of [`Job::run_records`].
     pub fn run_files(&self, files: &[PathBuf]) -> Result<Outcome> {
         self.run_files_with(files, |_| {})
     }
@@ -235,6 +236,7 @@ impl Job {
         let Some(first_path) = files.first() else {
             return Err(Error::NoRecords);
         };
+        self.channels.check()?;
         let start = Instant::now();
         std::thread::scope(|scope| {
             // The files after the first are parsed on worker threads from the start, while

@@ -280,11 +280,14 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
             csv.displacements.len()
         )));
     }
-    Ok(Channels {
+    let channels = Channels {
         csv,
         uff,
         responses: args.response.clone(),
-    })
+    };
+    // A column given as both force and response, before any file is read.
+    channels.check()?;
+    Ok(channels)
 }
 
 /// The library's options from the command line (`channels`: the column names `--delay` and
