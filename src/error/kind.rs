@@ -82,6 +82,7 @@ impl Error {
             Error::Io { .. } => "io_error",
             Error::RecordTooShort { .. } | Error::TooFewAverages { .. } => "record_too_short",
             Error::Baseline { source, .. } => source.kind(),
+            Error::LooksSwapped { failure, .. } => failure.kind(),
             Error::BandText { .. } => "bad_band",
             Error::InvalidParameter { .. }
             | Error::InvalidOption { .. }

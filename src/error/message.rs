@@ -14,6 +14,60 @@ fn kind_of(channel: Channel) -> &'static str {
     }
 }
 
+/// [`Error::LooksSwapped`](super::Error::LooksSwapped).
+pub(super) fn looks_swapped(
+    failure: &super::Error,
+    force_crest: f64,
+    response_crest: f64,
+) -> String {
+    format!(
+        "{failure}; the response columns look like a hammer's force (crest factor \
+         {response_crest:.1}, an impact's is 8 or more) and the force columns do not \
+         ({force_crest:.1}): are the columns of --force and --disp exchanged?"
+    )
+}
+
+/// [`Error::IncompleteStep`](super::Error::IncompleteStep).
+pub(super) fn incomplete_step(freq_hz: f64, direction: usize, dofs: usize) -> String {
+    format!(
+        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; every \
+         frequency step needs one record per direction"
+    )
+}
+
+/// [`Error::NonFiniteResult`](super::Error::NonFiniteResult).
+pub(super) fn non_finite_result(stage: super::Quantity, freq_hz: f64) -> String {
+    format!(
+        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
+         estimator (rescale the channels, e.g. to N and m)"
+    )
+}
+
+/// [`Error::RankDeficient`](super::Error::RankDeficient).
+pub(super) fn rank_deficient(rank: usize, dofs: usize) -> String {
+    format!(
+        "the excitations are rank-deficient: they span {rank} of {dofs} directions over the \
+         band; {dofs} linearly independent excitations are needed (for example impacts in x \
+         and in y)"
+    )
+}
+
+/// [`Error::NonFiniteRegressor`](super::Error::NonFiniteRegressor).
+pub(super) fn non_finite_regressor(record: &str, term: &str, sample: usize) -> String {
+    format!(
+        "record `{record}`: the nonlinear term {term} is not finite at sample {sample} (rescale \
+         the channels, e.g. to N and m)"
+    )
+}
+
+/// [`Error::MissingResponse`](super::Error::MissingResponse).
+pub(super) fn missing_response(speed_rad_s: f64, test: &str, node: usize, dir: &str) -> String {
+    format!(
+        "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: every \
+         speed and test needs every probe"
+    )
+}
+
 /// [`Error::ChannelCount`](super::Error::ChannelCount).
 pub(super) fn channel_count(record: &str, forces: usize, displacements: usize) -> String {
     format!(

@@ -22,7 +22,8 @@ mod warning_text;
 
 use message::{
     bad_record, channel_count, dead_channel, field_rank_deficient, impedance_scale,
-    iteration_non_finite, level_out_of_range, ml_needs_repeats, response_count,
+    incomplete_step, iteration_non_finite, level_out_of_range, looks_swapped, missing_response,
+    ml_needs_repeats, non_finite_regressor, non_finite_result, rank_deficient, response_count,
     simulation_diverged, size, spectrum_overflow, too_few_averages, too_few_lines,
 };
 pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
@@ -82,6 +83,17 @@ pub enum Error {
         path: String,
         /// What failed.
         source: Box<Error>,
+    },
+    /// A run that failed while the records look read the wrong way round: the forces not
+    /// impulsive but the responses as impulsive as a hammer's (the kind is the failure's).
+    #[error("{}", looks_swapped(failure, *force_crest, *response_crest))]
+    LooksSwapped {
+        /// What failed.
+        failure: Box<Error>,
+        /// Crest factor of the force channels (the strongest).
+        force_crest: f64,
+        /// Largest crest factor of the response channels.
+        response_crest: f64,
     },
     /// Two inputs of a library function that must have one length do not.
     #[error("{what}: {actual} values, expected {expected}")]
@@ -259,10 +271,7 @@ pub enum Error {
         actual: usize,
     },
     /// A step of a stepped-sine test has no record driving one of the directions.
-    #[error(
-        "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
-         every frequency step needs one record per direction"
-    )]
+    #[error("{}", incomplete_step(*freq_hz, *direction, *dofs))]
     IncompleteStep {
         /// Drive frequency of the step (Hz).
         freq_hz: f64,
@@ -352,10 +361,7 @@ pub enum Error {
     },
     /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
     /// finite.
-    #[error(
-        "the {stage} at {freq_hz} Hz is not finite: the records' levels overflow f64 in the \
-         estimator (rescale the channels, e.g. to N and m)"
-    )]
+    #[error("{}", non_finite_result(*stage, *freq_hz))]
     NonFiniteResult {
         /// Which quantity.
         stage: Quantity,
@@ -364,10 +370,7 @@ pub enum Error {
     },
     // ---- Conditioning and the fits (`crate::conditioning`, `crate::solve`) ----
     /// The excitations do not span all degrees of freedom.
-    #[error(
-        "the excitations are rank-deficient: they span {rank} of {dofs} directions over the band; \
-         {dofs} linearly independent excitations are needed (for example impacts in x and in y)"
-    )]
+    #[error("{}", rank_deficient(*rank, *dofs))]
     RankDeficient {
         /// Estimated rank of the excitation.
         rank: usize,
@@ -483,10 +486,7 @@ pub enum Error {
         step_s: f64,
     },
     /// A nonlinear regressor is not finite at a sample of a record (a cube beyond `f64`).
-    #[error(
-        "record `{record}`: the nonlinear term {term} is not finite at sample {sample} \
-         (rescale the channels, e.g. to N and m)"
-    )]
+    #[error("{}", non_finite_regressor(record, term, *sample))]
     NonFiniteRegressor {
         /// Label of the record.
         record: String,
@@ -521,10 +521,7 @@ pub enum Error {
     },
     /// Field identification: a measured degree of freedom lacks its response at a speed and
     /// run (every speed and run needs the same probes).
-    #[error(
-        "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: \
-         every speed and test needs every probe"
-    )]
+    #[error("{}", missing_response(*speed_rad_s, test, *node, dir))]
     MissingResponse {
         /// The speed (rad/s).
         speed_rad_s: f64,

@@ -43,7 +43,8 @@ pub use read::{Channels, is_uff, read_file, read_first};
 
 use crate::error::{Error, Result};
 use crate::excitation::{
-    Excitation, WelchChoice, choose_welch, crest_factor, deciding_crest_factor,
+    Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_welch, crest_factor,
+    deciding_crest_factor, response_crest_factor,
 };
 use crate::frf::Assignment;
 use crate::gate::FitGate;
@@ -313,13 +314,35 @@ impl Job {
             }
         };
         let sample_rate = first.sample_rate();
+        // Forces read as random whose responses look like a hammer's: the columns may be
+        // exchanged, the likely cause if the run then fails.
+        let response_crest = response_crest_factor(first);
+        let swapped = |e: Error| match e {
+            Error::TooFewLines { .. }
+            | Error::NotConverged { .. }
+            | Error::RankDeficient { .. }
+            | Error::Singular { .. }
+            | Error::SingularFit { .. }
+                if detected
+                    && excitation == Excitation::Random
+                    && response_crest >= IMPACT_CREST_FACTOR =>
+            {
+                Error::LooksSwapped {
+                    failure: Box::new(e),
+                    force_crest: crest,
+                    response_crest,
+                }
+            }
+            e => e,
+        };
         let mut reading = match &source {
             Source::Streamed { .. } => start.elapsed(),
             Source::Read(_) => Duration::ZERO,
         };
-        let (identifier, segment_len) = self.identifier(excitation, first)?;
-        let (identifier, segment_len, welch_choice, source) =
-            self.welch(identifier, segment_len, excitation, source, &mut reading)?;
+        let (identifier, segment_len) = self.identifier(excitation, first).map_err(swapped)?;
+        let (identifier, segment_len, welch_choice, source) = self
+            .welch(identifier, segment_len, excitation, source, &mut reading)
+            .map_err(swapped)?;
         let mut files = Vec::new();
         let identification = identify(
             &identifier,
@@ -329,7 +352,8 @@ impl Job {
             &mut reading,
             &mut files,
             observe,
-        )?;
+        )
+        .map_err(swapped)?;
         let bearing = match &self.options.baseline {
             Some(path) => Some(self.bearing(&identification, &identifier, excitation, path)?),
             None => None,

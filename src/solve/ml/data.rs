@@ -118,13 +118,14 @@ impl MlData {
                 }
             }
             // This line's entries, just added.
-            let finite = |v: &[c64], per_line: usize| {
-                v[v.len() - per_line..].iter().all(|z| z.is_finite())
-            };
+            let finite =
+                |v: &[c64], per_line: usize| v[v.len() - per_line..].iter().all(|z| z.is_finite());
             let (xf, nn) = (columns * n, n * n);
             let all = finite(&data.x, xf)
                 && finite(&data.f, xf)
-                && [&data.cx, &data.cf, &data.cxf].iter().all(|v| finite(v, nn));
+                && [&data.cx, &data.cf, &data.cxf]
+                    .iter()
+                    .all(|v| finite(v, nn));
             if !all {
                 return Err(Error::NonFiniteResult {
                     stage: Quantity::MlData,
