@@ -181,25 +181,25 @@ pub(super) fn level_out_of_range(record: &Record) -> Option<Error> {
     let high = f64::MAX.sqrt();
     let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     let n = record.dofs();
-    let kinds: [(fn(usize) -> Channel, Vec<f64>); 2] = [
-        (
-            Channel::Force,
-            (0..n).map(|c| peak(record.force(c))).collect(),
-        ),
-        (
-            Channel::Displacement,
-            (0..n).map(|c| peak(record.displacement(c))).collect(),
-        ),
-    ];
-    for (channel, peaks) in &kinds {
-        let (c, top) = peaks
-            .iter()
-            .enumerate()
-            .fold((0, 0.0), |b, (c, &p)| if p > b.1 { (c, p) } else { b });
+    for forces in [true, false] {
+        let (c, top) = (0..n)
+            .map(|c| {
+                let samples = if forces {
+                    record.force(c)
+                } else {
+                    record.displacement(c)
+                };
+                (c, peak(samples))
+            })
+            .fold((0, 0.0), |b, (c, p)| if p > b.1 { (c, p) } else { b });
         if (top > 0.0 && top < low) || top > high {
             return Some(Error::LevelOutOfRange {
                 record: record.label().to_owned(),
-                channel: channel(c),
+                channel: if forces {
+                    Channel::Force(c)
+                } else {
+                    Channel::Displacement(c)
+                },
                 peak: top,
             });
         }
