@@ -274,6 +274,12 @@ pub const FIELD_MASS_DEFINITE: f64 = 1e-12;
 /// that error bars and `H(ω) = K − ω²M + iωC` form finite (`1e150² = 1e300`).
 pub const COEFFICIENT_MAGNITUDE: f64 = 1e150;
 
+/// Largest magnitude accepted for a field test's response phasor or its standard deviation
+/// ([`crate::field`], in m): vibration amplitudes are micrometres, and the solve's squares and
+/// products of responses (`1e150² = 1e300`) stay finite below it; a value of 1e308 once passed
+/// the finite check and was reported as the tests' responses being dependent.
+pub const FIELD_RESPONSE_MAGNITUDE: f64 = 1e150;
+
 /// Two records are copies up to rounding ([`DuplicateRecord`](crate::Warning::DuplicateRecord))
 /// when every value of their fingerprints (a few samples, extremes, mean, RMS per channel)
 /// agrees within this fraction of the channel's peak: a copy written with 8 significant

@@ -114,7 +114,10 @@ impl Error {
             Error::NonFinite { .. }
             | Error::SpectrumOverflow { .. }
             | Error::NonFiniteResult { .. }
-            | Error::NonFiniteRegressor { .. } => ErrorKind::NonFinite,
+            | Error::NonFiniteRegressor { .. }
+            | Error::LevelOutOfRange { .. }
+            | Error::ImpedanceScale { .. }
+            | Error::IterationNonFinite { .. } => ErrorKind::NonFinite,
             Error::DeadChannel { .. } => ErrorKind::DeadChannel,
             #[cfg(feature = "csv")]
             Error::NonUniformTime { .. } => ErrorKind::NonuniformTime,
@@ -139,6 +142,7 @@ impl Error {
                 ErrorKind::RecordTooShort
             }
             Error::Baseline { source, .. } => source.kind(),
+            Error::LooksSwapped { failure, .. } => failure.kind(),
             Error::BandText { .. } => ErrorKind::BadBand,
             Error::InvalidParameter { .. }
             | Error::InvalidSetting { .. }

@@ -5,10 +5,12 @@
 
 use std::fmt;
 
+use crate::Method;
+
 use super::{Channel, Error, excerpt};
 
 /// Why a field identification's response pairs are singular everywhere, and what to change.
-pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
+fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
     if dependent_tests {
         "the two tests' added imbalance forces are proportional (masses in one plane give a \
          rank-1 pair whatever their angles): put the second test's masses in another plane"
@@ -19,7 +21,7 @@ pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
 }
 
 /// `line spacing … Hz`, or that it is unknown.
-pub(super) fn spacing(resolution_hz: Option<f64>) -> String {
+fn spacing(resolution_hz: Option<f64>) -> String {
     match resolution_hz {
         Some(df) => format!("line spacing {df} Hz"),
         None => "line spacing unknown: fewer than two lines given".to_owned(),
@@ -39,6 +41,80 @@ pub(super) fn size(value: f64) -> String {
 /// reported` where the fit keeps none.
 pub(super) fn change_text(change: Option<f64>) -> String {
     change.map_or_else(|| "not reported".to_owned(), |c| format!("{c:.3e}"))
+}
+
+/// The kind of a channel in words: `force` or `displacement`.
+fn kind_of(channel: Channel) -> &'static str {
+    if matches!(channel, Channel::Force(_)) {
+        "force"
+    } else {
+        "displacement"
+    }
+}
+
+/// [`Error::LooksSwapped`](super::Error::LooksSwapped).
+pub(super) fn looks_swapped(
+    failure: &super::Error,
+    force_crest: f64,
+    response_crest: f64,
+) -> String {
+    format!(
+        "{failure}; the response columns look like a hammer's force (crest factor \
+         {response_crest:.1}, an impact's is 8 or more) and the force columns do not \
+         ({force_crest:.1}): are the columns of --force and --disp exchanged?"
+    )
+}
+
+/// [`Error::LevelOutOfRange`](super::Error::LevelOutOfRange): below 1 an underflow of every
+/// channel of the kind, above an overflow of this one.
+pub(super) fn level_out_of_range(record: &str, channel: Channel, peak: f64) -> String {
+    let kind = kind_of(channel);
+    if peak < 1.0 {
+        let subnormal = if peak < f64::MIN_POSITIVE {
+            ", subnormal values with fewer than 53 significant bits"
+        } else {
+            ""
+        };
+        format!(
+            "record `{record}`: every {kind} channel peaks at or below {peak:.3e} ({channel} \
+             the highest){subnormal}: the squares and products every spectrum forms underflow \
+             f64, so the record carries no usable {kind}: the channels are in a unit far too \
+             large (rescale them, e.g. to N and m)"
+        )
+    } else {
+        format!(
+            "record `{record}`: {channel} peaks at {peak:.3e}: the squares and products every \
+             spectrum forms overflow f64: the channel is in a unit far too small (rescale it, \
+             e.g. to N and m)"
+        )
+    }
+}
+
+/// [`Error::ImpedanceScale`](super::Error::ImpedanceScale).
+pub(super) fn impedance_scale(magnitude: f64) -> String {
+    format!(
+        "the impedance (force over response) is about {magnitude:.1e} N/m over the band: the \
+         squares the fit forms of it and of its inverse leave f64, so the fit cannot be \
+         computed; force and response channels in units that far apart (N/m are 1e3 to 1e10 \
+         for bearings) are a unit error: rescale them, e.g. to N and m"
+    )
+}
+
+/// [`Error::IterationNonFinite`](super::Error::IterationNonFinite).
+pub(super) fn iteration_non_finite(
+    method: Method,
+    iteration: usize,
+    freq_hz: Option<f64>,
+) -> String {
+    let at = match freq_hz {
+        Some(f) => format!("the model impedance K − ω²M + iωC or its inverse at {f} Hz"),
+        None => "its normal equations (all lines together)".to_owned(),
+    };
+    format!(
+        "{method} iteration {iteration} met NaN or infinity in {at}: not a slow convergence \
+         but values beyond f64 (check the records' units and levels; a narrower band away from \
+         an undamped resonance)"
+    )
 }
 
 /// The message of each [`Error`]: one sentence that names the input and carries its numbers.
@@ -324,6 +400,22 @@ impl fmt::Display for Error {
          (displacements and nonlinear terms) needs at least {required}: give more or longer \
          records, or shorter segments"
             ),
+            Error::LooksSwapped {
+                failure,
+                force_crest,
+                response_crest,
+            } => f.write_str(&looks_swapped(failure, *force_crest, *response_crest)),
+            Error::LevelOutOfRange {
+                record,
+                channel,
+                peak,
+            } => f.write_str(&level_out_of_range(record, *channel, *peak)),
+            Error::ImpedanceScale { magnitude } => f.write_str(&impedance_scale(*magnitude)),
+            Error::IterationNonFinite {
+                method,
+                iteration,
+                freq_hz,
+            } => f.write_str(&iteration_non_finite(*method, *iteration, *freq_hz)),
             Error::FieldInput { message } => write!(f, "{message}"),
             Error::Plan {
                 file,
@@ -476,6 +568,62 @@ mod tests {
         assert!(s.contains("x1.csv") && s.contains("displacement channel 1") && s.contains("42"));
         let e = Error::RankDeficient { rank: 1, dofs: 2 };
         assert!(e.to_string().contains("1 of 2"));
+    }
+
+    /// The causes of a failed fit that are not the fit's: levels, units, NaN in an iteration.
+    #[test]
+    fn level_scale_and_iteration_messages_name_the_cause() {
+        let e = Error::LevelOutOfRange {
+            record: "hit-3.csv".into(),
+            channel: Channel::Displacement(1),
+            peak: 6.1e-314,
+        };
+        assert_eq!(e.kind(), "non_finite");
+        assert_eq!(
+            e.to_string(),
+            "record `hit-3.csv`: every displacement channel peaks at or below 6.100e-314 \
+             (displacement channel 1 the highest), subnormal values with fewer than 53 \
+             significant bits: the squares and products every spectrum forms underflow f64, so \
+             the record carries no usable displacement: the channels are in a unit far too \
+             large (rescale them, e.g. to N and m)"
+        );
+        let e = Error::LevelOutOfRange {
+            record: "hit-3.csv".into(),
+            channel: Channel::Force(0),
+            peak: 4.5e302,
+        };
+        assert!(
+            e.to_string()
+                .contains("force channel 0 peaks at 4.500e302: the squares")
+        );
+        let e = Error::ImpedanceScale { magnitude: 1.2e205 };
+        assert_eq!(e.kind(), "non_finite");
+        assert!(
+            e.to_string()
+                .starts_with("the impedance (force over response) is about 1.2e205 N/m")
+        );
+        let e = Error::IterationNonFinite {
+            method: crate::Method::Ivf,
+            iteration: 3,
+            freq_hz: Some(12.5),
+        };
+        assert_eq!(e.kind(), "non_finite");
+        assert!(
+            e.to_string().starts_with(
+                "ivf iteration 3 met NaN or infinity in the model impedance K − ω²M + iωC or \
+                 its inverse at 12.5 Hz: not a slow convergence"
+            ),
+            "{e}"
+        );
+        let e = Error::IterationNonFinite {
+            method: crate::Method::Ivf,
+            iteration: 1,
+            freq_hz: None,
+        };
+        assert!(
+            e.to_string()
+                .contains("in its normal equations (all lines together)")
+        );
     }
 
     #[test]

@@ -86,6 +86,16 @@ pub enum Error {
         /// What failed.
         source: Box<Error>,
     },
+    /// A run that failed while the records look read the wrong way round: the forces not
+    /// impulsive but the responses as impulsive as a hammer's (the kind is the failure's).
+    LooksSwapped {
+        /// What failed.
+        failure: Box<Error>,
+        /// Crest factor of the force channels (the strongest).
+        force_crest: f64,
+        /// Largest crest factor of the response channels.
+        response_crest: f64,
+    },
     /// Two inputs of a library function that must have one length do not.
     LengthMismatch {
         /// Which inputs.
@@ -301,6 +311,23 @@ pub enum Error {
         /// Largest absolute sample of the channel.
         peak: f64,
     },
+    /// Every force (or every displacement) channel of a record peaks so low that its squares
+    /// underflow f64 (subnormal samples included), or a channel so high that they overflow:
+    /// noted per record and named when the fit then fails.
+    LevelOutOfRange {
+        /// Label of the record.
+        record: String,
+        /// The channel (for an underflow, the kind's highest).
+        channel: Channel,
+        /// Its largest absolute sample.
+        peak: f64,
+    },
+    /// The fit failed, and the impedance's level (force over response) is so far from 1 that
+    /// the squares the fit forms of it or of its inverse leave f64: units far apart.
+    ImpedanceScale {
+        /// Median over the lines of the largest `|H_ij|` (N/m).
+        magnitude: f64,
+    },
     /// A quantity computed from finite spectra (impedance, flexibility, coefficients) is not
     /// finite.
     NonFiniteResult {
@@ -341,6 +368,16 @@ pub enum Error {
         /// Block-wise relative change at the last iteration (`None` where the fit does not
         /// report one).
         change: Option<f64>,
+    },
+    /// An iteration of the IVF (the fit, ML's start, the reverse path's linear part) met NaN or
+    /// infinity: at a line (the model's impedance or its inverse), or in its normal equations.
+    IterationNonFinite {
+        /// The iterative method.
+        method: crate::Method,
+        /// The iteration (1 = the first after the least-squares start).
+        iteration: usize,
+        /// The line (Hz); `None` for the normal equations of all lines together.
+        freq_hz: Option<f64>,
     },
     /// Maximum likelihood needs the records' spectra for its noise model: a ready-made FRF
     /// has none, and periodic records need at least 3 periods.

@@ -80,6 +80,9 @@ pub enum Quantity {
     Coherence,
     /// A flexibility handed in by the caller ([`Frf::from_flexibility`](crate::Frf::from_flexibility)).
     GivenFlexibility,
+    /// The spectra and noise covariances maximum likelihood fits
+    /// ([`MlData`](crate::solve::ml::MlData)).
+    MlData,
 }
 
 impl fmt::Display for Quantity {
@@ -89,6 +92,7 @@ impl fmt::Display for Quantity {
             Quantity::Flexibility => "flexibility",
             Quantity::Coherence => "coherence",
             Quantity::GivenFlexibility => "given flexibility",
+            Quantity::MlData => "maximum-likelihood data (spectra and noise covariances)",
         })
     }
 }

@@ -418,6 +418,15 @@ pub enum Warning {
         /// Relative residual of the fit read as displacement.
         original: f64,
     },
+    /// Negative diagonal coefficients, while the data read the other way round (the measured
+    /// impedance as the flexibility) fit with every diagonal positive: the force and response
+    /// columns are likely exchanged.
+    SwappedChannels {
+        /// Relative residual of the fit read the other way round.
+        residual: f64,
+        /// Relative residual of the fit as given.
+        original: f64,
+    },
     // ---- end of causes ----
     /// Field identification: a speed sits near a synchronous natural frequency of the rotor
     /// pinned at the probes, where the recovery of the unmeasured degrees of freedom amplifies
@@ -499,6 +508,7 @@ impl Warning {
             Warning::StartTransient { .. } => "start_transient",
             Warning::TransferFrf { .. } => "transfer_frf",
             Warning::ResponseKind { .. } => "response_kind",
+            Warning::SwappedChannels { .. } => "swapped_channels",
         }
     }
 }

@@ -336,6 +336,13 @@ impl fmt::Display for Warning {
                  positive (measure the response at the force for a drive point)",
                 100.0 * fraction
             ),
+            Warning::SwappedChannels { residual, original } => write!(
+                f,
+                "negative diagonal coefficients, while the data read the other way round \
+                 (force as response, response as force) fit with every diagonal positive \
+                 (relative residual {residual:.2e} against {original:.2e}): the force and \
+                 response columns look exchanged; check `--force` and `--disp`"
+            ),
             Warning::ResponseKind {
                 suggested,
                 residual,

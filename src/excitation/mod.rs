@@ -53,7 +53,33 @@ const MIN_SEGMENT: usize = 8;
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn crest_factor(record: &Record) -> f64 {
-    let f = record.force(record.dominant_force());
+    crest(record.force(record.dominant_force()))
+}
+
+/// The largest crest factor of a record's response channels (as [`crest_factor`] of a
+/// force): about 4 to 5 for responses to random or swept forcing, up to about 8 for a lightly
+/// damped response to a hit, 30 and more for a hammer's force. Read only to name a likely
+/// cause when a run fails (force and response columns exchanged).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::Record;
+/// use bearing_ident::excitation::response_crest_factor;
+/// let mut hit = vec![0.0; 100];
+/// hit[10] = 1.0;
+/// let r = Record::new("swapped", 100.0, vec![vec![1.0; 100]], vec![hit])?;
+/// assert!((response_crest_factor(&r) - 0.99 / 0.0099f64.sqrt()).abs() < 1e-9);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+pub fn response_crest_factor(record: &Record) -> f64 {
+    (0..record.dofs())
+        .map(|c| crest(record.displacement(c)))
+        .fold(0.0, f64::max)
+}
+
+/// Peak over RMS about the mean of `f`, scaled by its largest magnitude first; 0 when flat
+/// or not finite.
+fn crest(f: &[f64]) -> f64 {
     let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
     if scale <= 0.0 || !scale.is_finite() {
         return 0.0;

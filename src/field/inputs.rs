@@ -165,6 +165,32 @@ impl FieldTests {
                     what: format!("response {i}"),
                 });
             }
+            // Finite is not enough: the solve squares the responses and forms products of
+            // them (the pair matrices and their condition numbers).
+            let limit = crate::tolerance::FIELD_RESPONSE_MAGNITUDE;
+            let size = r
+                .value
+                .re
+                .abs()
+                .max(r.value.im.abs())
+                .max(r.std.unwrap_or(0.0));
+            if size > limit {
+                return bad(format!(
+                    "response {i} (speed {} rad/s, test `{}`, node {}, direction {}): {} {:e} m \
+                     is past {limit:e}: the solve squares the responses, so values that large \
+                     leave f64 (a unit error? responses are in m)",
+                    r.speed_rad_s,
+                    r.run.name(),
+                    r.probe.node,
+                    r.probe.dir.name(),
+                    if r.std.is_some_and(|s| s > limit) {
+                        "std"
+                    } else {
+                        "value"
+                    },
+                    size
+                ));
+            }
             if r.speed_rad_s <= 0.0 {
                 return bad(format!(
                     "response {i}: speed {} rad/s is not positive",

@@ -7,7 +7,9 @@ use std::sync::OnceLock;
 
 use faer::c64;
 
-use super::contribution::{Contribution, contribute, dead_channel, overflow_check};
+use super::contribution::{
+    Contribution, contribute, dead_channel, level_out_of_range, overflow_check,
+};
 use super::conversion::to_displacement;
 use super::sets::SetTable;
 use super::transfer::ChannelTransfers;
@@ -104,6 +106,8 @@ pub struct FrfBuilder {
     pub(super) keep_partials: bool,
     /// The first record with every force or every displacement channel flat.
     pub(super) dead: Option<Error>,
+    /// The first record whose levels leave f64 in the spectra's squares and products.
+    pub(super) level: Option<Error>,
     /// Paired sets: each set's `cond(X_s)` and `H_s` per line, once asked for
     /// ([`FrfBuilder::set_table`]); cleared when records come in or go out.
     pub(super) sets: OnceLock<SetTable>,
@@ -139,6 +143,7 @@ impl FrfBuilder {
             averages: 0,
             keep_partials: false,
             dead: None,
+            level: None,
             sets: OnceLock::new(),
         }
     }
@@ -415,6 +420,9 @@ impl FrfBuilder {
         if self.dead.is_none() {
             self.dead = dead_channel(record);
         }
+        if self.level.is_none() {
+            self.level = level_out_of_range(record);
+        }
         self.all_displacement &= record.is_displacement();
         if self.segmentation == Segmentation::WholeRecord {
             let f = record.force(record.dominant_force());
@@ -508,6 +516,15 @@ impl FrfBuilder {
     /// an identification cannot go on (rank-deficient excitations or a singular fit).
     pub fn dead_channel(&self) -> Option<Error> {
         self.dead.clone()
+    }
+
+    /// The first record pushed whose levels leave f64 in the squares and products of its
+    /// spectra, as [`Error::LevelOutOfRange`]: every force (or displacement) channel below
+    /// about 1.5e-154 (subnormal samples far below), or a channel above about 1.3e154. The true
+    /// cause when an identification then fails (rank, singularity, convergence, non-finite
+    /// results).
+    pub fn level_out_of_range(&self) -> Option<Error> {
+        self.level.clone()
     }
 
     /// The excitation of every record pushed, by `assignment`.

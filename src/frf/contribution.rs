@@ -169,6 +169,44 @@ pub(super) fn dead_channel(record: &Record) -> Option<Error> {
     })
 }
 
+/// [`Error::LevelOutOfRange`] if every force channel, or every displacement channel, of
+/// `record` peaks below $\sqrt{\text{f64::MIN\_POSITIVE}} \approx 1.5 \cdot 10^{-154}$ (but
+/// not at zero: that is [`dead_channel`]'s), so that the squares and products of its spectra
+/// underflow (subnormal samples are far below); or if some channel peaks above
+/// $\sqrt{\text{f64::MAX}} \approx 1.3 \cdot 10^{154}$, where they overflow. Not an error by
+/// itself (a channel's products may still fit, and records far out of scale with their siblings
+/// are the screening's): the cause to name when the fit then fails.
+pub(super) fn level_out_of_range(record: &Record) -> Option<Error> {
+    let low = f64::MIN_POSITIVE.sqrt();
+    let high = f64::MAX.sqrt();
+    let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let n = record.dofs();
+    for forces in [true, false] {
+        let (c, top) = (0..n)
+            .map(|c| {
+                let samples = if forces {
+                    record.force(c)
+                } else {
+                    record.displacement(c)
+                };
+                (c, peak(samples))
+            })
+            .fold((0, 0.0), |b, (c, p)| if p > b.1 { (c, p) } else { b });
+        if (top > 0.0 && top < low) || top > high {
+            return Some(Error::LevelOutOfRange {
+                record: record.label().to_owned(),
+                channel: if forces {
+                    Channel::Force(c)
+                } else {
+                    Channel::Displacement(c)
+                },
+                peak: top,
+            });
+        }
+    }
+    None
+}
+
 /// [`Error::SpectrumOverflow`] at the first non-finite value of `values` (`[line][stride]`;
 /// within a line, value `v` belongs to `channel(v % n)`, the row of an `n × n` matrix).
 pub(super) fn overflow_check(

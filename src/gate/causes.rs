@@ -1,6 +1,7 @@
-//! The likely causes of negative diagonal coefficients ([`negative_diagonal_causes`]): a
-//! transfer (non-drive-point) FRF, whose diagonal terms need not be positive, and response
-//! channels that measure velocity or acceleration read as displacement.
+//! The likely causes of negative diagonal coefficients ([`negative_diagonal_causes`]): force
+//! and response columns exchanged, a transfer (non-drive-point) FRF, whose diagonal terms need
+//! not be positive, and response channels that measure velocity or acceleration read as
+//! displacement.
 
 use faer::{Mat, c64};
 
@@ -17,7 +18,9 @@ use crate::solve::{IvfOptions, Method};
 pub const TRANSFER_FRACTION: f64 = 0.25;
 
 /// With some diagonal entry of `M`, `C` or `K` of `model` (fitted to `frf` by `method`)
-/// negative: [`Warning::TransferFrf`] for each diagonal flexibility whose imaginary part is
+/// negative: [`Warning::SwappedChannels`] alone when the data read the other way round (the
+/// measured impedance taken as the flexibility: force and response columns exchanged) fit
+/// with every diagonal positive and a smaller relative residual; else [`Warning::TransferFrf`] for each diagonal flexibility whose imaginary part is
 /// positive at more than [`TRANSFER_FRACTION`] of the lines; and, when every response channel
 /// was read as displacement (`displacement`) and a diagonal of `M` is negative,
 /// [`Warning::ResponseKind`] when the flexibility divided by $i\omega$ (velocity) or
@@ -59,25 +62,12 @@ pub fn negative_diagonal_causes(
     if !negative(model) {
         return Vec::new();
     }
-    let mut out = Vec::new();
-    let lines = frf.line_count();
-    for i in 0..n {
-        let positive = (0..lines)
-            .filter(|&k| frf.flexibility(k)[(i, i)].im > 0.0)
-            .count();
-        let fraction = positive as f64 / lines.max(1) as f64;
-        if fraction > TRANSFER_FRACTION {
-            out.push(Warning::TransferFrf { dof: i, fraction });
-        }
-    }
-    if !displacement || !(0..n).any(|i| model.mass()[(i, i)] < 0.0) {
-        return out;
-    }
     let method = if method == Method::Ml {
         Method::Ivf
     } else {
         method
     };
+    let lines = frf.line_count();
     let freqs = frf.freqs_hz();
     let measured: Vec<Mat<c64>> = (0..lines).map(|k| frf.flexibility(k).to_owned()).collect();
     let residual = |g: &[Mat<c64>], c: &Coefficients| -> f64 {
@@ -95,7 +85,35 @@ pub fn negative_diagonal_causes(
         }
         r / t
     };
+    // A physical reading of the data as another quantity: its relative residual, if its fit
+    // has every diagonal positive and fits better than the reading given.
     let original = residual(&measured, model);
+    let reading = |g: Vec<Mat<c64>>| -> Option<f64> {
+        let frf = Frf::from_flexibility(freqs.to_vec(), &g).ok()?;
+        let fit = crate::solve::fit(&frf, method, options).ok()?;
+        let r = residual(&g, fit.coefficients());
+        (!negative(fit.coefficients()) && r < original).then_some(r)
+    };
+    // Force and response exchanged: the measured "flexibility" is the impedance, and the
+    // measured impedance the flexibility, of a physical system.
+    let impedances: Vec<Mat<c64>> = (0..lines).map(|k| frf.impedance(k).to_owned()).collect();
+    if let Some(residual) = reading(impedances) {
+        // Its Im G_ii > 0 at every line (ωC of the impedance) is no transfer FRF: not named so.
+        return vec![Warning::SwappedChannels { residual, original }];
+    }
+    let mut out = Vec::new();
+    for i in 0..n {
+        let positive = (0..lines)
+            .filter(|&k| frf.flexibility(k)[(i, i)].im > 0.0)
+            .count();
+        let fraction = positive as f64 / lines.max(1) as f64;
+        if fraction > TRANSFER_FRACTION {
+            out.push(Warning::TransferFrf { dof: i, fraction });
+        }
+    }
+    if !displacement || !(0..n).any(|i| model.mass()[(i, i)] < 0.0) {
+        return out;
+    }
     let mut best: Option<(Response, f64)> = None;
     for kind in [Response::Velocity, Response::Acceleration] {
         let converted: Vec<Mat<c64>> = freqs
@@ -107,15 +125,10 @@ pub fn negative_diagonal_causes(
                 Mat::from_fn(n, n, |i, j| g[(i, j)] / d)
             })
             .collect();
-        let Ok(frf) = Frf::from_flexibility(freqs.to_vec(), &converted) else {
-            continue;
-        };
-        let Ok(fit) = crate::solve::fit(&frf, method, options) else {
-            continue;
-        };
-        let r = residual(&converted, fit.coefficients());
-        if !negative(fit.coefficients()) && r < original && best.is_none_or(|b| r < b.1) {
-            best = Some((kind, r));
+        if let Some(r) = reading(converted) {
+            if best.is_none_or(|b| r < b.1) {
+                best = Some((kind, r));
+            }
         }
     }
     if let Some((suggested, residual)) = best {
@@ -181,5 +194,16 @@ mod tests {
             })
         });
         assert!(kinds(&reversed, true).contains(&"transfer_frf"));
+    }
+
+    /// Force and response columns exchanged: the measured flexibility is the rig's impedance.
+    /// Before, it was named a transfer FRF on both diagonals (Im G_ii = ωC > 0 at every line).
+    #[test]
+    fn swapped_force_and_response_are_suggested() {
+        let truth = seed_rig();
+        let swapped = frf_of(|f| truth.impedance_at(f));
+        assert_eq!(kinds(&swapped, true), ["swapped_channels"]);
+        // The same data read the right way round: nothing to say.
+        assert!(kinds(&frf_of(|f| truth.flexibility_at(f).unwrap()), true).is_empty());
     }
 }

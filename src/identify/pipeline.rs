@@ -340,23 +340,26 @@ impl Settings {
         let outcome = frf.and_then(|(frf, excitations)| {
             self.conclude(frf, Some(&builder), excitations, screened, t, start)
         });
-        // A record without force or without response, or one far out of scale with its
-        // siblings, shows up later as missing rank, a singular fit or a fit that cannot
-        // converge: name the record instead. (A band with too few lines stays `bad_band`.)
+        // A record without force or without response, one far out of scale with its
+        // siblings, or one whose levels leave f64 in the spectra's products, shows up later as
+        // missing rank, a singular fit, a fit that cannot converge or values that are not
+        // finite: name the record instead. (A band with too few lines stays `bad_band`.)
         match outcome {
             Err(
                 e @ (Error::RankDeficient { .. }
                 | Error::Singular { .. }
                 | Error::SingularFit { .. }
                 | Error::NotConverged { .. }
-                | Error::NonFiniteResult { .. }),
+                | Error::NonFiniteResult { .. }
+                | Error::IterationNonFinite { .. }
+                | Error::ImpedanceScale { .. }),
             ) => Err(builder.dead_channel().unwrap_or_else(|| match suspect {
                 Some((record, finding)) => Error::BadRecord {
                     record,
                     finding,
                     failure: e.to_string(),
                 },
-                None => e,
+                None => builder.level_out_of_range().unwrap_or(e),
             })),
             outcome => outcome,
         }
@@ -399,12 +402,24 @@ impl Settings {
         })
         .map_err(coherence_cause)?;
         let solve_start = Instant::now();
-        let (fit, ml) = match self.method {
-            Method::Ml => self.fit_ml(&frf, builder, &mut warnings)?,
-            method => (solve::fit(&frf, method, &self.ivf)?, None),
+        // A fit that fails on an impedance whose squares leave f64: the units are the cause.
+        let scale_cause = |e: Error| match e {
+            Error::NotConverged { .. }
+            | Error::IterationNonFinite { .. }
+            | Error::SingularFit { .. }
+            | Error::Singular { .. }
+            | Error::NonFiniteResult { .. } => solve::impedance_out_of_range(&frf).unwrap_or(e),
+            e => e,
         };
+        let fit = match self.method {
+            Method::Ml => self.fit_ml(&frf, builder, &mut warnings),
+            method => solve::fit(&frf, method, &self.ivf).map(|fit| (fit, None)),
+        }
+        .and_then(|(fit, ml)| self.convergence_warning(&fit).map(|w| (fit, ml, w)))
+        .map_err(scale_cause);
+        let (fit, ml, unconverged) = fit?;
         warnings.extend(self.data_warnings(&frf, &conditioning, low_coherence));
-        warnings.extend(self.convergence_warning(&fit)?);
+        warnings.extend(unconverged);
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         // So does the model check: the windowed data against the windowed fit.
@@ -513,6 +528,11 @@ impl Settings {
     ) -> Result<(Fit, Option<MlReport>)> {
         let builder = builder.ok_or(Error::MlNeedsRepeats)?;
         let start = solve::fit(frf, Method::Ivf, &self.ivf)?;
+        if let Convergence::NonFinite { .. } = start.convergence() {
+            // A start that met NaN: the error under `NonConvergence::Fail`, before the noise
+            // model meets it too.
+            self.convergence_warning(&start)?;
+        }
         let data = if builder.is_periodic() {
             solve::ml::MlData::from_statistics(builder.period_statistics(frf)?)?
         } else {

@@ -46,7 +46,8 @@ pub use read::{Channels, is_uff, read_file, read_first, response_columns};
 
 use crate::error::{Error, Result};
 use crate::excitation::{
-    Excitation, WelchChoice, choose_welch, crest_factor, deciding_crest_factor,
+    Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_welch, crest_factor,
+    deciding_crest_factor, response_crest_factor,
 };
 use crate::frf::Assignment;
 use crate::gate::FitGate;
@@ -220,8 +221,9 @@ impl Job {
     /// Welch length is chosen from a first fit.
     ///
     /// # Errors
-    /// [`Error::NoRecords`] for no files; the readers' errors naming the file; those of
-    /// [`Job::run_records`].
+    /// [`Error::NoRecords`] for no files; [`Error::InvalidOption`] for a channel named twice
+    /// ([`Channels::check`]), before any file is read; the readers' errors naming the file;
+    /// those of [`Job::run_records`].
     pub fn run_files(&self, files: &[PathBuf]) -> Result<Outcome> {
         self.run_files_with(files, |_| {})
     }
@@ -238,6 +240,7 @@ impl Job {
         let Some(first_path) = files.first() else {
             return Err(Error::NoRecords);
         };
+        self.channels.check()?;
         let start = Instant::now();
         std::thread::scope(|scope| {
             // The files after the first are parsed on worker threads from the start, while
@@ -322,13 +325,35 @@ impl Job {
             }
         };
         let sample_rate = first.sample_rate();
+        // Forces read as random whose responses look like a hammer's: the columns may be
+        // exchanged, the likely cause if the run then fails.
+        let response_crest = response_crest_factor(first);
+        let swapped = |e: Error| match e {
+            Error::TooFewLines { .. }
+            | Error::NotConverged { .. }
+            | Error::RankDeficient { .. }
+            | Error::Singular { .. }
+            | Error::SingularFit { .. }
+                if detected
+                    && excitation == Excitation::Random
+                    && response_crest >= IMPACT_CREST_FACTOR =>
+            {
+                Error::LooksSwapped {
+                    failure: Box::new(e),
+                    force_crest: crest,
+                    response_crest,
+                }
+            }
+            e => e,
+        };
         let mut reading = match &source {
             Source::Streamed { .. } => start.elapsed(),
             Source::Read(_) => Duration::ZERO,
         };
-        let (identifier, segment_len) = self.identifier(excitation, first)?;
-        let (identifier, segment_len, welch_choice, source) =
-            self.welch(identifier, segment_len, excitation, source, &mut reading)?;
+        let (identifier, segment_len) = self.identifier(excitation, first).map_err(swapped)?;
+        let (identifier, segment_len, welch_choice, source) = self
+            .welch(identifier, segment_len, excitation, source, &mut reading)
+            .map_err(swapped)?;
         let mut files = Vec::new();
         let identification = identify(
             &identifier,
@@ -338,7 +363,8 @@ impl Job {
             &mut reading,
             &mut files,
             observe,
-        )?;
+        )
+        .map_err(swapped)?;
         let bearing = match &self.options.baseline {
             Some(path) => Some(self.bearing(&identification, &identifier, excitation, path)?),
             None => None,

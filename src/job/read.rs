@@ -46,8 +46,9 @@ impl Channels {
     ///
     /// # Errors
     /// [`Error::InvalidOption`] for unequal numbers of force and response columns, a
-    /// Universal File channel that does not parse, or a number of response kinds that is
-    /// neither one nor one per response column.
+    /// Universal File channel that does not parse, a number of response kinds that is
+    /// neither one nor one per response column, or a channel named twice
+    /// ([`Channels::check`]).
     ///
     /// # Examples
     /// ```
@@ -124,12 +125,15 @@ impl Channels {
                 ),
             ));
         }
-        Ok(Channels {
+        let channels = Channels {
             csv,
             uff: uff_layout,
             responses: responses.to_vec(),
             geometry: None,
-        })
+        };
+        // A column given as both force and response, before any file is read.
+        channels.check()?;
+        Ok(channels)
     }
 }
 
@@ -162,6 +166,72 @@ pub fn response_columns(displacements: &[String], kinds: &[Response]) -> Vec<Str
             }
         })
         .collect()
+}
+
+impl Channels {
+    /// Checks that no channel is named twice: a CSV column (time, force or response) or a
+    /// Universal File channel (node and axis, either sign, or ID text) given as both a force
+    /// and a response, or twice among either, would be read as two channels of one signal.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the channel and the options that name it.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::job::Channels;
+    /// let mut channels = Channels::default();
+    /// assert!(channels.check().is_ok());
+    /// channels.csv.displacements = vec!["x".into(), "fy".into()];
+    /// let e = channels.check().unwrap_err();
+    /// assert_eq!(e.kind(), "invalid_argument");
+    /// assert!(e.to_string().contains("`fy`"), "{e}");
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        let csv = std::iter::once(("time", &self.csv.time))
+            .chain(self.csv.forces.iter().map(|c| ("force", c)))
+            .chain(self.csv.displacements.iter().map(|c| ("disp", c)));
+        let names: Vec<(&'static str, String)> = csv.map(|(o, c)| (o, c.clone())).collect();
+        let same_sensor = |a: &UffChannel, b: &UffChannel| match (a, b) {
+            (
+                UffChannel::Dof { node, direction },
+                UffChannel::Dof {
+                    node: n2,
+                    direction: d2,
+                },
+            ) => node == n2 && direction.abs() == d2.abs(),
+            (a, b) => a == b,
+        };
+        let uff: Vec<(&'static str, &UffChannel)> = (self.uff.forces.iter().map(|c| ("force", c)))
+            .chain(self.uff.responses.iter().map(|c| ("disp", c)))
+            .collect();
+        let twice = |(a, b): (&'static str, &'static str), name: String| {
+            let options = if a == b {
+                format!("twice in --{a}")
+            } else {
+                format!("in --{a} and in --{b}")
+            };
+            Err(Error::InvalidOption {
+                option: if a == "time" { b } else { a },
+                message: format!(
+                    "channel `{}` is named {options}: a channel is read once, as one force, \
+                     one response or the time (for swapped force and response columns, \
+                     exchange --force and --disp)",
+                    crate::error::excerpt(&name)
+                ),
+            })
+        };
+        for (i, (a, x)) in names.iter().enumerate() {
+            if let Some((b, _)) = names[i + 1..].iter().find(|(_, y)| y == x) {
+                return twice((*a, *b), x.clone());
+            }
+        }
+        for (i, (a, x)) in uff.iter().enumerate() {
+            if let Some((b, _)) = uff[i + 1..].iter().find(|(_, y)| same_sensor(x, y)) {
+                return twice((*a, *b), x.to_string());
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Whether `path` is a Universal File (`.uff`, `.unv`, any case) rather than a CSV record.

@@ -157,7 +157,8 @@ impl ReversePath {
     /// [`Error::TooFewAverages`] when the records give fewer than
     /// [`REVERSE_PATH_AVERAGES_PER_INPUT`] Welch segments per input;
     /// [`Error::BandAboveNyquist`]; [`Error::NonFiniteRegressor`]; [`Error::Singular`] when the
-    /// inputs are dependent at a line; [`Error::NonFiniteResult`]; the errors of
+    /// inputs are dependent at a line; [`Error::NonFiniteResult`];
+    /// [`Error::IterationNonFinite`] when the IVF meets NaN or infinity; the errors of
     /// [`crate::solve::fit`] ([`Error::TooFewLines`], [`Error::SingularFit`],
     /// [`Error::MlNeedsRepeats`]).
     pub fn identify(&self, records: &[Record]) -> Result<NonlinearIdentification> {
@@ -196,6 +197,19 @@ impl ReversePath {
 
         let clock = Instant::now();
         let fit = full.fit(self.method, &self.ivf, true)?;
+        // NaN or infinity inside the IVF is no slow convergence to warn of: name it.
+        if let Convergence::NonFinite {
+            iterations,
+            freq_hz,
+            ..
+        } = fit.convergence()
+        {
+            return Err(Error::IterationNonFinite {
+                method: Method::Ivf,
+                iteration: iterations + 1,
+                freq_hz,
+            });
+        }
         let (spectra, spectra_var): (Vec<_>, Vec<_>) = (0..terms.len())
             .map(|j| full.term_spectrum(&gathered.channels, j))
             .unzip();

@@ -12,6 +12,7 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::frf::Frf;
 use crate::linalg::Inverter;
+use crate::model::Coefficients;
 
 /// Stopping rules of the IVF iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,6 +118,11 @@ pub struct IvfSolver {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     stack: MemBuffer,
+    /// The lines' frequencies (Hz), to name the one where an iteration meets NaN.
+    freqs_hz: Vec<f64>,
+    /// Why the last [`IvfSolver::iterate`] returned `None`, when it met NaN or infinity: the
+    /// line (`Some(Hz)`) or the normal equations (`None`). `None` for a singular model.
+    non_finite: Option<Option<f64>>,
 }
 
 impl std::fmt::Debug for IvfSolver {
@@ -161,6 +167,8 @@ impl IvfSolver {
             perm_inv: vec![0; p],
             stack,
             sys,
+            freqs_hz: frf.freqs_hz().to_vec(),
+            non_finite: None,
         })
     }
 
@@ -177,8 +185,9 @@ impl IvfSolver {
     /// One iteration, `Θ ← (W_sᵀ A_s)⁻¹ W_sᵀ Ī` with instruments from the current model,
     /// `W_sᵀ A_s` and `W_sᵀ Ī` formed line by line without `W` (`Stacked::instrument_normal`);
     /// no heap allocation. `None` (and no change) if the model impedance is singular at a
-    /// line or the new iterate is not finite.
+    /// line or the new iterate is not finite ([`IvfSolver::non_finite`] tells which).
     pub fn iterate(&mut self) -> Option<Iteration> {
+        self.non_finite = None;
         let sys = &self.sys;
         if !sys.instrument_normal(
             self.theta.as_ref(),
@@ -186,6 +195,7 @@ impl IvfSolver {
             self.rhs.as_mut(),
             &mut self.work,
         ) {
+            self.non_finite = self.locate();
             return None;
         }
         let stack = MemStack::new(&mut self.stack);
@@ -211,6 +221,8 @@ impl IvfSolver {
             .col_iter()
             .all(|c| c.iter().all(|v| v.is_finite()))
         {
+            // The iterate's model was regular at every line: the normal equations gave it.
+            self.non_finite = Some(None);
             return None;
         }
         let n = sys.n;
@@ -223,6 +235,34 @@ impl IvfSolver {
         std::mem::swap(&mut self.theta, &mut self.next);
         self.history.push(step);
         Some(step)
+    }
+
+    /// After [`IvfSolver::iterate`] returned `None`: `Some` if it met NaN or infinity, with
+    /// the line (Hz) where the model impedance or its inverse is not finite, or `None` for
+    /// the normal equations of all lines together; `None` if the model is singular at a line.
+    pub fn non_finite(&self) -> Option<Option<f64>> {
+        self.non_finite
+    }
+
+    /// Why the instruments of the current iterate could not be formed (allocates; only on
+    /// that failure): the first line where the model impedance or its inverse is not finite;
+    /// `None` where the impedance is singular; the normal equations' sums otherwise.
+    fn locate(&self) -> Option<Option<f64>> {
+        let finite = |m: &Mat<c64>| m.col_iter().all(|c| c.iter().all(|z| z.is_finite()));
+        let Ok(model) = Coefficients::from_stacked(self.theta.as_ref()) else {
+            return Some(None);
+        };
+        for &f in &self.freqs_hz {
+            if !finite(&model.impedance_at(f)) {
+                return Some(Some(f));
+            }
+            match model.flexibility_at(f) {
+                Ok(g) if !finite(&g) => return Some(Some(f)),
+                Ok(_) => {}
+                Err(_) => return None,
+            }
+        }
+        Some(None)
     }
 
     /// Iterates until the block-wise change falls below the tolerance, the iteration limit,
@@ -242,9 +282,17 @@ impl IvfSolver {
         let mut convergence = None;
         while self.history.len() < self.options.max_iterations {
             let Some(step) = self.iterate() else {
-                convergence = Some(Convergence::Diverged {
-                    iterations: self.history.len(),
-                    fallback_iteration: best.1,
+                let (iterations, fallback_iteration) = (self.history.len(), best.1);
+                convergence = Some(match self.non_finite {
+                    Some(freq_hz) => Convergence::NonFinite {
+                        iterations,
+                        fallback_iteration,
+                        freq_hz,
+                    },
+                    None => Convergence::Diverged {
+                        iterations,
+                        fallback_iteration,
+                    },
                 });
                 break;
             };
@@ -276,7 +324,7 @@ impl IvfSolver {
             iterations: self.options.max_iterations,
             change: self.history.last().map(Iteration::change),
         });
-        if let Convergence::Diverged { .. } = convergence {
+        if let Convergence::Diverged { .. } | Convergence::NonFinite { .. } = convergence {
             self.theta = best.2;
         }
         // Instruments at the returned iterate, for the sandwich covariance.

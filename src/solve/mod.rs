@@ -142,16 +142,28 @@ pub enum Convergence {
         /// The iterate returned (0 = the least-squares start).
         fallback_iteration: usize,
     },
+    /// The next iteration met NaN or infinity (the model's impedance or its inverse at a
+    /// line, or the normal equations); the iterate with the smallest change is returned.
+    NonFinite {
+        /// Iterations run before it (the one that met it is not counted).
+        iterations: usize,
+        /// The iterate returned (0 = the least-squares start).
+        fallback_iteration: usize,
+        /// The line where it met it (Hz); `None` for the normal equations of all lines.
+        freq_hz: Option<f64>,
+    },
 }
 
 impl Convergence {
-    /// Short name: `"not_iterative"`, `"converged"`, `"iteration_limit"` or `"diverged"`.
+    /// Short name: `"not_iterative"`, `"converged"`, `"iteration_limit"`, `"diverged"` or
+    /// `"non_finite"`.
     pub fn name(self) -> &'static str {
         match self {
             Convergence::NotIterative => "not_iterative",
             Convergence::Converged { .. } => "converged",
             Convergence::IterationLimit { .. } => "iteration_limit",
             Convergence::Diverged { .. } => "diverged",
+            Convergence::NonFinite { .. } => "non_finite",
         }
     }
 
@@ -169,7 +181,8 @@ impl Convergence {
             Convergence::NotIterative => 0,
             Convergence::Converged { iterations }
             | Convergence::IterationLimit { iterations, .. }
-            | Convergence::Diverged { iterations, .. } => iterations,
+            | Convergence::Diverged { iterations, .. }
+            | Convergence::NonFinite { iterations, .. } => iterations,
         }
     }
 }
@@ -366,6 +379,38 @@ pub(crate) fn fit_point(frf: &Frf, method: Method, options: &IvfOptions) -> Resu
     }
 }
 
+/// [`Error::ImpedanceScale`](crate::Error::ImpedanceScale) when the impedance of `frf` is so
+/// far from 1 N/m that the squares a fit forms leave f64: with `h` the median over the lines of
+/// the largest `|H_ij|`, one of `h²`, `1/h²` (the flexibility's), `(ω_hi²/h)²` (its products
+/// with the mass column) or `(h/ω_lo²)²` is not a normal number. Nominal bearings (`h` of 1e3
+/// to 1e10 N/m) are about 140 decades inside; asked only once a fit has failed, to name the
+/// cause.
+pub(crate) fn impedance_out_of_range(frf: &Frf) -> Option<crate::Error> {
+    let mut largest: Vec<f64> = (0..frf.line_count())
+        .map(|k| {
+            let h = frf.impedance(k);
+            h.col_iter()
+                .flat_map(|c| c.iter().map(|z| z.norm()).collect::<Vec<_>>())
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    if largest.is_empty() {
+        return None;
+    }
+    largest.sort_by(f64::total_cmp);
+    let h = largest[largest.len() / 2];
+    if h == 0.0 {
+        return None;
+    }
+    let omega = |f: f64| (2.0 * std::f64::consts::PI * f).max(1.0);
+    let freqs = frf.freqs_hz().iter();
+    let lo = freqs.clone().fold(f64::INFINITY, |m, &f| m.min(omega(f)));
+    let hi = freqs.fold(0.0_f64, |m, &f| m.max(omega(f)));
+    let normal = |x: f64| (x * x).is_normal();
+    let fits = normal(h) && normal(1.0 / h) && normal(hi * hi / h) && normal(h / (lo * lo));
+    (!fits).then_some(crate::Error::ImpedanceScale { magnitude: h })
+}
+
 /// Lines a band must hold to fit `n` degrees of freedom: `⌈3n/2⌉ + 3`, a few more than the
 /// `3n` unknowns per column need (`2N` equations per column).
 pub fn required_lines(n: usize) -> usize {
@@ -394,7 +439,7 @@ fn finish(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::error::Error;
     use faer::{c64, mat};
@@ -546,6 +591,52 @@ mod tests {
         assert_eq!(fallback_iteration, best + 1);
         assert!(fit.coefficients().stacked().norm_l2().is_finite());
         assert!(!fit.convergence().is_converged());
+    }
+
+    /// The seed-like `truth`'s exact flexibilities × 1e-200 over 8–49 Hz: an impedance of
+    /// about 1e205 N/m, whose least-squares start is fine but whose IVF normal equations
+    /// underflow.
+    pub(crate) fn out_of_range_frf() -> Frf {
+        let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+        let g: Vec<Mat<c64>> = freqs
+            .iter()
+            .map(|&f| {
+                let g = truth().flexibility_at(f).unwrap();
+                Mat::from_fn(2, 2, |i, j| g[(i, j)] * 1e-200)
+            })
+            .collect();
+        Frf::from_flexibility(freqs, &g).unwrap()
+    }
+
+    /// NaN inside the IVF ends it as `NonFinite` (not `Diverged` "after 0 iterations"), with
+    /// the least-squares start returned; the impedance's level is named as out of range, a
+    /// nominal one is not.
+    #[test]
+    fn an_iteration_that_meets_nan_says_so() {
+        let frf = out_of_range_frf();
+        let fit = fit(&frf, Method::Ivf, &IvfOptions::default()).unwrap();
+        assert!(
+            matches!(
+                fit.convergence(),
+                Convergence::NonFinite {
+                    iterations: 0,
+                    fallback_iteration: 0,
+                    ..
+                }
+            ),
+            "{:?}",
+            fit.convergence()
+        );
+        assert_eq!(fit.convergence().name(), "non_finite");
+        assert!(fit.coefficients().stacked().norm_l2().is_finite());
+        match impedance_out_of_range(&frf) {
+            Some(Error::ImpedanceScale { magnitude }) => {
+                assert!((magnitude.log10() - 205.0).abs() < 1.0, "{magnitude:e}")
+            }
+            e => panic!("{e:?}"),
+        }
+        let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+        assert!(impedance_out_of_range(&exact_frf(&truth(), &freqs)).is_none());
     }
 
     #[test]

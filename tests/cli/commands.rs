@@ -1556,3 +1556,80 @@ fn a_coherence_minimum_too_high_is_named() {
         "{v}"
     );
 }
+
+/// One column named as both force and response (or twice) is refused before any file is read,
+/// naming it (before: `not_converged` after the whole run); exchanged force and response
+/// columns are suggested as such: not read as two transfer FRFs (random records, where a fit
+/// comes out), and named as a likely cause when impacts so read fail.
+#[test]
+fn a_column_named_twice_is_refused_and_swapped_columns_are_suggested() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("not-read.csv");
+    let missing = missing.to_str().unwrap();
+    for (force, disp, says) in [
+        (
+            "fx,fy",
+            "fx,y",
+            "channel `fx` is named in --force and in --disp",
+        ),
+        ("fx,fx", "x,y", "channel `fx` is named twice in --force"),
+        (
+            "t,fy",
+            "x,y",
+            "channel `t` is named in --time and in --force",
+        ),
+    ] {
+        let o = run(&[
+            "identify", "--json", "--band", "8,49", "--force", force, "--disp", disp, missing,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{force} {disp}");
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["error"], "invalid_argument", "{v}");
+        let m = v["message"].as_str().unwrap();
+        assert!(m.starts_with(says), "{m}");
+    }
+    let files = simulate(dir.path(), &["--kind", "random", "--records", "2"]);
+    let o = run(&[
+        &[
+            "identify", "--json", "--band", "8,49", "--force", "x,y", "--disp", "fx,fy",
+        ][..],
+        &files.iter().map(String::as_str).collect::<Vec<_>>(),
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let kinds: Vec<&str> = v["warning_kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    assert!(kinds.contains(&"swapped_channels"), "{kinds:?}");
+    assert!(!kinds.contains(&"transfer_frf"), "{kinds:?}");
+    // Impacts read the wrong way round are taken for random records and fail; the message
+    // asks whether the columns are exchanged (before: "the band holds 3 usable frequency
+    // lines" alone).
+    let hits = dir.path().join("hits");
+    let files = simulate(&hits, &["--impacts", "2"]);
+    let o = run(&[
+        &[
+            "identify", "--json", "--band", "8,49", "--force", "x,y", "--disp", "fx,fy",
+        ][..],
+        &files.iter().map(String::as_str).collect::<Vec<_>>(),
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = v["message"].as_str().unwrap();
+    assert!(
+        m.ends_with("are the columns of --force and --disp exchanged?"),
+        "{m}"
+    );
+    // Read the right way round, the same records fit.
+    let o = run(&[
+        &["identify", "--json", "--band", "8,49"][..],
+        &files.iter().map(String::as_str).collect::<Vec<_>>(),
+    ]
+    .concat());
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+}

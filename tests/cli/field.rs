@@ -240,6 +240,27 @@ fn errors_have_their_kinds_and_exit_2() {
     std::fs::write(&t, tests_json(&iso).to_string()).unwrap();
     assert_eq!(error_kind(&field(&r, &t, &[])), "rank_deficient");
 
+    // A response of 1e308 m (a test's, so that the pair it enters is not dependent): named
+    // with its test and entry; before, a "dependent tests" warning with K, C left out there.
+    let mut v = good.clone();
+    let entry = v["responses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|r| r["test"] == "1")
+        .unwrap();
+    v["responses"][entry]["re"] = json!(1e308);
+    std::fs::write(&t, v.to_string()).unwrap();
+    let out = field(&r, &t, &[]);
+    assert_eq!(error_kind(&out), "invalid_input");
+    let message = json_of(&out)["message"].as_str().unwrap().to_owned();
+    assert!(
+        message.starts_with(&format!("response {entry} (speed "))
+            && message.contains("test `1`")
+            && message.contains("value 1e308 m is past 1e150"),
+        "{message}"
+    );
+
     // A malformed rotor: K of the wrong size.
     std::fs::write(&t, good.to_string()).unwrap();
     let mut rv: Value = serde_json::from_str(&rotor_json(&rotor)).unwrap();

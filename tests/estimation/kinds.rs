@@ -4,7 +4,7 @@
 
 use bearing_ident::io::{CsvLayout, read_record_from};
 use bearing_ident::simulate::{ImpactTest, seed_rig};
-use bearing_ident::{Channel, Error, Estimator, Identifier, Record};
+use bearing_ident::{Channel, Error, Estimator, Identifier, Method, NonConvergence, Record};
 
 fn records(per_direction: usize) -> Vec<Record> {
     ImpactTest {
@@ -203,4 +203,92 @@ fn rates_that_the_reader_accepts_agree() {
     .unwrap();
     let e = bearing_ident::frf::common_shape(&[a, faster], None).unwrap_err();
     assert_eq!(e.kind(), "inconsistent_records");
+}
+
+/// `record` with its forces multiplied by `force` and its responses by `response`.
+fn scaled(record: &Record, force: f64, response: f64) -> Record {
+    let n = record.dofs();
+    let times = |v: &[f64], k: f64| v.iter().map(|x| x * k).collect::<Vec<f64>>();
+    Record::new(
+        record.label(),
+        record.sample_rate(),
+        (0..n).map(|c| times(record.force(c), force)).collect(),
+        (0..n)
+            .map(|c| times(record.displacement(c), response))
+            .collect(),
+    )
+    .unwrap()
+}
+
+/// Every response × 1e-310 (subnormal samples) or × 1e-300, or every force × 1e-300, or
+/// responses × 1e300: the record and channel whose levels leave f64 are named (before:
+/// `rank_deficient` "span 1 of 2 directions", `not_converged` "in 0 iterations (last relative
+/// change NaN)" or "the coherence … is not finite" naming nothing).
+#[test]
+fn levels_that_leave_f64_name_the_record_and_channel() {
+    let recs = records(1);
+    for (force, response, forces, subnormal) in [
+        (1.0, 1e-310, false, true),
+        (1.0, 1e-300, false, false),
+        (1e-300, 1.0, true, false),
+        (1.0, 1e300, false, false),
+    ] {
+        let all: Vec<Record> = recs.iter().map(|r| scaled(r, force, response)).collect();
+        for estimator in [Estimator::PairedSets, Estimator::H1] {
+            let e = Identifier::new(8.0, 49.0)
+                .estimator(estimator)
+                .on_non_convergence(NonConvergence::Fail)
+                .identify(&all)
+                .unwrap_err();
+            let case = format!("{force:e} {response:e} {estimator:?}: {e}");
+            assert_eq!(e.kind(), "non_finite", "{case}");
+            // An overflow can meet a cross-spectrum first: named there, as before.
+            match &e {
+                Error::LevelOutOfRange {
+                    record, channel, ..
+                }
+                | Error::SpectrumOverflow {
+                    record, channel, ..
+                } => {
+                    assert_eq!(record, "impact-dof0-0", "{case}");
+                    assert_eq!(matches!(channel, Channel::Force(_)), forces, "{case}");
+                }
+                _ => panic!("{case}"),
+            }
+            assert_eq!(e.to_string().contains("subnormal"), subnormal, "{case}");
+        }
+    }
+}
+
+/// Forces and responses scaled 1e200 apart (|H| about 1e205 or 1e-195 N/m): the impedance's
+/// level is named with the advice to rescale, for IVF and ML (before: `not_converged` "in 0
+/// iterations (last relative change NaN)"); 1e150 apart still fits, K scaled exactly.
+#[test]
+fn an_impedance_far_from_one_names_the_units() {
+    let recs = records(2);
+    for (force, response, level) in [(1e100, 1e-100, 205.0), (1e-100, 1e100, -195.0)] {
+        let all: Vec<Record> = recs.iter().map(|r| scaled(r, force, response)).collect();
+        for method in [Method::Ivf, Method::Ml] {
+            let e = Identifier::new(8.0, 49.0)
+                .method(method)
+                .on_non_convergence(NonConvergence::Fail)
+                .identify(&all)
+                .unwrap_err();
+            let case = format!("{force:e} {method:?}: {e}");
+            assert_eq!(e.kind(), "non_finite", "{case}");
+            match e {
+                Error::ImpedanceScale { magnitude } => {
+                    assert!((magnitude.log10() - level).abs() < 1.0, "{case}")
+                }
+                _ => panic!("{case}"),
+            }
+        }
+    }
+    let all: Vec<Record> = recs.iter().map(|r| scaled(r, 1e75, 1e-75)).collect();
+    let id = Identifier::new(8.0, 49.0)
+        .on_non_convergence(NonConvergence::Fail)
+        .identify(&all)
+        .unwrap();
+    let k = id.coefficients().stiffness()[(0, 0)];
+    assert!((k / 146.3e153 - 1.0).abs() < 1e-2, "K = {k:e}");
 }

@@ -4,7 +4,7 @@
 use faer::{Mat, c64};
 
 use super::NoiseModel;
-use crate::error::{Error, Result};
+use crate::error::{Error, Quantity, Result};
 use crate::frf::PeriodStatistics;
 use crate::model::Coefficients;
 use crate::records::finite_positive;
@@ -41,7 +41,8 @@ impl MlData {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for empty data, mismatched sizes, fewer columns than
-    /// degrees of freedom, a frequency that is not finite and positive, or non-finite entries.
+    /// degrees of freedom, or a frequency that is not finite and positive;
+    /// [`Error::NonFiniteResult`] naming the first line with a non-finite entry.
     pub fn new(
         freqs_hz: Vec<f64>,
         x: &[Mat<c64>],
@@ -120,13 +121,21 @@ impl MlData {
                     dst.extend((0..n).map(|i| m[(i, j)]));
                 }
             }
-        }
-        let finite = |v: &[c64]| v.iter().all(|z| z.re.is_finite() && z.im.is_finite());
-        if ![&data.x, &data.f, &data.cx, &data.cf, &data.cxf]
-            .iter()
-            .all(|v| finite(v))
-        {
-            return Err(bad(crate::Parameter::MlData, f64::NAN, "finite entries"));
+            // This line's entries, just added.
+            let finite =
+                |v: &[c64], per_line: usize| v[v.len() - per_line..].iter().all(|z| z.is_finite());
+            let (xf, nn) = (columns * n, n * n);
+            let all = finite(&data.x, xf)
+                && finite(&data.f, xf)
+                && [&data.cx, &data.cf, &data.cxf]
+                    .iter()
+                    .all(|v| finite(v, nn));
+            if !all {
+                return Err(Error::NonFiniteResult {
+                    stage: Quantity::MlData,
+                    freq_hz: w,
+                });
+            }
         }
         Ok(data)
     }

@@ -431,6 +431,25 @@ mod tests {
     use crate::simulate::seed_rig;
 
     /// The analytic gradient against central differences of the cost.
+    /// A NaN in the data (a noise model fed an overflowed spectrum) is `non_finite` naming
+    /// the line (before: `invalid_argument` "parameter `ml data` = NaN").
+    #[test]
+    fn non_finite_data_name_the_line() {
+        let one = Mat::<c64>::identity(1, 1);
+        let mut x = vec![one.clone(); 3];
+        x[1][(0, 0)] = c64::new(f64::NAN, 0.0);
+        let (f, c) = (vec![one.clone(); 3], vec![one.clone(); 3]);
+        let e = MlData::new(vec![10.0, 11.0, 12.0], &x, &f, &c, &c, &c).unwrap_err();
+        assert_eq!(e.kind(), "non_finite");
+        assert_eq!(
+            e,
+            Error::NonFiniteResult {
+                stage: crate::error::Quantity::MlData,
+                freq_hz: 11.0
+            }
+        );
+    }
+
     #[test]
     fn gradient_matches_finite_differences() {
         let rig = seed_rig();
