@@ -38,6 +38,9 @@ named_table! {
         GeometryProbes => "geometry probes",
         /// `geometry forces`, checked in `job::Geometry`.
         GeometryForces => "geometry forces",
+        // ---- Predicted bias (`crate::gate`) ----
+        /// `lightest half-power bandwidth`, checked in `gate::leaked_flexibility`.
+        LightestBandwidth => "lightest half-power bandwidth",
         // ---- Spectra (`crate::spectra`) ----
         /// `force gate`, checked in `spectra`.
         ForceGate => "force gate",
