@@ -184,7 +184,7 @@ pub fn leaked_flexibility(
     // spacing would need a kernel of unbounded size (memory and time from data): such a mode
     // is not predicted here (the `coarse_resolution` warning names it).
     let half = (8.0 * df / step).ceil();
-    if !(half <= MAX_HALF_KERNEL as f64) {
+    if half.is_nan() || half > MAX_HALF_KERNEL as f64 {
         return Err(Error::InvalidParameter {
             name: Parameter::LightestBandwidth,
             value: lightest,
