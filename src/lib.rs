@@ -145,6 +145,8 @@ pub mod solve;
 pub mod spectra;
 pub mod statistics;
 pub mod stepped;
+#[cfg(any(feature = "plot", feature = "campaign"))]
+mod text;
 pub mod tolerance;
 #[cfg(feature = "uff")]
 pub mod uff;

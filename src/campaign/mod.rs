@@ -43,6 +43,7 @@
 //! | file | what lives there |
 //! |---|---|
 //! | `plan.rs` | [`Plan`] read from TOML, every fault named by line |
+//! | `point.rs` | what a plan names: [`Unit`], [`Condition`], [`Value`], [`Coefficient`], [`Point`] |
 //! | `run.rs` | [`Plan::run`]: files, jobs, parallel points, baselines, references |
 //! | `cache.rs` | results kept by a digest of the files' bytes and the settings |
 //! | `output.rs` | [`Campaign::to_json`], [`Campaign::to_csv`], [`Campaign::to_table`] |
@@ -74,10 +75,13 @@
 mod cache;
 mod output;
 mod plan;
+mod point;
 mod ross;
 mod run;
 
 pub use output::json_file_name;
-pub use plan::{Coefficient, Condition, Expectation, Plan, Point, Setting, Unit, Value};
+pub use plan::Plan;
+pub(crate) use point::axis_names;
+pub use point::{Coefficient, Condition, Expectation, Point, Setting, Unit, Value};
 pub use ross::SpeedTable;
 pub use run::{Campaign, Check, Failure, Fit, PointResult, RunOptions};

@@ -6,10 +6,11 @@ use std::path::Path;
 
 use serde_json::{Map, Value as Json, json};
 
-use super::plan::Value;
+use super::point::Value;
 use super::run::{Campaign, Fit, PointResult};
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
+use crate::text::significant as sig;
 
 /// The blocks in the CSV's column order (`k…`, `c…`, `m…`), by letter.
 /// One block of a coefficient set.
@@ -20,18 +21,6 @@ const BLOCKS: [(char, Pick); 3] = [
     ('c', Coefficients::damping),
     ('m', Coefficients::mass),
 ];
-
-/// The axis letters of an `n`-DOF table: `x`, `y`, `z`, then `1`, `2`, … for more.
-fn axes(n: usize) -> Vec<String> {
-    if n <= 3 {
-        ["x", "y", "z"][..n]
-            .iter()
-            .map(|s| (*s).to_owned())
-            .collect()
-    } else {
-        (1..=n).map(|i| i.to_string()).collect()
-    }
-}
 
 fn value_json(v: &Option<Value>) -> Json {
     match v {
@@ -126,7 +115,7 @@ impl Campaign {
             .iter()
             .find_map(|p| p.result.as_ref().ok().map(|f| f.coefficients.dofs()))
             .unwrap_or(2);
-        let axes = axes(n);
+        let axes = super::axis_names(n);
         let mut s = String::from("name");
         for c in &self.plan.conditions {
             let _ = write!(s, ",{} [{}]", csv_field(&c.name), csv_field(c.unit.name()));
@@ -231,7 +220,7 @@ impl Campaign {
             .iter()
             .find_map(|p| p.result.as_ref().ok().map(|f| f.coefficients.dofs()))
             .unwrap_or(0);
-        let axes = axes(n);
+        let axes = super::axis_names(n);
         for (letter, unit) in [('K', "N/m"), ('C', "N·s/m"), ('M', "kg")] {
             for a in &axes {
                 header.push(format!("{letter}_{a}{a} [{unit}]"));
@@ -313,18 +302,6 @@ fn diagonal(fit: &Fit, n: usize) -> Vec<String> {
         }
     }
     out
-}
-
-/// `x` to `digits` significant digits: fixed-point from 10⁻³ to below 10⁶, else scientific.
-fn sig(x: f64, digits: usize) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    if x.abs() >= 1e6 || x.abs() < 1e-3 {
-        return format!("{x:.prec$e}", prec = digits.saturating_sub(1));
-    }
-    let decimals = (digits as i32 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
-    format!("{x:.decimals$}")
 }
 
 /// A CSV field, quoted when it holds a comma, quote or line break.

@@ -7,10 +7,10 @@ use std::fmt::Write as _;
 
 use serde_json::Value as Json;
 
-use super::plan::Value;
+use super::point::Value;
 use super::run::Campaign;
 use crate::error::{Error, Result, excerpt};
-use crate::export::ross::{Matrix2, array, quoted};
+use crate::export::ross::{Matrix2, array, quoted, two};
 
 /// A bearing element tabulated over rotor speed (rad/s), and over whirl frequency (rad/s)
 /// when built from per-line coefficients.
@@ -36,10 +36,6 @@ pub struct SpeedTable {
 
 fn bad(option: &'static str, message: String) -> Error {
     Error::InvalidOption { option, message }
-}
-
-fn two(m: faer::MatRef<'_, f64>) -> Matrix2 {
-    [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]]
 }
 
 /// Rows of a 2 × 2 block at `key` of a per-line JSON object.

@@ -10,7 +10,8 @@ use faer::Mat;
 use serde_json::Value as Json;
 
 use super::cache::Cache;
-use super::plan::{Coefficient, Plan, Point, Setting, Value};
+use super::plan::Plan;
+use super::point::{Coefficient, Point, Setting, Value};
 use crate::error::{Error, Result, excerpt};
 use crate::identify::Baseline;
 use crate::job::{Channels, Job, Options, Outcome};
@@ -333,25 +334,34 @@ impl Plan {
             .map(|k| k.as_ref().and_then(|k| cache.as_ref()?.load(k)))
             .collect();
         let reused = cached.iter().filter(|c| c.is_some()).count();
-        let outcomes = self.identify(&prepared, &cached, run.jobs.max(1), &observe);
-        // The systems' JSON, then the bearings of the points with baselines.
+        let mut outcomes = self.identify(&prepared, &cached, run.jobs.max(1), &observe);
+        // The systems' JSON (a point with a baseline gets its own below, once, unless another
+        // point subtracts it), then the bearings of the points with baselines.
+        let subtracted: Vec<bool> = (0..self.points.len())
+            .map(|i| self.points.iter().any(|p| p.baseline == Some(i)))
+            .collect();
         let mut json: Vec<std::result::Result<Json, Failure>> = outcomes
             .iter()
             .zip(&cached)
-            .map(|(o, c)| match (c, o) {
+            .enumerate()
+            .map(|(i, (o, c))| match (c, o) {
                 (Some(c), _) => Ok(c.clone()),
+                (None, Some(Ok(_))) if self.points[i].baseline.is_some() && !subtracted[i] => {
+                    Ok(Json::Null)
+                }
                 (None, Some(Ok(o))) => o.to_json(run.per_frequency).map_err(Failure::from),
                 (None, Some(Err(e))) => Err(e.clone()),
                 (None, None) => unreachable!("every point not in the cache is identified"),
             })
             .collect();
-        let mut outcomes = outcomes;
         for (i, point) in self.points.iter().enumerate() {
-            let (Some(j), None, Some(Ok(outcome))) = (point.baseline, &cached[i], &outcomes[i])
-            else {
+            let (Some(j), None) = (point.baseline, &cached[i]) else {
                 continue;
             };
-            let outcome = outcome.clone();
+            // The outcome is taken out, given its bearing and put back: never copied.
+            let Some(Ok(mut outcome)) = outcomes[i].take() else {
+                continue;
+            };
             json[i] = match &json[j] {
                 Err(e) => Err(Failure {
                     kind: e.kind.clone(),
@@ -361,18 +371,14 @@ impl Plan {
                         e.message
                     ),
                 }),
-                Ok(dry) => {
-                    let mut outcome = outcome;
-                    let json = Baseline::from_json(&dry.to_string())
-                        .and_then(|b| {
-                            outcome.subtract_baseline(b, &format!("point {}", self.points[j].name))
-                        })
-                        .and_then(|()| outcome.to_json(run.per_frequency))
-                        .map_err(Failure::from);
-                    outcomes[i] = Some(Ok(outcome));
-                    json
-                }
+                Ok(dry) => Baseline::from_json(&dry.to_string())
+                    .and_then(|b| {
+                        outcome.subtract_baseline(b, &format!("point {}", self.points[j].name))
+                    })
+                    .and_then(|()| outcome.to_json(run.per_frequency))
+                    .map_err(Failure::from),
             };
+            outcomes[i] = Some(Ok(outcome));
         }
         if let Some(cache) = &cache {
             for ((key, c), j) in keys.iter().zip(&cached).zip(&json) {

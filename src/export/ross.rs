@@ -63,7 +63,7 @@ use crate::per_frequency::PerFrequency;
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
 /// `[[m00, m01], [m10, m11]]` of a 2 × 2 matrix.
-fn two(m: MatRef<'_, f64>) -> Matrix2 {
+pub(crate) fn two(m: MatRef<'_, f64>) -> Matrix2 {
     [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]]
 }
 

@@ -8,7 +8,8 @@
 //!
 //! | file | what lives there |
 //! |---|---|
-//! | `mod.rs` | [`Job`], [`Options`], [`Outcome`], the run |
+//! | `mod.rs` | [`Job`], the run |
+//! | `outcome.rs` | [`Outcome`] and [`Bearing`]: what a run found |
 //! | `options.rs` | [`Options`] and [`WindowChoice`], their defaults and names |
 //! | `read.rs` | [`Channels`], [`read_file`], the read-ahead workers |
 //! | `geometry.rs` | [`Geometry`]: probe and force planes moved to the bearing plane |
@@ -32,6 +33,7 @@ mod geometry;
 #[cfg(feature = "json")]
 mod json;
 mod options;
+mod outcome;
 mod read;
 
 use std::borrow::Cow;
@@ -42,6 +44,7 @@ pub use geometry::Geometry;
 #[cfg(feature = "json")]
 pub use json::{Facts, json};
 pub use options::{Options, WindowChoice, parse_band};
+pub use outcome::{Bearing, Outcome};
 pub use read::{Channels, is_uff, read_file, read_first, response_columns};
 
 use crate::error::{Error, Result};
@@ -52,7 +55,6 @@ use crate::excitation::{
 use crate::frf::Assignment;
 use crate::gate::FitGate;
 use crate::identify::{Identification, Identifier, NonConvergence, Screening};
-use crate::model::Coefficients;
 use crate::records::Record;
 use crate::spectra::{ForceGate, Segmentation};
 use crate::{Method, Uncertainty};
@@ -87,105 +89,6 @@ pub enum Progress<'a> {
 pub struct Job {
     options: Options,
     channels: Channels,
-}
-
-/// The system minus a dry-structure baseline ([`Options::baseline`]).
-#[derive(Debug, Clone)]
-pub struct Bearing {
-    /// `M`, `C`, `K` of the system less those of the baseline.
-    pub coefficients: Coefficients,
-    /// Their standard deviations (the variances add), when both have error bars.
-    pub std_dev: Option<Coefficients>,
-    /// Where the baseline came from (the path given).
-    pub source: String,
-}
-
-/// What a [`Job`] found: the identification, and the facts about the run that it does not
-/// hold (the records used, the excitation and how it was decided, the Welch choice, times).
-#[derive(Debug, Clone)]
-pub struct Outcome {
-    identification: Identification,
-    identifier: Identifier,
-    files: Vec<String>,
-    excitation: Excitation,
-    detected: bool,
-    crest_factor: f64,
-    segment_len: Option<usize>,
-    welch_choice: Option<WelchChoice>,
-    sample_rate: f64,
-    read: Duration,
-    compute: Duration,
-    bearing: Option<Bearing>,
-}
-
-impl Outcome {
-    /// The identification.
-    pub fn identification(&self) -> &Identification {
-        &self.identification
-    }
-
-    /// The identification, taken out.
-    pub fn into_identification(self) -> Identification {
-        self.identification
-    }
-
-    /// The settings the records were identified with (after the excitation's defaults and the
-    /// Welch choice).
-    pub fn identifier(&self) -> &Identifier {
-        &self.identifier
-    }
-
-    /// The labels of the records identified, in the order given: the file paths, or
-    /// `path#load-case` for a Universal File of several load cases.
-    pub fn files(&self) -> &[String] {
-        &self.files
-    }
-
-    /// The kind of excitation the records were identified as.
-    pub fn excitation(&self) -> Excitation {
-        self.excitation
-    }
-
-    /// Whether the excitation was detected from the records rather than given.
-    pub fn excitation_detected(&self) -> bool {
-        self.detected
-    }
-
-    /// Crest factor of the first record with a force that is not flat
-    /// ([`crate::excitation::crest_factor`]).
-    pub fn crest_factor(&self) -> f64 {
-        self.crest_factor
-    }
-
-    /// Samples per Welch segment or period, if the records were cut.
-    pub fn segment_len(&self) -> Option<usize> {
-        self.segment_len
-    }
-
-    /// How the Welch segment length was chosen from the data, if it was.
-    pub fn welch_choice(&self) -> Option<&WelchChoice> {
-        self.welch_choice.as_ref()
-    }
-
-    /// Sampling rate of the records (Hz).
-    pub fn sample_rate(&self) -> f64 {
-        self.sample_rate
-    }
-
-    /// Wall time spent waiting for files (zero for records in memory).
-    pub fn read_time(&self) -> Duration {
-        self.read
-    }
-
-    /// Wall time of the rest: detection, settings, identification, baseline.
-    pub fn compute_time(&self) -> Duration {
-        self.compute
-    }
-
-    /// The system minus the baseline, when one was given.
-    pub fn bearing(&self) -> Option<&Bearing> {
-        self.bearing.as_ref()
-    }
 }
 
 /// Where the records come from: the first file's (read on the calling thread) followed by the

@@ -130,13 +130,7 @@ pub fn campaign(
         legend.push((Key::Cross(DARK), "reference ± σ"));
     }
     let (w, h) = (options.panel_width.max(200), options.panel_height.max(160));
-    let axes = |i: usize| {
-        if n <= 3 {
-            ["x", "y", "z"][i].to_owned()
-        } else {
-            (i + 1).to_string()
-        }
-    };
+    let axes = crate::campaign::axis_names(n);
     render(
         crate::plot::Figure::Campaign,
         (w * n as u32 + 10, h * n as u32 + 80),
@@ -148,7 +142,7 @@ pub fn campaign(
             )?;
             for (e, panel) in body.split_evenly((n, n)).iter().enumerate() {
                 let (r, c) = (e / n, e % n);
-                let element = format!("{block}_{}{}", axes(r), axes(c));
+                let element = format!("{block}_{}{}", axes[r], axes[c]);
                 let per_group: Vec<Vec<(f64, f64, Option<f64>)>> = groups
                     .iter()
                     .map(|g| {

@@ -1,0 +1,107 @@
+//! What a [`Job`](super::Job)(super::Job) found ([`Outcome`]), and a system less its dry-structure
+//! baseline ([`Bearing`]).
+
+use std::time::Duration;
+
+use crate::excitation::{Excitation, WelchChoice};
+use crate::identify::{Identification, Identifier};
+use crate::model::Coefficients;
+
+/// The system minus a dry-structure baseline ([`Options::baseline`](super::Options::baseline)).
+#[derive(Debug, Clone)]
+pub struct Bearing {
+    /// `M`, `C`, `K` of the system less those of the baseline.
+    pub coefficients: Coefficients,
+    /// Their standard deviations (the variances add), when both have error bars.
+    pub std_dev: Option<Coefficients>,
+    /// Where the baseline came from (the path given).
+    pub source: String,
+}
+
+/// What a [`Job`](super::Job) found: the identification, and the facts about the run that it does not
+/// hold (the records used, the excitation and how it was decided, the Welch choice, times).
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub(super) identification: Identification,
+    pub(super) identifier: Identifier,
+    pub(super) files: Vec<String>,
+    pub(super) excitation: Excitation,
+    pub(super) detected: bool,
+    pub(super) crest_factor: f64,
+    pub(super) segment_len: Option<usize>,
+    pub(super) welch_choice: Option<WelchChoice>,
+    pub(super) sample_rate: f64,
+    pub(super) read: Duration,
+    pub(super) compute: Duration,
+    pub(super) bearing: Option<Bearing>,
+}
+
+impl Outcome {
+    /// The identification.
+    pub fn identification(&self) -> &Identification {
+        &self.identification
+    }
+
+    /// The identification, taken out.
+    pub fn into_identification(self) -> Identification {
+        self.identification
+    }
+
+    /// The settings the records were identified with (after the excitation's defaults and the
+    /// Welch choice).
+    pub fn identifier(&self) -> &Identifier {
+        &self.identifier
+    }
+
+    /// The labels of the records identified, in the order given: the file paths, or
+    /// `path#load-case` for a Universal File of several load cases.
+    pub fn files(&self) -> &[String] {
+        &self.files
+    }
+
+    /// The kind of excitation the records were identified as.
+    pub fn excitation(&self) -> Excitation {
+        self.excitation
+    }
+
+    /// Whether the excitation was detected from the records rather than given.
+    pub fn excitation_detected(&self) -> bool {
+        self.detected
+    }
+
+    /// Crest factor of the first record with a force that is not flat
+    /// ([`crate::excitation::crest_factor`]).
+    pub fn crest_factor(&self) -> f64 {
+        self.crest_factor
+    }
+
+    /// Samples per Welch segment or period, if the records were cut.
+    pub fn segment_len(&self) -> Option<usize> {
+        self.segment_len
+    }
+
+    /// How the Welch segment length was chosen from the data, if it was.
+    pub fn welch_choice(&self) -> Option<&WelchChoice> {
+        self.welch_choice.as_ref()
+    }
+
+    /// Sampling rate of the records (Hz).
+    pub fn sample_rate(&self) -> f64 {
+        self.sample_rate
+    }
+
+    /// Wall time spent waiting for files (zero for records in memory).
+    pub fn read_time(&self) -> Duration {
+        self.read
+    }
+
+    /// Wall time of the rest: detection, settings, identification, baseline.
+    pub fn compute_time(&self) -> Duration {
+        self.compute
+    }
+
+    /// The system minus the baseline, when one was given.
+    pub fn bearing(&self) -> Option<&Bearing> {
+        self.bearing.as_ref()
+    }
+}
