@@ -51,7 +51,10 @@ fn main() -> Result<(), bearing_ident::Error> {
     let report = ml.ml().expect("method ml reports");
     println!(
         "ML: {} steps, cost {:.1} from IVF's {:.1}, cost / expected {:.3}\n",
-        report.iterations, report.cost, report.start_cost, report.cost_ratio
+        report.convergence.iterations(),
+        report.cost,
+        report.start_cost,
+        report.cost_ratio
     );
     for (name, id) in [("IVF", &ivf), ("ML", &ml)] {
         let check = id.model_check();

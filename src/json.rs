@@ -122,29 +122,28 @@ impl Baseline {
         if let Some(f) = freqs.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
             return Err(bad(format!("`freqs_hz`: {f} is not a frequency")));
         }
-        let estimator = match v.get("estimator").and_then(Value::as_str) {
-            Some("paired") => Estimator::PairedSets,
-            Some("h1") => Estimator::H1,
-            Some("h2") => Estimator::H2,
-            Some("hv") => Estimator::Hv,
-            other => return Err(bad(format!("unknown `estimator` {other:?}"))),
-        };
+        let estimator = v
+            .get("estimator")
+            .and_then(Value::as_str)
+            .ok_or_else(|| bad("no `estimator`"))?
+            .parse::<Estimator>()
+            .map_err(|e| bad(e.to_string()))?;
         let window = match v.get("window").and_then(Value::as_str) {
-            Some("rect") => Window::Rectangular,
-            Some("hann") => Window::Hann,
+            // Before the window had a string form, an exponential window was `exp` and its
+            // decay `window_decay_per_s`.
             Some("exp") => {
                 let decay_per_s = v
                     .get("window_decay_per_s")
                     .and_then(Value::as_f64)
                     .ok_or_else(|| bad("no `window_decay_per_s` for the exponential window"))?;
-                if !(decay_per_s.is_finite() && decay_per_s >= 0.0) {
-                    return Err(bad(format!(
+                Window::exponential(decay_per_s).map_err(|_| {
+                    bad(format!(
                         "`window_decay_per_s` {decay_per_s} is not a finite decay ≥ 0"
-                    )));
-                }
-                Window::Exponential { decay_per_s }
+                    ))
+                })?
             }
-            other => return Err(bad(format!("unknown `window` {other:?}"))),
+            Some(text) => text.parse::<Window>().map_err(|e| bad(e.to_string()))?,
+            None => return Err(bad("no `window`")),
         };
         Ok(Baseline::new(
             coefficients,

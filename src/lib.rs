@@ -114,6 +114,7 @@
 
 #[cfg(feature = "campaign")]
 pub mod campaign;
+pub mod choice;
 pub mod conditioning;
 pub mod error;
 pub mod excitation;
@@ -152,6 +153,7 @@ pub mod tolerance;
 pub mod uff;
 
 // The types the façade's signatures name, at the crate root.
+pub use choice::Choice;
 pub use conditioning::{ConditionLimits, Conditioning};
 pub use error::{Block, Channel, Error, ErrorKind, Parameter, Result, Warning};
 pub use excitation::Excitation;

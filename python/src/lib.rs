@@ -6,7 +6,7 @@
 use bearing_ident::campaign::{Campaign, Plan, RunOptions, Value};
 use bearing_ident::export::ross::{BearingElement, Table};
 use bearing_ident::job::{Channels, Job, Options, Outcome};
-use bearing_ident::{Error, ErrorKind, Record, Response};
+use bearing_ident::{Choice, Error, ErrorKind, Record, Response};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;

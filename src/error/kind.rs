@@ -172,11 +172,8 @@ impl Error {
             Error::UffRecord { .. } => ErrorKind::InconsistentRecords,
             Error::ExportDofs { .. } => ErrorKind::InvalidArgument,
             Error::SimulationDiverged { .. } => ErrorKind::NonFinite,
-            Error::FieldInput { .. } | Error::Plan { .. } => ErrorKind::InvalidInput,
-            Error::FieldNonFinite { .. } => ErrorKind::NonFinite,
-            Error::MissingResponse { .. } => ErrorKind::MissingResponse,
-            Error::Underdetermined { .. } => ErrorKind::Underdetermined,
-            Error::FieldRankDeficient { .. } => ErrorKind::RankDeficient,
+            Error::Plan { .. } => ErrorKind::InvalidInput,
+            Error::Field(e) => e.kind(),
         }
     }
 }

@@ -10,7 +10,7 @@ use crate::Method;
 use super::{Channel, Error, excerpt};
 
 /// Why a field identification's response pairs are singular everywhere, and what to change.
-fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
+pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
     if dependent_tests {
         "the two tests' added imbalance forces are proportional (masses in one plane give a \
          rank-1 pair whatever their angles): put the second test's masses in another plane"
@@ -416,42 +416,12 @@ impl fmt::Display for Error {
                 iteration,
                 freq_hz,
             } => f.write_str(&iteration_non_finite(*method, *iteration, *freq_hz)),
-            Error::FieldInput { message } => write!(f, "{message}"),
+            Error::Field(e) => e.fmt(f),
             Error::Plan {
                 file,
                 line,
                 message,
             } => write!(f, "{file}:{line}: {message}"),
-            Error::FieldNonFinite { what } => write!(f, "{what} is not finite"),
-            Error::MissingResponse {
-                speed_rad_s,
-                test,
-                node,
-                dir,
-            } => write!(
-                f,
-                "no response at {speed_rad_s} rad/s, test `{test}`, node {node}, direction {dir}: \
-         every speed and test needs every probe"
-            ),
-            Error::Underdetermined {
-                measured,
-                bearing_dofs,
-                reason,
-            } => write!(
-                f,
-                "{measured} measured degrees of freedom for {bearing_dofs} bearing degrees of freedom: \
-         {reason}"
-            ),
-            Error::FieldRankDeficient {
-                bearing,
-                worst,
-                dependent_tests,
-            } => write!(
-                f,
-                "bearing `{bearing}`: the two tests' responses are dependent at every speed (smallest \
-         condition number {worst:.3e}): {}",
-                rank_deficient_advice(*dependent_tests)
-            ),
             Error::Io { path, message } => write!(f, "{path}: {message}"),
             #[cfg(feature = "csv")]
             Error::Csv {

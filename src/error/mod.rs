@@ -14,6 +14,7 @@
 //! input ([`excerpt`]).
 
 mod convert;
+mod field;
 mod kind;
 mod message;
 mod parameter;
@@ -23,6 +24,7 @@ mod table;
 mod warning;
 mod warning_text;
 
+pub use field::FieldError;
 pub use kind::ErrorKind;
 pub use parameter::Parameter;
 pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
@@ -61,7 +63,7 @@ pub enum Error {
         /// The name given.
         given: String,
         /// The accepted names, in words.
-        expected: &'static str,
+        expected: std::borrow::Cow<'static, str>,
     },
     /// An option of an identification from files ([`crate::job::Options`]) does not fit:
     /// a value that does not parse, or one the records cannot take (a period without periodic
@@ -461,50 +463,9 @@ pub enum Error {
         message: String,
     },
     // ---- Field identification (`crate::field`) ----
-    /// Field identification ([`field`](crate::field)): a rotor model or test set that is not
-    /// well formed (shapes, names, nodes, speeds, masses); the message names the key or record.
-    FieldInput {
-        /// What is wrong, naming the key or record (input quoted by at most 80 characters).
-        message: String,
-    },
-    /// Field identification: a NaN or infinite value in a rotor model or a test set.
-    FieldNonFinite {
-        /// The matrix entry or response holding the value.
-        what: String,
-    },
-    /// Field identification: a measured degree of freedom lacks its response at a speed and
-    /// run (every speed and run needs the same probes).
-    MissingResponse {
-        /// The speed (rad/s).
-        speed_rad_s: f64,
-        /// The run: `baseline`, `1` or `2`.
-        test: &'static str,
-        /// The probe's node.
-        node: usize,
-        /// The probe's direction, `x` or `y`.
-        dir: &'static str,
-    },
-    /// Field identification: the probes cannot determine the bearing forces — fewer measured
-    /// degrees of freedom than bearing degrees of freedom, or a least-squares system singular
-    /// at every speed.
-    Underdetermined {
-        /// Measured degrees of freedom (probes).
-        measured: usize,
-        /// Bearing degrees of freedom (x and y per bearing).
-        bearing_dofs: usize,
-        /// Why the system is underdetermined.
-        reason: &'static str,
-    },
-    /// Field identification: at every speed the responses of the two tests at a bearing are
-    /// dependent (masses in one plane, or isotropic supports and circular orbits).
-    FieldRankDeficient {
-        /// Tag of the bearing.
-        bearing: String,
-        /// Smallest condition number of its response pair over the speeds.
-        worst: f64,
-        /// Whether the two tests' added forces are proportional (masses in one plane).
-        dependent_tests: bool,
-    },
+    /// Field identification ([`field`](crate::field)) failed: its rotor model, test set or
+    /// probes ([`FieldError`]).
+    Field(FieldError),
     // ---- Files and figures at the edge (`crate::io`, `crate::uff`, `crate::export`, `crate::plot`) ----
     /// A file could not be opened, read or written.
     Io {

@@ -3,6 +3,7 @@
 use std::fmt;
 
 use super::Warning;
+use crate::Choice;
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -190,27 +190,6 @@ pub enum Excitation {
 }
 
 impl Excitation {
-    /// Every kind, in the order of [`Excitation::name`]'s list.
-    pub const ALL: [Excitation; 5] = [
-        Excitation::Impact,
-        Excitation::Random,
-        Excitation::Periodic,
-        Excitation::SteppedSine,
-        Excitation::Sweep,
-    ];
-
-    /// Short name: `"impact"`, `"random"`, `"periodic"`, `"stepped-sine"` or `"sweep"` (the
-    /// CLI's `--excitation` values; [`FromStr`](std::str::FromStr) reads them back).
-    pub fn name(self) -> &'static str {
-        match self {
-            Excitation::Impact => "impact",
-            Excitation::Random => "random",
-            Excitation::Periodic => "periodic",
-            Excitation::SteppedSine => "stepped-sine",
-            Excitation::Sweep => "sweep",
-        }
-    }
-
     /// The kind a crest factor says: [`Impact`](Excitation::Impact) at and above
     /// [`IMPACT_CREST_FACTOR`], else [`Random`](Excitation::Random).
     pub fn from_crest_factor(crest: f64) -> Excitation {
@@ -400,30 +379,42 @@ impl Excitation {
     }
 }
 
-impl std::fmt::Display for Excitation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+impl crate::Choice for Excitation {
+    const OPTION: &'static str = "excitation";
+    const ALL: &'static [Excitation] = &[
+        Excitation::Impact,
+        Excitation::Random,
+        Excitation::Periodic,
+        Excitation::SteppedSine,
+        Excitation::Sweep,
+    ];
+
+    /// `"impact"`, `"random"`, `"periodic"`, `"stepped-sine"` or `"sweep"` (the command
+    /// line's `--excitation` values, beside `auto`).
+    fn name(self) -> &'static str {
+        match self {
+            Excitation::Impact => "impact",
+            Excitation::Random => "random",
+            Excitation::Periodic => "periodic",
+            Excitation::SteppedSine => "stepped-sine",
+            Excitation::Sweep => "sweep",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            Excitation::Impact => "impacts: paired sets, whole-record DFT, no window",
+            Excitation::Random => "random: MIMO H1 over Welch segments (Hann, 50 % overlap)",
+            Excitation::Periodic => {
+                "periodic or multisine in steady state: H1 over whole periods, excited lines only"
+            }
+            Excitation::SteppedSine => "stepped sine: one drive frequency per record",
+            Excitation::Sweep => "sine sweep then free decay: as impacts",
+        }
     }
 }
 
-impl std::str::FromStr for Excitation {
-    type Err = Error;
-
-    /// Reads a [`name`](Excitation::name) back.
-    ///
-    /// # Errors
-    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
-    fn from_str(s: &str) -> Result<Excitation> {
-        Excitation::ALL
-            .into_iter()
-            .find(|e| e.name() == s)
-            .ok_or(Error::UnknownName {
-                what: "excitation",
-                given: s.to_owned(),
-                expected: "one of impact, random, periodic, stepped-sine, sweep",
-            })
-    }
-}
+crate::choice::choice_text!(Excitation);
 
 #[cfg(test)]
 mod tests {
@@ -432,11 +423,12 @@ mod tests {
 
     #[test]
     fn names_round_trip() {
-        for e in Excitation::ALL {
-            assert_eq!(e.name().parse::<Excitation>().unwrap(), e);
-            assert_eq!(e.to_string(), e.name());
-        }
-        for bad in ["auto", "Impact", "", "stepped_sine", "periodic:1"] {
+        crate::choice::tests::round_trips::<Excitation>();
+        assert_eq!(
+            "Stepped_Sine".parse::<Excitation>().unwrap(),
+            Excitation::SteppedSine
+        );
+        for bad in ["auto", "", "steppedsine", "periodic:1"] {
             let err = bad.parse::<Excitation>().unwrap_err();
             assert!(
                 matches!(

@@ -38,6 +38,7 @@
 //! `H(s) = K + sC + s²M` with the window-corrected coefficients, so that the two compare (ID
 //! line 5 says so). Under every other window `s = iω`.
 
+use crate::Choice;
 use faer::{Mat, c64};
 
 use crate::error::Result;

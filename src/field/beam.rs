@@ -2,6 +2,7 @@
 //! degrees of freedom per node in ROSS's order, for tests, examples and students. Real
 //! machines come from a proper finite-element model (ROSS, for one); this builder is not one.
 
+use crate::error::FieldError;
 use faer::Mat;
 
 use super::model::{BearingSite, RotorModel};
@@ -55,7 +56,7 @@ impl BeamRotor {
     /// The free rotor's `M`, `K`, `G` (no damping) as a [`RotorModel`].
     ///
     /// # Errors
-    /// [`Error::FieldInput`] for no elements, a length, diameter, density or modulus that is
+    /// [`FieldError::Input`] for no elements, a length, diameter, density or modulus that is
     /// not finite and positive, or a disk past the last node; as [`RotorModel::new`].
     ///
     /// # Examples
@@ -78,7 +79,7 @@ impl BeamRotor {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn model(&self) -> Result<RotorModel> {
-        let bad = |message: String| Err(Error::FieldInput { message });
+        let bad = |message: String| Err(Error::Field(FieldError::Input { message }));
         if self.element_lengths.is_empty() {
             return bad("the beam has no elements".to_owned());
         }

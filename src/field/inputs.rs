@@ -1,6 +1,7 @@
 //! The imbalance tests and their measured responses ([`FieldTests`]), and their grouping by
 //! speed, run and probe ([`Measurements`]).
 
+use crate::error::FieldError;
 use faer::c64;
 
 use super::model::{Direction, RotorModel};
@@ -131,16 +132,16 @@ impl FieldTests {
     /// of that mean is $\sqrt{\sum s_r^2}/n$ from stated `std`s, else
     /// $\sqrt{\sum |z_r - \bar z|^2 / (2(n-1))}/\sqrt n$ from `n ≥ 2` repeats, else none.
     pub(crate) fn measurements(&self, rotor: &RotorModel) -> Result<Measurements> {
-        let bad = |message: String| Err(Error::FieldInput { message });
+        let bad = |message: String| Err(Error::Field(FieldError::Input { message }));
         for (t, set) in self.imbalances.iter().enumerate() {
             if set.is_empty() {
                 return bad(format!("test {} adds no imbalance", t + 1));
             }
             for u in set {
                 if !(u.magnitude_kg_m.is_finite() && u.phase_rad.is_finite()) {
-                    return Err(Error::FieldNonFinite {
+                    return Err(Error::Field(FieldError::NonFinite {
                         what: format!("an imbalance of test {} at node {}", t + 1, u.node),
-                    });
+                    }));
                 }
                 if u.node >= rotor.nodes() {
                     return bad(format!(
@@ -161,9 +162,9 @@ impl FieldTests {
                 && r.value.im.is_finite()
                 && r.std.is_none_or(f64::is_finite);
             if !finite {
-                return Err(Error::FieldNonFinite {
+                return Err(Error::Field(FieldError::NonFinite {
                     what: format!("response {i}"),
-                });
+                }));
             }
             // Finite is not enough: the solve squares the responses and forms products of
             // them (the pair matrices and their condition numbers).
@@ -246,12 +247,12 @@ impl FieldTests {
                     let c = (s * 3 + run.index()) * np + p;
                     let n = count[c];
                     if n == 0 {
-                        return Err(Error::MissingResponse {
+                        return Err(Error::Field(FieldError::MissingResponse {
                             speed_rad_s: speed,
                             test: run.name(),
                             node: probe.node,
                             dir: probe.dir.name(),
-                        });
+                        }));
                     }
                     let nf = n as f64;
                     let mean = sum[c] / nf;

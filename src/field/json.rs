@@ -1,6 +1,7 @@
 //! Edge (feature `json`): the rotor model and the tests as JSON ([`RotorModel::from_json`],
 //! [`FieldTests::from_json`]).
 
+use crate::error::FieldError;
 use faer::{Mat, c64};
 use serde_json::{Value, json};
 
@@ -10,9 +11,9 @@ use super::result::FieldIdentification;
 use crate::error::{Error, Result, excerpt};
 
 fn bad(message: impl AsRef<str>) -> Error {
-    Error::FieldInput {
+    Error::Field(FieldError::Input {
         message: excerpt(message.as_ref()),
-    }
+    })
 }
 
 /// Parses `text`, telling NaN and infinite literals (`NaN`, `Infinity`, numbers past f64), which
@@ -28,13 +29,13 @@ fn parse(text: &str, what: &str) -> Result<Value> {
             .iter()
             .any(|t| near.contains(t));
         if literal || e.to_string().contains("out of range") {
-            Error::FieldNonFinite {
+            Error::Field(FieldError::NonFinite {
                 what: format!(
                     "{what}: a value at line {}, column {}",
                     e.line(),
                     e.column()
                 ),
-            }
+            })
         } else {
             bad(format!("{what}: {e}"))
         }
@@ -48,8 +49,8 @@ fn number(v: Option<&Value>, what: &dyn Fn() -> String) -> Result<f64> {
         Some(Value::Number(n)) => n
             .as_f64()
             .filter(|x| x.is_finite())
-            .ok_or_else(|| Error::FieldNonFinite { what: what() }),
-        Some(Value::Null) => Err(Error::FieldNonFinite { what: what() }),
+            .ok_or_else(|| Error::Field(FieldError::NonFinite { what: what() })),
+        Some(Value::Null) => Err(Error::Field(FieldError::NonFinite { what: what() })),
         Some(other) => Err(bad(format!("{}: expected a number, got {other}", what()))),
         None => Err(bad(format!("{} is missing", what()))),
     }
@@ -106,8 +107,8 @@ impl RotorModel {
     /// "bearings": [{"tag": "brg0", "node": 0}, …]}` (SI units; matrices as lists of rows).
     ///
     /// # Errors
-    /// [`Error::FieldInput`] for text that is not JSON, a missing or mistyped key, or a model
-    /// [`RotorModel::new`] refuses; [`Error::FieldNonFinite`] for NaN, infinite or null
+    /// [`FieldError::Input`] for text that is not JSON, a missing or mistyped key, or a model
+    /// [`RotorModel::new`] refuses; [`FieldError::NonFinite`] for NaN, infinite or null
     /// entries.
     ///
     /// # Examples
@@ -167,8 +168,8 @@ impl FieldTests {
     /// responses with the same speed, test, node and direction are repeats.
     ///
     /// # Errors
-    /// [`Error::FieldInput`] for text that is not JSON, a missing or mistyped key, tests other
-    /// than exactly `1` and `2`, an unknown run or direction; [`Error::FieldNonFinite`] for NaN,
+    /// [`FieldError::Input`] for text that is not JSON, a missing or mistyped key, tests other
+    /// than exactly `1` and `2`, an unknown run or direction; [`FieldError::NonFinite`] for NaN,
     /// infinite or null numbers.
     ///
     /// # Examples

@@ -20,7 +20,7 @@
 //!    solved by QR after scaling every column to unit norm: the unknowns span ten orders of
 //!    magnitude (forces against axial displacements) and an unscaled solve loses their digits.
 //!    At least as many probes as bearing degrees of freedom are needed
-//!    ([`Error::Underdetermined`]); the model residual
+//!    ([`FieldError::Underdetermined`]); the model residual
 //!    `‖A x − b‖/‖b‖` is reported per speed.
 //! 3. **Per bearing, 2×2.** $Z(\Omega) = -[f_B^1\; f_B^2]\,[q_B^1\; q_B^2]^{-1}$,
 //!    `K(Ω) = Re Z`, `C(Ω) = Im Z / Ω`, with the condition number of `[q¹ q²]` per speed (above
@@ -39,7 +39,7 @@
 //! 5. **Warnings.** Proportional added forces (masses in one plane: a rank-1 pair whatever
 //!    their angles); singular or ill-conditioned pairs per bearing (isotropic supports give
 //!    circular orbits and a singular pair; singular at every speed for every bearing is
-//!    [`Error::FieldRankDeficient`]); a speed within
+//!    [`FieldError::RankDeficient`]); a speed within
 //!    [`FIELD_NEAR_CRITICAL`] of a synchronous
 //!    critical speed of the undamped rotor pinned at the probes, where noise is amplified; a
 //!    noise gain (first-order `‖δZ‖/‖Z‖` per unit relative response noise, computed whether or
@@ -127,6 +127,7 @@ pub use model::{BearingSite, Direction, RotorModel};
 pub use result::{BearingIdentification, FieldIdentification, SpeedCoefficients};
 pub use simulate::{BearingCoefficients, ImbalanceRuns};
 
+use crate::error::FieldError;
 use crate::error::{Error, Result, Warning};
 use crate::tolerance::{
     FIELD_DEPENDENT_TESTS, FIELD_ILL_CONDITIONED_PAIR, FIELD_NEAR_CRITICAL, FIELD_NOISE_GAIN,
@@ -137,12 +138,12 @@ use crate::tolerance::{
 /// [module](self) documentation for the method).
 ///
 /// # Errors
-/// [`Error::FieldInput`] for tests that do not fit the rotor (nodes past its last, a test
+/// [`FieldError::Input`] for tests that do not fit the rotor (nodes past its last, a test
 /// without masses or with zero added force, no responses, speeds not positive);
-/// [`Error::FieldNonFinite`] for NaN or infinite values; [`Error::MissingResponse`] when a probe
-/// lacks its response at a speed and run; [`Error::Underdetermined`] for fewer probes than
+/// [`FieldError::NonFinite`] for NaN or infinite values; [`FieldError::MissingResponse`] when a probe
+/// lacks its response at a speed and run; [`FieldError::Underdetermined`] for fewer probes than
 /// bearing degrees of freedom or a least-squares system singular at every speed;
-/// [`Error::FieldRankDeficient`] when every bearing's response pair is singular at every
+/// [`FieldError::RankDeficient`] when every bearing's response pair is singular at every
 /// speed.
 ///
 /// # Examples
@@ -151,11 +152,11 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
     let m = tests.measurements(rotor)?;
     let nb = rotor.bearings().len();
     if m.probes.len() < 2 * nb {
-        return Err(Error::Underdetermined {
+        return Err(Error::Field(FieldError::Underdetermined {
             measured: m.probes.len(),
             bearing_dofs: 2 * nb,
             reason: "give at least x and y at (or near) every bearing",
-        });
+        }));
     }
     let mut warnings = Vec::new();
     // Proportional added forces: the pair is rank 1 at every speed (Ω² cancels).
@@ -163,9 +164,9 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
     let norm = |f: &[faer::c64]| f.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
     let (n1, n2) = (norm(&f1), norm(&f2));
     if !(n1 > 0.0 && n2 > 0.0) {
-        return Err(Error::FieldInput {
+        return Err(Error::Field(FieldError::Input {
             message: "a test's added imbalances sum to zero force".to_owned(),
-        });
+        }));
     }
     let inner: faer::c64 = f1.iter().zip(&f2).map(|(a, b)| a.conj() * b).sum();
     let correlation = inner.norm() / (n1 * n2);
@@ -207,12 +208,12 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
         }
     }
     if model_residual.iter().all(Option::is_none) {
-        return Err(Error::Underdetermined {
+        return Err(Error::Field(FieldError::Underdetermined {
             measured: m.probes.len(),
             bearing_dofs: 2 * nb,
             reason: "the probes do not determine the bearing forces at any speed \
                      (probes too far from the bearings, or all on one side)",
-        });
+        }));
     }
     if bearings
         .iter()
@@ -232,13 +233,13 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
                 (String::new(), 0.0),
                 |acc, x| if x.1 >= acc.1 { x } else { acc },
             );
-        return Err(Error::FieldRankDeficient {
+        return Err(Error::Field(FieldError::RankDeficient {
             bearing,
             worst,
             dependent_tests: warnings
                 .iter()
                 .any(|w| matches!(w, Warning::DependentTests { .. })),
-        });
+        }));
     }
     for b in &bearings {
         let at = |keep: &dyn Fn(usize) -> bool| -> Vec<f64> {

@@ -1,6 +1,7 @@
 //! The free rotor's model ([`RotorModel`]): `M`, `K`, `G`, optional `C`, the naming of its
 //! degrees of freedom and where its bearings sit.
 
+use crate::error::FieldError;
 use faer::{Mat, c64};
 
 use crate::error::{Error, Result, excerpt};
@@ -37,9 +38,9 @@ impl std::str::FromStr for Direction {
         match s {
             "x" => Ok(Direction::X),
             "y" => Ok(Direction::Y),
-            _ => Err(Error::FieldInput {
+            _ => Err(Error::Field(FieldError::Input {
                 message: format!("direction `{}` is not `x` or `y`", excerpt(s)),
-            }),
+            })),
         }
     }
 }
@@ -97,13 +98,13 @@ impl RotorModel {
     /// A checked rotor model.
     ///
     /// # Errors
-    /// [`Error::FieldInput`] when `dof_per_node` is 0 or differs from the number of names, the
+    /// [`FieldError::Input`] when `dof_per_node` is 0 or differs from the number of names, the
     /// names repeat or lack `x` or `y`, a matrix is not square or not `n × n` with `n` a
     /// multiple of `dof_per_node`, there is no bearing, a bearing's node is past the last node
     /// or two bearings share a node or a tag, `M` or `K` is not symmetric (within
     /// [`FIELD_SYMMETRY`](crate::tolerance::FIELD_SYMMETRY)) or `M` is not positive definite
     /// (within [`FIELD_MASS_DEFINITE`](crate::tolerance::FIELD_MASS_DEFINITE));
-    /// [`Error::FieldNonFinite`] for a NaN or infinite entry.
+    /// [`FieldError::NonFinite`] for a NaN or infinite entry.
     ///
     /// # Examples
     /// ```
@@ -127,7 +128,7 @@ impl RotorModel {
         damping: Option<Mat<f64>>,
         bearings: Vec<BearingSite>,
     ) -> Result<RotorModel> {
-        let bad = |message: String| Err(Error::FieldInput { message });
+        let bad = |message: String| Err(Error::Field(FieldError::Input { message }));
         if dof_per_node == 0 || dof_names.len() != dof_per_node {
             return bad(format!(
                 "dof_per_node is {dof_per_node} but {} dof_names are given",
@@ -164,9 +165,9 @@ impl RotorModel {
             for j in 0..n {
                 for i in 0..n {
                     if !m[(i, j)].is_finite() {
-                        return Err(Error::FieldNonFinite {
+                        return Err(Error::Field(FieldError::NonFinite {
                             what: format!("{name}[{i}][{j}]"),
-                        });
+                        }));
                     }
                 }
             }
@@ -285,7 +286,7 @@ impl RotorModel {
 /// rotor's finite-element matrices are, and a fit on any other gives wrong bearings silently.
 ///
 /// # Errors
-/// [`Error::FieldInput`] naming the matrix, the test it failed and the numbers.
+/// [`FieldError::Input`] naming the matrix, the test it failed and the numbers.
 fn check_symmetric_definite(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<()> {
     use crate::tolerance::{FIELD_MASS_DEFINITE, FIELD_SYMMETRY};
     let n = mass.nrows();
@@ -297,7 +298,7 @@ fn check_symmetric_definite(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<()>
             for i in 0..j {
                 let gap = (m[(i, j)] - m[(j, i)]).abs();
                 if gap > FIELD_SYMMETRY * largest {
-                    return Err(Error::FieldInput {
+                    return Err(Error::Field(FieldError::Input {
                         message: format!(
                             "{name} is not symmetric: {name}[{i}][{j}] = {} but {name}[{j}][{i}] = {} \
                              (a difference of {:.1e} of its largest entry; at most {FIELD_SYMMETRY:e})",
@@ -305,7 +306,7 @@ fn check_symmetric_definite(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<()>
                             m[(j, i)],
                             gap / largest
                         ),
-                    });
+                    }));
                 }
             }
         }
@@ -313,8 +314,10 @@ fn check_symmetric_definite(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<()>
     let symmetric = Mat::from_fn(n, n, |i, j| 0.5 * (mass[(i, j)] + mass[(j, i)]));
     let eig = symmetric
         .self_adjoint_eigenvalues(faer::Side::Lower)
-        .map_err(|_| Error::FieldInput {
-            message: "M: its eigenvalues could not be computed".to_owned(),
+        .map_err(|_| {
+            Error::Field(FieldError::Input {
+                message: "M: its eigenvalues could not be computed".to_owned(),
+            })
         })?;
     let (low, high) = eig
         .iter()
@@ -322,12 +325,12 @@ fn check_symmetric_definite(mass: &Mat<f64>, stiffness: &Mat<f64>) -> Result<()>
             (a.min(e), b.max(e))
         });
     if !(high > 0.0 && low > FIELD_MASS_DEFINITE * high) {
-        return Err(Error::FieldInput {
+        return Err(Error::Field(FieldError::Input {
             message: format!(
                 "M is not positive definite: its eigenvalues run from {low:.3e} to {high:.3e} \
                  (the smallest must exceed {FIELD_MASS_DEFINITE:e} of the largest)"
             ),
-        });
+        }));
     }
     Ok(())
 }

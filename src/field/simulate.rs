@@ -1,6 +1,7 @@
 //! The forward problem: synchronous imbalance responses of a rotor model on given bearings
 //! ([`ImbalanceRuns::simulate`]), with noise, for tests and students.
 
+use crate::error::FieldError;
 use faer::prelude::Solve;
 use faer::{Mat, c64};
 use rand::SeedableRng;
@@ -72,9 +73,9 @@ impl ImbalanceRuns {
     /// solved by LU.
     ///
     /// # Errors
-    /// [`Error::FieldInput`] for a noise that is negative or not finite, zero repeats, a speed
+    /// [`FieldError::Input`] for a noise that is negative or not finite, zero repeats, a speed
     /// that is not finite and positive, or a rotor with its bearings singular at a speed;
-    /// [`Error::FieldNonFinite`] for non-finite bearing coefficients.
+    /// [`FieldError::NonFinite`] for non-finite bearing coefficients.
     ///
     /// # Examples
     /// See the [module](super) documentation.
@@ -83,13 +84,15 @@ impl ImbalanceRuns {
         rotor: &RotorModel,
         bearings: impl Fn(usize, f64) -> BearingCoefficients,
     ) -> Result<FieldTests> {
-        let bad = |message: String| Err(Error::FieldInput { message });
+        let bad = |message: String| Err(Error::Field(FieldError::Input { message }));
         if !(self.noise.is_finite() && self.noise >= 0.0) || self.repeats == 0 {
             return bad("noise must be finite and ≥ 0, repeats ≥ 1".to_owned());
         }
         let mut rng = StdRng::seed_from_u64(self.seed);
-        let unit = Normal::new(0.0, 1.0).map_err(|e| Error::FieldInput {
-            message: e.to_string(),
+        let unit = Normal::new(0.0, 1.0).map_err(|e| {
+            Error::Field(FieldError::Input {
+                message: e.to_string(),
+            })
         })?;
         let n = rotor.dofs();
         let mut responses = Vec::new();
@@ -105,9 +108,9 @@ impl ImbalanceRuns {
                     .flatten()
                     .all(|v| v.re.is_finite() && v.im.is_finite())
                 {
-                    return Err(Error::FieldNonFinite {
+                    return Err(Error::Field(FieldError::NonFinite {
                         what: format!("bearing `{}` at {speed} rad/s", site.tag),
-                    });
+                    }));
                 }
                 let dofs =
                     [Direction::X, Direction::Y].map(|dir| rotor.lateral_dof(site.node, dir));

@@ -1,6 +1,7 @@
 //! The turn of velocity and acceleration spectra into displacement at the band lines, before
 //! any cross-spectral sum, so that every estimator sees displacement ([`Response`]).
 
+use crate::Choice;
 use faer::c64;
 
 use super::builder::Plan;
@@ -22,7 +23,7 @@ pub(super) fn to_displacement(
         .iter()
         .map(|&k| {
             let omega = 2.0 * std::f64::consts::PI * k as f64 * resolution_hz;
-            Response::ALL.map(|r| r.divisor(sigma, omega))
+            std::array::from_fn(|p| Response::ALL[p].divisor(sigma, omega))
         })
         .collect()
 }

@@ -90,8 +90,32 @@ pub enum Estimator {
 }
 
 impl Estimator {
-    /// Short name: `"paired"`, `"h1"`, `"h2"` or `"hv"`.
-    pub fn name(self) -> &'static str {
+    /// Whether the estimator works on accumulated cross-spectra (all but paired sets).
+    pub fn is_cross_spectral(self) -> bool {
+        !matches!(self, Estimator::PairedSets)
+    }
+}
+
+impl crate::Choice for Estimator {
+    const OPTION: &'static str = "estimator";
+    const ALL: &'static [Estimator] = &[
+        Estimator::PairedSets,
+        Estimator::H1,
+        Estimator::H2,
+        Estimator::Hv,
+    ];
+
+    /// `"paired"`, `"h1"`, `"h2"` or `"hv"` (the command line's `--estimator` values).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Choice, Estimator};
+    /// assert_eq!("hv".parse::<Estimator>()?, Estimator::Hv);
+    /// assert_eq!(Estimator::PairedSets.name(), "paired");
+    /// assert!("h3".parse::<Estimator>().is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn name(self) -> &'static str {
         match self {
             Estimator::PairedSets => "paired",
             Estimator::H1 => "h1",
@@ -100,40 +124,17 @@ impl Estimator {
         }
     }
 
-    /// Whether the estimator works on accumulated cross-spectra (all but paired sets).
-    pub fn is_cross_spectral(self) -> bool {
-        !matches!(self, Estimator::PairedSets)
+    fn describe(self) -> &'static str {
+        match self {
+            Estimator::PairedSets => "paired sets: one record per direction, impedance per set",
+            Estimator::H1 => "MIMO H1, unbiased under response noise",
+            Estimator::H2 => "MIMO H2, unbiased under force noise",
+            Estimator::Hv => "Hv (total least squares), between H1 and H2",
+        }
     }
 }
 
-impl std::str::FromStr for Estimator {
-    type Err = Error;
-
-    /// Parses the [`Estimator::name`]: `"paired"`, `"h1"`, `"h2"` or `"hv"`.
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::Estimator;
-    /// assert_eq!("hv".parse::<Estimator>()?, Estimator::Hv);
-    /// assert!("h3".parse::<Estimator>().is_err());
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    fn from_str(s: &str) -> Result<Self> {
-        [
-            Estimator::PairedSets,
-            Estimator::H1,
-            Estimator::H2,
-            Estimator::Hv,
-        ]
-        .into_iter()
-        .find(|e| e.name() == s)
-        .ok_or(Error::UnknownName {
-            what: "estimator",
-            given: s.to_owned(),
-            expected: "one of paired, h1, h2, hv",
-        })
-    }
-}
+crate::choice::choice_text!(Estimator);
 
 /// Measured impedance and flexibility matrices over a set of frequency lines.
 ///
@@ -528,6 +529,7 @@ impl Frf {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::Choice;
     use crate::records::Record;
     use crate::spectra::{Segmentation, Window};
 
@@ -692,8 +694,9 @@ pub(crate) mod tests {
         ] {
             assert_eq!(e.name().parse::<Estimator>(), Ok(e));
         }
+        assert_eq!("H1".parse::<Estimator>(), Ok(Estimator::H1));
         assert!(matches!(
-            "H1".parse::<Estimator>(),
+            "H3".parse::<Estimator>(),
             Err(Error::UnknownName {
                 what: "estimator",
                 ..

@@ -104,11 +104,7 @@ impl Identification {
         if self.estimator != baseline.estimator {
             return mismatch(BaselineField::Estimator);
         }
-        let same_window = match (self.window.decay_per_s(), baseline.window.decay_per_s()) {
-            (Some(a), Some(b)) => (a - b).abs() <= tolerance::BASELINE_DECAY * a.abs().max(1e-12),
-            _ => self.window == baseline.window,
-        };
-        if !same_window {
+        if !self.window.matches(baseline.window) {
             return mismatch(BaselineField::Window);
         }
         let coefficients = self.coefficients().subtract(&baseline.coefficients)?;

@@ -123,7 +123,8 @@ impl Calibration {
                         return Err(Error::UnknownName {
                             what: "calibration channel",
                             given: name.to_owned(),
-                            expected: "force, response or a force or response channel's name",
+                            expected: "force, response or a force or response channel's name"
+                                .into(),
                         });
                     }
                 },

@@ -5,13 +5,12 @@
 use faer::{Mat, c64};
 
 use crate::conditioning::Conditioning;
-use crate::error::{Error, Result, Warning};
+use crate::error::Warning;
 use crate::frf::{Frf, FrfBuilder};
 use crate::gate;
 use crate::model::Coefficients;
-use crate::solve::{Convergence, Fit, Iteration, Method};
 
-use super::{NonConvergence, Settings};
+use super::Settings;
 
 impl Settings {
     /// The warnings of the data behind a fit, in order: lines dropped for low coherence
@@ -41,63 +40,6 @@ impl Settings {
             });
         }
         warnings
-    }
-
-    /// A fit that stopped at its limit or diverged: the warning under
-    /// [`NonConvergence::Warn`], the error under [`NonConvergence::Fail`].
-    ///
-    /// # Errors
-    /// [`Error::NotConverged`] under [`NonConvergence::Fail`]; [`Error::IterationNonFinite`]
-    /// there for an IVF that met NaN or infinity (its start, under ML).
-    pub(super) fn convergence_warning(&self, fit: &Fit) -> Result<Option<Warning>> {
-        let fail = self.non_convergence == NonConvergence::Fail;
-        match fit.convergence() {
-            Convergence::IterationLimit { iterations, change } => {
-                if fail {
-                    return Err(Error::NotConverged {
-                        method: self.method,
-                        iterations,
-                        change,
-                    });
-                }
-                Ok(Some(Warning::NotConverged { iterations, change }))
-            }
-            Convergence::Diverged {
-                iterations,
-                fallback_iteration,
-            } => {
-                if fail {
-                    let change = fit.history().last().map(Iteration::change);
-                    return Err(Error::NotConverged {
-                        method: self.method,
-                        iterations,
-                        change,
-                    });
-                }
-                Ok(Some(Warning::Diverged {
-                    iterations,
-                    fallback_iteration,
-                }))
-            }
-            Convergence::NonFinite {
-                iterations,
-                fallback_iteration,
-                freq_hz,
-            } => {
-                if fail {
-                    return Err(Error::IterationNonFinite {
-                        method: Method::Ivf,
-                        iteration: iterations + 1,
-                        freq_hz,
-                    });
-                }
-                Ok(Some(Warning::Diverged {
-                    iterations,
-                    fallback_iteration,
-                }))
-            }
-            _ => Ok(None),
-        }
     }
 
     /// The fit gate's findings on a fit of `frf` (window-corrected `model`, `r2` of the
@@ -177,45 +119,5 @@ mod tests {
         let d = line_spacing(&[1.0, 2.0, 2.5, 4.0]).unwrap();
         assert!((d - 0.5).abs() < 1e-15);
         assert!(line_spacing(&[1.0]).is_none());
-    }
-
-    /// An IVF that met NaN is `non_finite` naming the iteration under `Fail` (before:
-    /// `not_converged` "in 0 iterations (last relative change NaN)"), a `diverged` warning
-    /// under `Warn`.
-    #[test]
-    fn nan_inside_the_ivf_is_non_finite_not_unconverged() {
-        use crate::identify::Identifier;
-        use crate::solve::IvfOptions;
-        let fit = crate::solve::fit(
-            &crate::solve::tests::out_of_range_frf(),
-            Method::Ivf,
-            &IvfOptions::default(),
-        )
-        .unwrap();
-        let fail = Identifier::new(8.0, 49.0)
-            .on_non_convergence(NonConvergence::Fail)
-            .check()
-            .unwrap();
-        let e = fail.convergence_warning(&fit).unwrap_err();
-        assert_eq!(e.kind(), "non_finite");
-        assert!(
-            matches!(
-                e,
-                Error::IterationNonFinite {
-                    method: Method::Ivf,
-                    iteration: 1,
-                    ..
-                }
-            ),
-            "{e:?}"
-        );
-        assert!(
-            e.to_string()
-                .starts_with("ivf iteration 1 met NaN or infinity"),
-            "{e}"
-        );
-        let warn = Identifier::new(8.0, 49.0).check().unwrap();
-        let w = warn.convergence_warning(&fit).unwrap();
-        assert_eq!(w.map(|w| w.kind()), Some("diverged"));
     }
 }

@@ -39,11 +39,12 @@ mod settings;
 mod timings;
 mod uncertainty;
 
+pub use crate::solve::NonConvergence;
 pub use baseline::Baseline;
 pub use calibration::Calibration;
 pub use model_check::{ModelCheck, Verdict};
 pub use result::Identification;
-pub use settings::{NonConvergence, Screening, Settings};
+pub use settings::{Screening, Settings};
 pub use timings::Timings;
 pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 

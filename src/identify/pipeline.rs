@@ -11,8 +11,7 @@ use crate::error::{Error, Result, Warning};
 use crate::frf::{Assignment, Estimator, Frf, FrfBuilder};
 use crate::records::Record;
 use crate::screening::Screener;
-use crate::solve::ml::MlReport;
-use crate::solve::{self, Convergence, Fit, Method};
+use crate::solve::{self, Method};
 use crate::spectra::Segmentation;
 use crate::tolerance;
 
@@ -411,15 +410,14 @@ impl Settings {
             | Error::NonFiniteResult { .. } => solve::impedance_out_of_range(&frf).unwrap_or(e),
             e => e,
         };
-        let fit = match self.method {
-            Method::Ml => self.fit_ml(&frf, builder, &mut warnings),
-            method => solve::fit(&frf, method, &self.ivf).map(|fit| (fit, None)),
-        }
-        .and_then(|(fit, ml)| self.convergence_warning(&fit).map(|w| (fit, ml, w)))
-        .map_err(scale_cause);
-        let (fit, ml, unconverged) = fit?;
+        let fitted = self
+            .fitter()
+            .fit(&frf, builder, self.window)
+            .map_err(scale_cause)?;
+        let (fit, ml) = (fitted.fit, fitted.ml);
+        warnings.extend(fitted.warnings);
         warnings.extend(self.data_warnings(&frf, &conditioning, low_coherence));
-        warnings.extend(unconverged);
+        warnings.extend(fitted.unconverged);
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         // So does the model check: the windowed data against the windowed fit.
@@ -510,63 +508,6 @@ impl Settings {
         } else {
             (frf, 0)
         }
-    }
-
-    /// The maximum-likelihood fit ([`Method::Ml`]): an IVF start refined with noise
-    /// covariances from the periods' scatter (periodic records) or from the residuals of the
-    /// records or Welch segments about the start ([`solve::ml::noise`]); when the refinement
-    /// falls back, the IVF start with [`Warning::MlFellBack`].
-    ///
-    /// # Errors
-    /// [`Error::MlNeedsRepeats`] without records (a ready-made FRF) or with fewer than 3
-    /// periods, and the errors of the IVF start and of the refinement.
-    fn fit_ml(
-        &self,
-        frf: &Frf,
-        builder: Option<&FrfBuilder>,
-        warnings: &mut Vec<Warning>,
-    ) -> Result<(Fit, Option<MlReport>)> {
-        let builder = builder.ok_or(Error::MlNeedsRepeats)?;
-        let start = solve::fit(frf, Method::Ivf, &self.ivf)?;
-        if let Convergence::NonFinite { .. } = start.convergence() {
-            // A start that met NaN: the error under `NonConvergence::Fail`, before the noise
-            // model meets it too.
-            self.convergence_warning(&start)?;
-        }
-        let data = if builder.is_periodic() {
-            solve::ml::MlData::from_statistics(builder.period_statistics(frf)?)?
-        } else {
-            let moments = builder.record_moments(frf)?;
-            if let (false, Some(decay_per_s)) = (moments.welch, self.window.decay_per_s()) {
-                if decay_per_s > 0.0 {
-                    warnings.push(Warning::MlWindowedRecords { decay_per_s });
-                }
-            }
-            solve::ml::noise::residual_data(&moments, start.coefficients())?
-        };
-        let refined = solve::ml::fit(&data, start.coefficients(), &self.ml)?;
-        let fit = match (&refined.report.fell_back, refined.covariance) {
-            (None, Some(cov)) => {
-                let convergence = if refined.report.converged {
-                    Convergence::Converged {
-                        iterations: refined.report.iterations,
-                    }
-                } else {
-                    Convergence::IterationLimit {
-                        iterations: refined.report.iterations,
-                        change: None,
-                    }
-                };
-                Fit::refined_by_ml(&start, refined.coefficients, cov, convergence)?
-            }
-            (reason, _) => {
-                warnings.push(Warning::MlFellBack {
-                    reason: reason.clone().unwrap_or_default(),
-                });
-                start
-            }
-        };
-        Ok((fit, Some(refined.report)))
     }
 }
 

@@ -2,6 +2,7 @@
 //! names the command line's `--json` output and [`Baseline::from_json`](super::Baseline)
 //! read back.
 
+use crate::Choice;
 use crate::error::Warning;
 use crate::solve::Method;
 use crate::spectra::Segmentation;
@@ -9,7 +10,8 @@ use crate::spectra::Segmentation;
 use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 
 /// Serializes as one flat object, in SI units and Hz:
-/// `method`, `estimator`, `window`, `window_decay_per_s` (the exponential window's `a`, null
+/// `method`, `estimator`, `window` (its string form: `rect`, `hann`, `exp:A/s`),
+/// `window_decay_per_s` (the exponential window's `a`, null
 /// otherwise), `segmentation` (`whole`, `welch`, `periods`), `segment_len`, `force_gate_s`
 /// (the gate's open time, null without), `unexcited_lines` (periodic excitation), `n`, `band_hz`, `band_used_hz`, `n_freq`, `freqs_hz`, `M`, `C`, `K`,
 /// `M_std`, `C_std`, `K_std` (null when not available), `uncertainty`, `M_ci95`, `C_ci95`,
@@ -36,7 +38,7 @@ impl serde::Serialize for Identification {
         let mut m = s.serialize_map(None)?;
         m.serialize_entry("method", self.method().name())?;
         m.serialize_entry("estimator", self.estimator.name())?;
-        m.serialize_entry("window", self.window.name())?;
+        m.serialize_entry("window", &self.window.to_string())?;
         m.serialize_entry("window_decay_per_s", &self.window.decay_per_s())?;
         let (segments, segment_len) = match self.segmentation() {
             Segmentation::Welch { len } => ("welch", Some(len)),

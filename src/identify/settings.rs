@@ -1,12 +1,10 @@
 //! The checked settings of an identification: [`Settings`], made once by
 //! [`Identifier::check`] (in the manner of linfa's `ParamGuard::check`), and the option enums
-//! only the façade uses ([`NonConvergence`], [`Screening`]).
+//! only the façade uses ([`Screening`]).
 //!
 //! Every entry point of [`Identifier`] checks its settings here once, at the top; the stages
 //! then receive checked values (a [`Band`] built once, a checked [`Window`], the IVF and ML
 //! options, limits) and do not check them again.
-
-use std::str::FromStr;
 
 use crate::conditioning::ConditionLimits;
 use crate::error::{Error, Result};
@@ -14,59 +12,11 @@ use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
-use crate::solve::{Fit, IvfOptions, Method};
+use crate::solve::{Fit, Fitter, IvfOptions, Method, NonConvergence};
 use crate::spectra::{ForceGate, Segmentation, Window};
 
 use super::uncertainty::{MAX_BOOTSTRAP_DRAWS, Uncertainty};
 use super::{Calibration, Identifier};
-
-/// What to do when an iterative fit does not converge.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::NonConvergence;
-/// assert_eq!("fail".parse::<NonConvergence>()?, NonConvergence::Fail);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[non_exhaustive]
-pub enum NonConvergence {
-    /// Return the last (or, after divergence, the best) iterate with a [`Warning`](crate::Warning).
-    #[default]
-    Warn,
-    /// Return [`Error::NotConverged`].
-    Fail,
-}
-
-impl NonConvergence {
-    /// Short name: `"warn"` or `"fail"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            NonConvergence::Warn => "warn",
-            NonConvergence::Fail => "fail",
-        }
-    }
-}
-
-impl FromStr for NonConvergence {
-    type Err = Error;
-
-    /// Parses a [`NonConvergence::name`].
-    ///
-    /// # Errors
-    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "warn" => Ok(NonConvergence::Warn),
-            "fail" => Ok(NonConvergence::Fail),
-            _ => Err(Error::UnknownName {
-                what: "non-convergence policy",
-                given: s.to_owned(),
-                expected: "warn or fail",
-            }),
-        }
-    }
-}
 
 /// Whether records are screened for faults ([`crate::screening`]: flat and dead channels,
 /// identical records, clipping, level outliers, double hits of impacts, paired sets far from
@@ -240,6 +190,15 @@ impl Settings {
         self.ml
     }
 
+    /// The fitting method with its options, as the fit stage receives it.
+    pub fn fitter(&self) -> Fitter {
+        let mut fitter = Fitter::new(self.method);
+        fitter.ivf = self.ivf;
+        fitter.ml = self.ml;
+        fitter.non_convergence = self.non_convergence;
+        fitter
+    }
+
     /// The spectra's builder for these settings (replicates kept when the uncertainty
     /// resamples or the method is ML).
     pub(super) fn builder(&self) -> FrfBuilder {
@@ -280,6 +239,7 @@ fn derived_ml(ivf: &IvfOptions) -> MlOptions {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Choice;
 
     fn invalid(id: Identifier) -> &'static str {
         match id.check() {

@@ -1,6 +1,7 @@
 //! The JSON of an identification run: the library's serialization of the [`Identification`]
 //! with the run's own fields ([`Facts`]), as `identify --json` prints it.
 
+use crate::Choice;
 use faer::MatRef;
 use serde_json::{Map, Value, json as object};
 

@@ -17,6 +17,7 @@
 //! | `json.rs` | the JSON of a run, as `identify --json` prints it (feature `json`) |
 //!
 //! ```
+//! use bearing_ident::Choice;
 //! use bearing_ident::job::{Channels, Job, Options};
 //! use bearing_ident::simulate::{ImpactTest, seed_rig};
 //! let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;

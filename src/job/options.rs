@@ -10,26 +10,30 @@ use crate::identify::Uncertainty;
 use crate::solve::Method;
 use crate::spectra::Window;
 
-/// The window as a user names it: `rect`, `hann`, or `exp:END`, an exponential on force and
-/// response falling to `END` (`0 < END < 1`) at the end of each record or segment (its decay
-/// rate depends on the segment's duration, known once the records are: [`WindowChoice::window`]).
+/// The window as a user names it: a [`Window`] in its string form (`rect`, `hann`,
+/// `exp:A/s` with the decay `A` in 1/s), or `exp:END`, an exponential on force and response
+/// falling to `END` (`0 < END < 1`) at the end of each record or segment, whose decay depends
+/// on the segment's duration, known once the records are ([`WindowChoice::window`]).
 ///
 /// # Examples
 /// ```
 /// use bearing_ident::job::WindowChoice;
+/// use bearing_ident::Window;
 /// let w: WindowChoice = "exp:0.01".parse()?;
 /// assert_eq!(w, WindowChoice::ExponentialTo(0.01));
 /// assert!((w.window(1.2).decay_per_s().unwrap() - 3.8376).abs() < 1e-4);
 /// assert_eq!(w.to_string(), "exp:0.01");
+/// let fixed: WindowChoice = "exp:2.5/s".parse()?;
+/// assert_eq!(fixed.window(1.2), Window::exponential(2.5)?);
+/// assert_eq!("Hann".parse::<WindowChoice>()?, WindowChoice::Window(Window::Hann));
 /// assert!("exp:1.5".parse::<WindowChoice>().is_err());
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub enum WindowChoice {
-    /// No window.
-    Rectangular,
-    /// Hann.
-    Hann,
+    /// This window, whatever the segments' duration.
+    Window(Window),
     /// Exponential on force and response, falling to this value (`0 < END < 1`) at the end of
     /// each record or segment.
     ExponentialTo(f64),
@@ -39,8 +43,7 @@ impl WindowChoice {
     /// The window over segments of `segment_s` seconds.
     pub fn window(self, segment_s: f64) -> Window {
         match self {
-            WindowChoice::Rectangular => Window::Rectangular,
-            WindowChoice::Hann => Window::Hann,
+            WindowChoice::Window(w) => w,
             WindowChoice::ExponentialTo(end) => Window::exponential_to(end, segment_s),
         }
     }
@@ -49,8 +52,7 @@ impl WindowChoice {
 impl std::fmt::Display for WindowChoice {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            WindowChoice::Rectangular => f.write_str("rect"),
-            WindowChoice::Hann => f.write_str("hann"),
+            WindowChoice::Window(w) => w.fmt(f),
             WindowChoice::ExponentialTo(end) => write!(f, "exp:{end}"),
         }
     }
@@ -59,7 +61,7 @@ impl std::fmt::Display for WindowChoice {
 impl std::str::FromStr for WindowChoice {
     type Err = Error;
 
-    /// `rect`, `hann` or `exp:END` with `0 < END < 1`.
+    /// `exp:END` with `0 < END < 1`, or a [`Window`]'s string form.
     ///
     /// # Errors
     /// [`Error::InvalidOption`] quoting at most 80 characters of `s`.
@@ -67,24 +69,19 @@ impl std::str::FromStr for WindowChoice {
         let bad = || Error::InvalidOption {
             option: "window",
             message: format!(
-                "--window `{}`: expected rect, hann or exp:END with 0 < END < 1",
+                "--window `{}`: expected rect, hann, exp:END with 0 < END < 1, or exp:A/s",
                 excerpt(s)
             ),
         };
-        match s {
-            "rect" => Ok(WindowChoice::Rectangular),
-            "hann" => Ok(WindowChoice::Hann),
-            _ => {
-                let end: f64 = s
-                    .strip_prefix("exp:")
-                    .and_then(|e| e.parse().ok())
-                    .ok_or_else(bad)?;
-                if end > 0.0 && end < 1.0 {
-                    Ok(WindowChoice::ExponentialTo(end))
-                } else {
-                    Err(bad())
-                }
-            }
+        let relative = s
+            .split_once(':')
+            .filter(|(name, end)| crate::choice::same_name("exp", name) && !end.contains('/'));
+        match relative {
+            Some((_, end)) => match end.trim().parse::<f64>() {
+                Ok(end) if end > 0.0 && end < 1.0 => Ok(WindowChoice::ExponentialTo(end)),
+                _ => Err(bad()),
+            },
+            None => s.parse().map(WindowChoice::Window).map_err(|_| bad()),
         }
     }
 }
@@ -233,7 +230,7 @@ impl Options {
             return Err(Error::UnknownName {
                 what: "option",
                 given: name.to_owned(),
-                expected: "an option of `identify`, by its long name",
+                expected: "an option of `identify`, by its long name".into(),
             });
         };
         let invalid = |expected: &str| Error::InvalidOption {
@@ -258,7 +255,7 @@ impl Options {
             "method" => self.method = value.parse()?,
             "excitation" => {
                 self.excitation = match value {
-                    "auto" => None,
+                    v if crate::choice::same_name("auto", v) => None,
                     v => Some(v.parse()?),
                 }
             }

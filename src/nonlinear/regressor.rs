@@ -1,6 +1,7 @@
 //! [`Regressor`]: the kinds of nonlinear force term, and [`Term`]: one term with its degree of
 //! freedom.
 
+use crate::Choice;
 use crate::error::{Error, Result};
 
 /// A kind of nonlinear force term $a\,y(x, \dot x)$ on the left of
@@ -15,6 +16,7 @@ use crate::error::{Error, Result};
 ///
 /// # Examples
 /// ```
+/// use bearing_ident::Choice;
 /// use bearing_ident::nonlinear::Regressor;
 /// let r: Regressor = "coulomb-planar".parse()?;
 /// assert_eq!((r.name(), r.unit(), r.terms(2)?.len()), ("coulomb-planar", "N", 1));
@@ -36,25 +38,6 @@ pub enum Regressor {
 }
 
 impl Regressor {
-    /// Every kind, in the order of the table above.
-    pub const ALL: [Regressor; 4] = [
-        Regressor::Coulomb,
-        Regressor::CoulombPlanar,
-        Regressor::Cubic,
-        Regressor::QuadraticDamping,
-    ];
-
-    /// `"coulomb"`, `"coulomb-planar"`, `"cubic"` or `"quadratic-damping"` (what
-    /// [`FromStr`](std::str::FromStr) reads, the CLI's `--nonlinear` takes and the JSON writes).
-    pub fn name(self) -> &'static str {
-        match self {
-            Regressor::Coulomb => "coulomb",
-            Regressor::CoulombPlanar => "coulomb-planar",
-            Regressor::Cubic => "cubic",
-            Regressor::QuadraticDamping => "quadratic-damping",
-        }
-    }
-
     /// The SI unit of the coefficient: `"N"`, `"N/m³"` or `"N·s²/m²"`.
     pub fn unit(self) -> &'static str {
         match self {
@@ -124,31 +107,37 @@ impl Regressor {
     }
 }
 
-impl std::fmt::Display for Regressor {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+impl crate::Choice for Regressor {
+    const OPTION: &'static str = "nonlinear term";
+    const ALL: &'static [Regressor] = &[
+        Regressor::Coulomb,
+        Regressor::CoulombPlanar,
+        Regressor::Cubic,
+        Regressor::QuadraticDamping,
+    ];
+
+    /// `"coulomb"`, `"coulomb-planar"`, `"cubic"` or `"quadratic-damping"` (the command
+    /// line's `--nonlinear` values and the JSON's), in the order of the table above.
+    fn name(self) -> &'static str {
+        match self {
+            Regressor::Coulomb => "coulomb",
+            Regressor::CoulombPlanar => "coulomb-planar",
+            Regressor::Cubic => "cubic",
+            Regressor::QuadraticDamping => "quadratic-damping",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            Regressor::Coulomb => "dry friction per DOF, sign of the velocity (N)",
+            Regressor::CoulombPlanar => "dry friction opposing the velocity in the x-y plane (N)",
+            Regressor::Cubic => "cubic stiffness per DOF, x³ (N/m³)",
+            Regressor::QuadraticDamping => "quadratic damping per DOF, |v|·v (N·s²/m²)",
+        }
     }
 }
 
-impl std::str::FromStr for Regressor {
-    type Err = Error;
-
-    /// Parses a [`Regressor::name`] (`_` accepted for `-`).
-    ///
-    /// # Errors
-    /// [`Error::UnknownName`] quoting the name given.
-    fn from_str(s: &str) -> Result<Self> {
-        let s_norm = s.trim().replace('_', "-");
-        Regressor::ALL
-            .into_iter()
-            .find(|r| s_norm == r.name())
-            .ok_or_else(|| Error::UnknownName {
-                what: "nonlinear term",
-                given: s.to_owned(),
-                expected: "coulomb, coulomb-planar, cubic or quadratic-damping",
-            })
-    }
-}
+crate::choice::choice_text!(Regressor);
 
 /// One nonlinear term: a [`Regressor`] acting on one DOF (`dof: Some(i)`) or, for
 /// `coulomb-planar`, on the plane of DOFs 0 and 1 (`dof: None`).
@@ -219,7 +208,7 @@ mod tests {
     #[test]
     fn names_round_trip_and_unknown_names_are_refused() {
         for r in Regressor::ALL {
-            assert_eq!(r.name().parse::<Regressor>().unwrap(), r);
+            assert_eq!(r.name().parse::<Regressor>().unwrap(), *r);
         }
         assert_eq!(
             "quadratic_damping".parse::<Regressor>().unwrap(),

@@ -11,7 +11,7 @@ use crate::frf::Band;
 use crate::identify::Timings;
 use crate::model::Coefficients;
 use crate::records::{Record, common_shape};
-use crate::solve::{Convergence, IvfOptions, Method};
+use crate::solve::{Convergence, IvfOptions, Method, NonConvergence};
 use crate::spectra::Segmentation;
 use crate::tolerance::{NONLINEAR_CHECK_SIGMAS, REVERSE_PATH_AVERAGES_PER_INPUT};
 
@@ -198,17 +198,8 @@ impl ReversePath {
         let clock = Instant::now();
         let fit = full.fit(self.method, &self.ivf, true)?;
         // NaN or infinity inside the IVF is no slow convergence to warn of: name it.
-        if let Convergence::NonFinite {
-            iterations,
-            freq_hz,
-            ..
-        } = fit.convergence()
-        {
-            return Err(Error::IterationNonFinite {
-                method: Method::Ivf,
-                iteration: iterations + 1,
-                freq_hz,
-            });
+        if let c @ Convergence::NonFinite { .. } = fit.convergence() {
+            c.judged(Method::Ivf, NonConvergence::Fail, None)?;
         }
         let (spectra, spectra_var): (Vec<_>, Vec<_>) = (0..terms.len())
             .map(|j| full.term_spectrum(&gathered.channels, j))
@@ -242,7 +233,7 @@ impl ReversePath {
         };
         timings.uncertainty = clock.elapsed();
 
-        warnings.extend(convergence_warning(fit.convergence()));
+        warnings.extend(fit.convergence().warning());
         for (term, check) in terms.iter().zip(&checks) {
             if check.misfit {
                 warnings.push(Warning::NonlinearMisfit {
@@ -354,23 +345,6 @@ fn per_line_std(var: &[f64]) -> Option<f64> {
             .sqrt()
             .recip()
     })
-}
-
-/// The warning of an IVF that did not converge.
-fn convergence_warning(c: Convergence) -> Option<Warning> {
-    match c {
-        Convergence::IterationLimit { iterations, change } => {
-            Some(Warning::NotConverged { iterations, change })
-        }
-        Convergence::Diverged {
-            iterations,
-            fallback_iteration,
-        } => Some(Warning::Diverged {
-            iterations,
-            fallback_iteration,
-        }),
-        _ => None,
-    }
 }
 
 #[cfg(test)]

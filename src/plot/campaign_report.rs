@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::html::{create_dir, esc, page_head, page_tail, write_file};
 use super::{ReportOptions, significant as sig};
+use crate::Choice;
 use crate::campaign::{Campaign, Value};
 use crate::error::{Error, Result, excerpt};
 

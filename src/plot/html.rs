@@ -4,7 +4,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::significant as sig;
-use super::{FigureOptions, coefficient_rows};
+use super::{Figure, FigureOptions, coefficient_rows};
+use crate::Choice;
 use crate::error::{Error, Result};
 use crate::identify::Identification;
 use crate::model::Coefficients;
@@ -133,20 +134,12 @@ pub fn report(
         .into_iter()
         .map(|r| records[r].clone())
         .collect();
-    let mut svgs: Vec<(&str, String)> = vec![
-        ("flexibility", super::flexibility(id, fig)?),
-        ("impedance", super::impedance(id, fig)?),
-        ("coherence", super::coherence(id, fig)?),
-        ("per_frequency", super::per_frequency(id, fig)?),
-    ];
-    if !chosen.is_empty() {
-        svgs.push((
-            "records",
-            super::records(&chosen, Some(id), options.checks.as_ref(), fig)?,
-        ));
+    let mut svgs: Vec<(&str, String)> = Vec::with_capacity(Figure::REPORT.len());
+    for &figure in Figure::REPORT {
+        if let Some(svg) = figure.of_report(id, &chosen, options.checks.as_ref(), fig)? {
+            svgs.push((figure.name(), svg));
+        }
     }
-    svgs.push(("convergence", super::convergence(id, fig)?));
-    svgs.push(("residual", super::residual(id, fig)?));
     let mut written = Vec::with_capacity(svgs.len() + 1);
     for (stem, svg) in &svgs {
         written.push(write_file(&dir.join(format!("{stem}.svg")), svg)?);
@@ -154,6 +147,14 @@ pub fn report(
     let html = page(id, options, &svgs, records.len(), chosen.len());
     written.push(write_file(&dir.join("index.html"), &html)?);
     Ok(written)
+}
+
+/// The window in words, saying that an exponential window's effect has been undone.
+fn window_words(window: crate::Window) -> String {
+    match window.decay_per_s() {
+        Some(_) => format!("{} (coefficients corrected)", window.describe()),
+        None => window.describe(),
+    }
 }
 
 /// The records the report draws: the first two of each excitation direction (the records'
@@ -299,10 +300,7 @@ fn page(
          uncertainty: {}.</p>",
         id.method().name(),
         id.estimator().name(),
-        esc(&match id.window().decay_per_s() {
-            Some(a) => format!("exponential (a = {a:.4}/s, coefficients corrected)"),
-            None => id.window().name().to_string(),
-        }),
+        esc(&window_words(id.window())),
         id.uncertainty().name()
     );
     let _ = write!(

@@ -72,8 +72,9 @@ pub use table::{CoefficientRow, coefficient_rows};
 /// # Examples
 /// ```
 /// use bearing_ident::plot::Figure;
+/// use bearing_ident::Choice;
 /// assert_eq!(Figure::PerFrequency.name(), "per_frequency");
-/// assert_eq!(Figure::ALL.len(), 7);
+/// assert_eq!(Figure::REPORT.len(), 7);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Figure {
@@ -93,19 +94,19 @@ pub enum Figure {
     Residual,
     /// [`nonlinear`]: the coefficient spectra of the nonlinear terms of a
     /// [`NonlinearIdentification`](crate::nonlinear::NonlinearIdentification) (not in
-    /// [`Figure::ALL`], which lists the figures of an [`Identification`](crate::Identification)).
+    /// [`Figure::REPORT`], which lists the figures of an [`Identification`](crate::Identification)).
     Nonlinear,
     /// [`field`]: `K(Ω)`, `C(Ω)` and condition numbers per bearing of a
-    /// [`FieldIdentification`](crate::field::FieldIdentification) (not in [`Figure::ALL`]).
+    /// [`FieldIdentification`](crate::field::FieldIdentification) (not in [`Figure::REPORT`]).
     Field,
     /// `campaign` (feature `campaign`): one block of coefficients against a test condition
-    /// over the points of a campaign (not in [`Figure::ALL`]).
+    /// over the points of a campaign (not in [`Figure::REPORT`]).
     Campaign,
 }
 
 impl Figure {
-    /// Every figure of an [`Identification`](crate::Identification)'s report, in its order.
-    pub const ALL: [Figure; 7] = [
+    /// The figures of an [`Identification`](crate::Identification)'s report, in its order.
+    pub const REPORT: &'static [Figure] = &[
         Figure::Flexibility,
         Figure::Impedance,
         Figure::Coherence,
@@ -115,9 +116,51 @@ impl Figure {
         Figure::Residual,
     ];
 
+    /// This figure of `id`'s report drawn: the records figure from `records` (`None` when
+    /// there are none to draw), `None` for a figure that is not of an identification.
+    pub(crate) fn of_report(
+        self,
+        id: &crate::Identification,
+        records: &[crate::Record],
+        checks: Option<&crate::ImpactChecks>,
+        fig: &FigureOptions,
+    ) -> crate::Result<Option<String>> {
+        Ok(Some(match self {
+            Figure::Flexibility => flexibility(id, fig)?,
+            Figure::Impedance => impedance(id, fig)?,
+            Figure::Coherence => coherence(id, fig)?,
+            Figure::PerFrequency => per_frequency(id, fig)?,
+            Figure::Records if !records.is_empty() => {
+                self::records(records, Some(id), checks, fig)?
+            }
+            Figure::Convergence => convergence(id, fig)?,
+            Figure::Residual => residual(id, fig)?,
+            Figure::Records | Figure::Nonlinear | Figure::Field | Figure::Campaign => {
+                return Ok(None);
+            }
+        }))
+    }
+}
+
+impl crate::Choice for Figure {
+    const OPTION: &'static str = "figure";
+    const ALL: &'static [Figure] = &[
+        Figure::Flexibility,
+        Figure::Impedance,
+        Figure::Coherence,
+        Figure::PerFrequency,
+        Figure::Records,
+        Figure::Convergence,
+        Figure::Residual,
+        Figure::Nonlinear,
+        Figure::Field,
+        Figure::Campaign,
+    ];
+
     /// The figure's file stem: `"flexibility"`, `"impedance"`, `"coherence"`,
-    /// `"per_frequency"`, `"records"`, `"convergence"` or `"residual"`.
-    pub fn name(self) -> &'static str {
+    /// `"per_frequency"`, `"records"`, `"convergence"`, `"residual"`, `"nonlinear"`,
+    /// `"field"` or `"campaign"`.
+    fn name(self) -> &'static str {
         match self {
             Figure::Flexibility => "flexibility",
             Figure::Impedance => "impedance",
@@ -131,13 +174,24 @@ impl Figure {
             Figure::Campaign => "campaign",
         }
     }
-}
 
-impl std::fmt::Display for Figure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+    fn describe(self) -> &'static str {
+        match self {
+            Figure::Flexibility => "|G| and phase, measured and fitted",
+            Figure::Impedance => "Re H and Im H against the fit",
+            Figure::Coherence => "coherence and condition numbers per line",
+            Figure::PerFrequency => "K(ω) and C(ω) line by line",
+            Figure::Records => "the time records, issues marked",
+            Figure::Convergence => "the IVF iterations",
+            Figure::Residual => "the model check: residual against the pure error",
+            Figure::Nonlinear => "the coefficient spectra of nonlinear terms",
+            Figure::Field => "K(Ω), C(Ω) per bearing of a field identification",
+            Figure::Campaign => "coefficients against a test condition over a campaign",
+        }
     }
 }
+
+crate::choice::choice_text!(Figure);
 
 /// Size and labels of the figures.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::html::{create_dir, esc, page_head, page_tail, warnings_list, write_file};
 use super::{ReportOptions, coefficient_rows, significant as sig};
+use crate::Choice;
 use crate::error::Result;
 use crate::nonlinear::NonlinearIdentification;
 

@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 ///
 /// # Examples
 /// ```
+/// use bearing_ident::Choice;
 /// use bearing_ident::records::Response;
 /// use bearing_ident::faer::c64;
 /// let r: Response = "velocity".parse()?;
@@ -39,23 +40,6 @@ pub enum Response {
 }
 
 impl Response {
-    /// Every kind, in the order of [`Response::order`].
-    pub const ALL: [Response; 3] = [
-        Response::Displacement,
-        Response::Velocity,
-        Response::Acceleration,
-    ];
-
-    /// `"displacement"`, `"velocity"` or `"acceleration"` (what [`FromStr`](std::str::FromStr)
-    /// reads and the CLI's `--response` takes).
-    pub fn name(self) -> &'static str {
-        match self {
-            Response::Displacement => "displacement",
-            Response::Velocity => "velocity",
-            Response::Acceleration => "acceleration",
-        }
-    }
-
     /// The order `p` of the time derivative of displacement: 0, 1 or 2.
     pub fn order(self) -> i32 {
         match self {
@@ -126,27 +110,31 @@ impl Response {
     }
 }
 
-impl std::fmt::Display for Response {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+impl crate::Choice for Response {
+    const OPTION: &'static str = "response";
+    const ALL: &'static [Response] = &[
+        Response::Displacement,
+        Response::Velocity,
+        Response::Acceleration,
+    ];
+
+    /// `"displacement"`, `"velocity"` or `"acceleration"` (the command line's `--response`
+    /// values), in the order of [`Response::order`].
+    fn name(self) -> &'static str {
+        match self {
+            Response::Displacement => "displacement",
+            Response::Velocity => "velocity",
+            Response::Acceleration => "acceleration",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            Response::Displacement => "displacement (m), used as it is",
+            Response::Velocity => "velocity (m/s), divided by iω",
+            Response::Acceleration => "acceleration (m/s²), divided by −ω²",
+        }
     }
 }
 
-impl std::str::FromStr for Response {
-    type Err = Error;
-
-    /// Parses a [`Response::name`] (or its first letter, `d`, `v`, `a`).
-    ///
-    /// # Errors
-    /// [`Error::UnknownName`] quoting the name given.
-    fn from_str(s: &str) -> Result<Self> {
-        Response::ALL
-            .into_iter()
-            .find(|r| s == r.name() || s == &r.name()[..1])
-            .ok_or_else(|| Error::UnknownName {
-                what: "response",
-                given: s.to_owned(),
-                expected: "displacement, velocity or acceleration",
-            })
-    }
-}
+crate::choice::choice_text!(Response);

@@ -20,7 +20,9 @@
 //!   variables, from periodic records whose repeated periods give the noise covariances,
 //!   started from IVF; its Cramér–Rao bound gives the error bars.
 
+mod convergence;
 mod direct;
+mod fitter;
 mod ivf;
 mod ls;
 pub mod ml;
@@ -33,7 +35,9 @@ use crate::error::Result;
 use crate::frf::Frf;
 use crate::model::Coefficients;
 
+pub use convergence::{Convergence, NonConvergence};
 pub use direct::DirectFit;
+pub use fitter::{Fitted, Fitter};
 pub use ivf::{Iteration, IvfOptions, IvfSolver};
 
 /// The fitting method.
@@ -52,9 +56,26 @@ pub enum Method {
     Ml,
 }
 
-impl Method {
-    /// Short name: `"direct"`, `"ls"`, `"ivf"` or `"ml"`.
-    pub fn name(self) -> &'static str {
+impl crate::Choice for Method {
+    const OPTION: &'static str = "method";
+    const ALL: &'static [Method] = &[
+        Method::Direct,
+        Method::LeastSquares,
+        Method::Ivf,
+        Method::Ml,
+    ];
+
+    /// `"direct"`, `"ls"`, `"ivf"` or `"ml"` (the command line's `--method` values).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Choice, Method};
+    /// assert_eq!("ls".parse::<Method>()?, Method::LeastSquares);
+    /// assert_eq!(Method::Ml.name(), "ml");
+    /// assert!("newton".parse::<Method>().is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn name(self) -> &'static str {
         match self {
             Method::Direct => "direct",
             Method::LeastSquares => "ls",
@@ -62,43 +83,18 @@ impl Method {
             Method::Ml => "ml",
         }
     }
-}
 
-impl std::str::FromStr for Method {
-    type Err = crate::Error;
-
-    /// Parses the [`Method::name`]: `"direct"`, `"ls"`, `"ivf"` or `"ml"` (the command-line
-    /// tool's `--method` values).
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::Method;
-    /// assert_eq!("ls".parse::<Method>()?, Method::LeastSquares);
-    /// assert!("newton".parse::<Method>().is_err());
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    fn from_str(s: &str) -> Result<Self> {
-        [
-            Method::Direct,
-            Method::LeastSquares,
-            Method::Ivf,
-            Method::Ml,
-        ]
-        .into_iter()
-        .find(|m| m.name() == s)
-        .ok_or(crate::Error::UnknownName {
-            what: "method",
-            given: s.to_owned(),
-            expected: "one of direct, ls, ivf, ml",
-        })
+    fn describe(self) -> &'static str {
+        match self {
+            Method::Direct => "per-element fit of the impedance",
+            Method::LeastSquares => "least squares on the flexibility identity",
+            Method::Ivf => "instrumental-variable filter, started from least squares",
+            Method::Ml => "maximum likelihood (errors in variables), started from IVF",
+        }
     }
 }
 
-impl std::fmt::Display for Method {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
+crate::choice::choice_text!(Method);
 
 /// The one check of an iterative fit's tolerance ([`IvfOptions::check`],
 /// [`MlOptions::check`](ml::MlOptions::check)): relative, in `(0, 1)`; `name` is the
@@ -112,78 +108,6 @@ pub(crate) fn check_tolerance(tolerance: f64, name: crate::Parameter) -> Result<
             value: tolerance,
             expected: "0 < tolerance < 1",
         })
-    }
-}
-
-/// How an iterative fit ended.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
-pub enum Convergence {
-    /// The method is not iterative (direct, least squares).
-    NotIterative,
-    /// The block-wise relative change fell below the tolerance.
-    Converged {
-        /// Iterations run.
-        iterations: usize,
-    },
-    /// The iteration limit was reached first; the last iterate is returned.
-    IterationLimit {
-        /// Iterations run.
-        iterations: usize,
-        /// Block-wise relative change of the last iteration (`None` where the fit does not
-        /// report one: maximum likelihood's limit).
-        change: Option<f64>,
-    },
-    /// The change rose three times in a row (or the model became singular); the iterate with
-    /// the smallest change is returned.
-    Diverged {
-        /// Iterations run.
-        iterations: usize,
-        /// The iterate returned (0 = the least-squares start).
-        fallback_iteration: usize,
-    },
-    /// The next iteration met NaN or infinity (the model's impedance or its inverse at a
-    /// line, or the normal equations); the iterate with the smallest change is returned.
-    NonFinite {
-        /// Iterations run before it (the one that met it is not counted).
-        iterations: usize,
-        /// The iterate returned (0 = the least-squares start).
-        fallback_iteration: usize,
-        /// The line where it met it (Hz); `None` for the normal equations of all lines.
-        freq_hz: Option<f64>,
-    },
-}
-
-impl Convergence {
-    /// Short name: `"not_iterative"`, `"converged"`, `"iteration_limit"`, `"diverged"` or
-    /// `"non_finite"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Convergence::NotIterative => "not_iterative",
-            Convergence::Converged { .. } => "converged",
-            Convergence::IterationLimit { .. } => "iteration_limit",
-            Convergence::Diverged { .. } => "diverged",
-            Convergence::NonFinite { .. } => "non_finite",
-        }
-    }
-
-    /// `true` for [`Convergence::NotIterative`] and [`Convergence::Converged`].
-    pub fn is_converged(self) -> bool {
-        matches!(
-            self,
-            Convergence::NotIterative | Convergence::Converged { .. }
-        )
-    }
-
-    /// Number of iterations run (0 when not iterative).
-    pub fn iterations(self) -> usize {
-        match self {
-            Convergence::NotIterative => 0,
-            Convergence::Converged { iterations }
-            | Convergence::IterationLimit { iterations, .. }
-            | Convergence::Diverged { iterations, .. }
-            | Convergence::NonFinite { iterations, .. } => iterations,
-        }
     }
 }
 
@@ -441,6 +365,7 @@ fn finish(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::Choice;
     use crate::error::Error;
     use faer::{c64, mat};
 
@@ -662,8 +587,9 @@ pub(crate) mod tests {
         ] {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
         }
+        assert_eq!("LS".parse::<Method>(), Ok(Method::LeastSquares));
         assert!(matches!(
-            "LS".parse::<Method>(),
+            "lsq".parse::<Method>(),
             Err(crate::Error::UnknownName { what: "method", .. })
         ));
     }

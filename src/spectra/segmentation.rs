@@ -123,16 +123,17 @@ impl std::str::FromStr for Segmentation {
         let bad = || Error::UnknownName {
             what: "segmentation",
             given: s.to_owned(),
-            expected: "whole, welch:LEN or periods:LEN (samples)",
+            expected: "whole, welch:LEN or periods:LEN (samples)".into(),
         };
         let (name, len) = match s.split_once(':') {
             Some((name, len)) => (name, Some(len.parse::<usize>().map_err(|_| bad())?)),
             None => (s, None),
         };
-        match (name, len) {
-            ("whole", None) => Ok(Segmentation::WholeRecord),
-            ("welch", Some(len)) => Ok(Segmentation::Welch { len }),
-            ("periods", Some(len)) => Ok(Segmentation::Periods { len }),
+        let named = |n: &str| crate::choice::same_name(n, name);
+        match len {
+            None if named("whole") => Ok(Segmentation::WholeRecord),
+            Some(len) if named("welch") => Ok(Segmentation::Welch { len }),
+            Some(len) if named("periods") => Ok(Segmentation::Periods { len }),
             _ => Err(bad()),
         }
     }

@@ -1,6 +1,7 @@
 //! [`Window`]: the weights applied to each segment before the DFT, one arm per window.
 
 use crate::error::{Error, Result};
+use crate::tolerance::BASELINE_DECAY;
 
 #[cfg(doc)]
 use super::SpectralEstimator;
@@ -96,12 +97,54 @@ impl Window {
         }
     }
 
-    /// Short name: `"rect"`, `"hann"` or `"exp"`.
+    /// Short name of the kind: `"rect"`, `"hann"` or `"exp"` (the string form without its
+    /// parameter).
     pub fn name(self) -> &'static str {
         match self {
             Window::Rectangular => "rect",
             Window::Hann => "hann",
             Window::Exponential { .. } => "exp",
+        }
+    }
+
+    /// The window in words, for reports: `"rectangular"`, `"Hann"` or
+    /// `"exponential, a = 3.84 1/s"` (three significant digits).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// assert_eq!(Window::exponential(3.8376)?.describe(), "exponential, a = 3.84 1/s");
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn describe(self) -> String {
+        match self {
+            Window::Rectangular => "rectangular".to_owned(),
+            Window::Hann => "Hann".to_owned(),
+            Window::Exponential { decay_per_s } => {
+                format!(
+                    "exponential, a = {} 1/s",
+                    crate::text::significant(decay_per_s, 3)
+                )
+            }
+        }
+    }
+
+    /// Whether `other` is this window up to the rounding of a decay read back from text:
+    /// the same kind, and decays within a relative [`BASELINE_DECAY`] (a baseline's window is
+    /// checked so).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// let a = Window::exponential(2.5)?;
+    /// assert!(a.matches(Window::exponential(2.5 * (1.0 + 1e-12))?));
+    /// assert!(!a.matches(Window::exponential(2.6)?) && !a.matches(Window::Hann));
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn matches(self, other: Window) -> bool {
+        match (self.decay_per_s(), other.decay_per_s()) {
+            (Some(a), Some(b)) => (a - b).abs() <= BASELINE_DECAY * a.abs().max(1e-12),
+            _ => self == other,
         }
     }
 
@@ -119,6 +162,63 @@ impl Window {
                 s * s
             }
             Window::Exponential { decay_per_s } => (-decay_per_s * m as f64 * dt).exp(),
+        }
+    }
+}
+
+impl std::fmt::Display for Window {
+    /// The string form: `rect`, `hann` or `exp:A/s` with the decay `A` in 1/s at full
+    /// precision (so that [`FromStr`](std::str::FromStr) reads the same window back).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Window::Exponential { decay_per_s } => write!(f, "exp:{decay_per_s}/s"),
+            w => f.write_str(w.name()),
+        }
+    }
+}
+
+impl std::str::FromStr for Window {
+    type Err = Error;
+
+    /// Reads the string form `rect`, `hann` or `exp:A/s` (a decay `A ≥ 0` in 1/s); names
+    /// under the one spelling rule of [`Choice`](crate::Choice).
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] for any other text, [`Error::InvalidParameter`] for a decay that
+    /// is negative or not finite.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Window;
+    /// let w: Window = "exp:3.8376/s".parse()?;
+    /// assert_eq!(w.decay_per_s(), Some(3.8376));
+    /// assert_eq!(w.to_string(), "exp:3.8376/s");
+    /// assert_eq!("HANN".parse::<Window>()?, Window::Hann);
+    /// assert!("exp:0.01".parse::<Window>().is_err()); // a decay needs its unit
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn from_str(s: &str) -> Result<Window> {
+        let bad = || Error::UnknownName {
+            what: "window",
+            given: s.to_owned(),
+            expected: "rect, hann or exp:A/s (a decay in 1/s)".into(),
+        };
+        let (name, parameter) = match s.split_once(':') {
+            Some((name, parameter)) => (name, Some(parameter.trim())),
+            None => (s, None),
+        };
+        let named = |n: &str| crate::choice::same_name(n, name);
+        match parameter {
+            None if named("rect") => Ok(Window::Rectangular),
+            None if named("hann") => Ok(Window::Hann),
+            Some(decay) if named("exp") => {
+                let decay: f64 = decay
+                    .strip_suffix("/s")
+                    .and_then(|a| a.trim().parse().ok())
+                    .ok_or_else(bad)?;
+                Window::exponential(decay)
+            }
+            _ => Err(bad()),
         }
     }
 }

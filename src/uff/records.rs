@@ -83,7 +83,8 @@ impl std::str::FromStr for UffChannel {
         let bad = || Error::UnknownName {
             what: "Universal File channel",
             given: s.to_owned(),
-            expected: "NODE+DIR or NODE-DIR (DIR one of X, Y, Z, RX, RY, RZ or 1-6), or id:TEXT",
+            expected: "NODE+DIR or NODE-DIR (DIR one of X, Y, Z, RX, RY, RZ or 1-6), or id:TEXT"
+                .into(),
         };
         if let Some(text) = s.strip_prefix("id:") {
             return Ok(UffChannel::Id(text.trim().to_owned()));

@@ -350,9 +350,17 @@ fn exponential_window_from_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
     let files = simulate(dir.path(), &["--impacts", "1"]);
     let v = identify_json(&["--band", "8,49", "--window", "exp:0.01"], &files);
-    assert_eq!(v["window"], "exp");
-    // a = −ln(0.01)/1.2 s (the seed's figure).
-    assert!((v["window_decay_per_s"].as_f64().unwrap() - 3.8376).abs() < 1e-4);
+    // a = −ln(0.01)/1.2 s (the seed's figure), in the window's string form too.
+    let a = v["window_decay_per_s"].as_f64().unwrap();
+    assert!((a - 3.8376).abs() < 1e-4);
+    assert_eq!(v["window"], format!("exp:{a}/s"));
+    // The same decay stated in 1/s gives the same window and the same coefficients.
+    let fixed = identify_json(
+        &["--band", "8,49", "--window", &format!("exp:{a}/s")],
+        &files,
+    );
+    assert_eq!(fixed["window"], v["window"]);
+    assert_eq!(fixed["K"], v["K"]);
     let k = matrix(&v, "K");
     assert!(
         (k[0][0] / 146.3e3 - 1.0).abs() < 1e-6,

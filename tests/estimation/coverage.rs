@@ -12,6 +12,7 @@
 //!   only below 3 sets.
 
 use crate::common;
+use bearing_ident::Choice;
 
 use bearing_ident::simulate::{ImpactTest, add_noise, seed_rig};
 use bearing_ident::{Identifier, Uncertainty};

@@ -3,6 +3,7 @@
 //! the force gate, per-frequency coefficients and record screening.
 
 use crate::common;
+use bearing_ident::Choice;
 
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::records::Record;

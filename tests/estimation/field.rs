@@ -5,6 +5,7 @@
 //! cases refused or warned about.
 
 use crate::common::field_rig;
+use bearing_ident::error::FieldError;
 
 use bearing_ident::field::{
     self, BearingCoefficients, FieldIdentification, FieldTests, RotorModel,
@@ -277,10 +278,10 @@ fn masses_in_one_plane_are_rank_deficient_or_warned() {
     assert!(
         matches!(
             e,
-            Error::FieldRankDeficient {
+            Error::Field(FieldError::RankDeficient {
                 dependent_tests: true,
                 ..
-            }
+            })
         ),
         "{e:?}"
     );
@@ -302,10 +303,10 @@ fn isotropic_supports_give_circular_orbits_and_rank_deficient() {
     assert!(
         matches!(
             e,
-            Error::FieldRankDeficient {
+            Error::Field(FieldError::RankDeficient {
                 dependent_tests: false,
                 ..
-            }
+            })
         ),
         "{e:?}"
     );

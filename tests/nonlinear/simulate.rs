@@ -4,6 +4,7 @@
 
 use std::f64::consts::PI;
 
+use bearing_ident::Choice;
 use bearing_ident::model::Coefficients;
 use bearing_ident::nonlinear::{Regressor, Term};
 use bearing_ident::records::Response;
@@ -68,7 +69,7 @@ fn difference_from_linear(kinds: &[Response], white: bool, oversampling: usize) 
         .unwrap()
         .with_oversampling(oversampling)
         .unwrap();
-    for t in Regressor::expand(&Regressor::ALL, 2).unwrap() {
+    for t in Regressor::expand(Regressor::ALL, 2).unwrap() {
         nonlinear = nonlinear.with_term(t, 0.0).unwrap();
     }
     let rec = nonlinear.held_record("nonlinear", &forces).unwrap();

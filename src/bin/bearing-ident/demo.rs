@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use bearing_ident::Choice;
 use bearing_ident::Identifier;
 use bearing_ident::excitation::{Excitation, crest_factor};
 use bearing_ident::quality::ImpactChecks;

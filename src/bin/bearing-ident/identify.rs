@@ -10,73 +10,17 @@ use bearing_ident::io::CsvLayout;
 use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, read_first};
 use bearing_ident::quality::ImpactChecks;
 use bearing_ident::{Estimator, Method, Uncertainty};
-use clap::ValueEnum;
 
 use crate::failure::Failure;
 use crate::output::{emit, write_report};
-use crate::parse::library;
+use crate::parse::{auto_or, choice};
 use crate::report;
 
 mod nonlinear;
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum MethodArg {
-    Direct,
-    Ls,
-    Ivf,
-    /// Maximum likelihood from IVF; needs `--excitation periodic` (noise from the periods).
-    Ml,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, ValueEnum)]
-pub enum ExcitationArg {
-    /// Decide from the force signals: impacts by their crest factor, periodic records by their
-    /// autocorrelation (the period found too), else random.
-    Auto,
-    /// Impacts: paired sets, whole-record DFT, no window.
-    Impact,
-    /// Random: MIMO H1 with Welch segments (Hann, 50 % overlap).
-    Random,
-    /// Periodic or multisine in steady state: MIMO H1 over whole periods (`--period`), no
-    /// window, the excited lines only.
-    Periodic,
-    /// Stepped sine: one drive frequency per record; amplitude and phase at that frequency.
-    SteppedSine,
-    /// Sine sweep followed by free decay: as impacts (paired sets, whole record).
-    Sweep,
-}
-
-impl ExcitationArg {
-    /// The library's kind; `None` for `auto` (detected from the records).
-    fn kind(self) -> Option<Excitation> {
-        match self {
-            ExcitationArg::Auto => None,
-            ExcitationArg::Impact => Some(Excitation::Impact),
-            ExcitationArg::Random => Some(Excitation::Random),
-            ExcitationArg::Periodic => Some(Excitation::Periodic),
-            ExcitationArg::SteppedSine => Some(Excitation::SteppedSine),
-            ExcitationArg::Sweep => Some(Excitation::Sweep),
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum UncertaintyArg {
-    /// Jackknife with at least 3 paired sets or records, else the sandwich.
-    Auto,
-    None,
-    Sandwich,
-    Jackknife,
-    Bootstrap,
-}
-
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum EstimatorArg {
-    Paired,
-    H1,
-    H2,
-    Hv,
-}
+/// What `--excitation auto` does.
+const AUTO_EXCITATION: &str = "decide from the force signals: impacts by their crest factor, \
+     periodic records by their autocorrelation (the period found too), else random";
 
 #[derive(Debug, clap::Args)]
 pub struct IdentifyArgs {
@@ -88,27 +32,28 @@ pub struct IdentifyArgs {
     #[arg(long)]
     timings: bool,
     /// Fitting method.
-    #[arg(long, value_enum, default_value = "ivf")]
-    method: MethodArg,
+    #[arg(long, value_parser = choice::<Method>(), default_value = "ivf")]
+    method: Method,
     /// Frequency band LO,HI in Hz (edges inclusive).
     #[arg(long, allow_hyphen_values = true)]
     band: String,
     /// Kind of excitation in the records.
-    #[arg(long, value_enum, default_value = "auto")]
-    excitation: ExcitationArg,
+    #[arg(long, value_parser = auto_or::<Excitation>(AUTO_EXCITATION), default_value = "auto")]
+    excitation: std::option::Option<Excitation>, // `auto` is `None`: a value, not an optional argument
     /// Override the impedance estimator chosen from the excitation.
-    #[arg(long, value_enum)]
-    estimator: Option<EstimatorArg>,
-    /// Window: `rect`, `hann`, or `exp:END` (exponential on force and response, falling to END,
-    /// e.g. 0.01, at the end of each record or segment; the coefficients are corrected
-    /// exactly). Default: `rect` for impacts, `hann` for random excitation.
+    #[arg(long, value_parser = choice::<Estimator>())]
+    estimator: Option<Estimator>,
+    /// Window: `rect`, `hann`, `exp:END` (exponential on force and response, falling to END,
+    /// e.g. 0.01, at the end of each record or segment) or `exp:A/s` (a fixed decay A in 1/s,
+    /// the same for records of any length); under an exponential window the coefficients are
+    /// corrected exactly. Default: `rect` for impacts, `hann` for random excitation.
     #[arg(long)]
     window: Option<String>,
     /// Error bars: `auto` is the jackknife over paired sets or records when there are at least
     /// 3 of them, else the first-order sandwich; `bootstrap` draws `--bootstrap-draws`
     /// resamples of the sets or records (seeded by `--seed`).
-    #[arg(long, value_enum, default_value = "auto")]
-    uncertainty: UncertaintyArg,
+    #[arg(long, value_parser = choice::<Uncertainty>(), default_value = "auto")]
+    uncertainty: Uncertainty,
     /// Bootstrap resamples.
     #[arg(long, default_value_t = 200)]
     bootstrap_draws: usize,
@@ -173,12 +118,12 @@ pub struct IdentifyArgs {
     /// every time history of data type 8, 11 or 12.
     #[arg(long, visible_alias = "resp", value_delimiter = ',')]
     disp: Vec<String>,
-    /// What the response channels measure: `displacement`, `velocity` or `acceleration`, one
-    /// for all or one per degree of freedom (comma list, for mixed rigs). Default:
+    /// What the response channels measure, one for all or one per degree of freedom (comma
+    /// list, for mixed rigs). Default:
     /// displacement for CSV; for Universal Files the data type (8, 11, 12) of each channel,
     /// which this overrides. Velocity and acceleration are turned into displacement at the
     /// band lines (X = V/(iω) = A/(−ω²); with `--window exp:…`, iω + a).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = choice::<bearing_ident::Response>())]
     response: Vec<bearing_ident::Response>,
     /// Time column (s).
     #[arg(long, default_value = "t")]
@@ -250,11 +195,11 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
 fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure> {
     let (lo, hi) = bearing_ident::job::parse_band(&args.band)?;
     let mut o = Options::new(lo, hi);
-    o.method = library::<Method>(args.method)?;
-    o.excitation = args.excitation.kind();
-    o.estimator = args.estimator.map(library::<Estimator>).transpose()?;
+    o.method = args.method;
+    o.excitation = args.excitation;
+    o.estimator = args.estimator;
     o.window = args.window.as_deref().map(str::parse).transpose()?;
-    o.uncertainty = library::<Uncertainty>(args.uncertainty)?;
+    o.uncertainty = args.uncertainty;
     o.bootstrap_draws = args.bootstrap_draws;
     o.seed = args.seed;
     o.force_gate_s = args.force_gate;
@@ -342,68 +287,3 @@ fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Fa
 
 /// Files read again for the record figure of `identify --plot`.
 const PLOTTED_FILES: usize = 32;
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `--excitation` spells every kind as the library's [`Excitation::name`] does.
-    #[test]
-    fn excitation_values_are_the_library_names() {
-        let mut kinds = Vec::new();
-        for v in ExcitationArg::value_variants() {
-            let name = v
-                .to_possible_value()
-                .expect("a value")
-                .get_name()
-                .to_owned();
-            match v.kind() {
-                Some(kind) => {
-                    assert_eq!(name, kind.name());
-                    assert_eq!(name.parse::<Excitation>().expect("parses"), kind);
-                    kinds.push(kind);
-                }
-                None => assert_eq!(name, "auto"),
-            }
-        }
-        assert_eq!(kinds, Excitation::ALL);
-    }
-
-    /// Every `--method`, `--estimator` and `--uncertainty` value is a name the library parses,
-    /// and each names a different choice.
-    #[test]
-    fn option_values_parse_as_library_names() {
-        let methods: Vec<Method> = MethodArg::value_variants()
-            .iter()
-            .map(|&v| library(v).ok().expect("a method"))
-            .collect();
-        assert_eq!(
-            methods,
-            [
-                Method::Direct,
-                Method::LeastSquares,
-                Method::Ivf,
-                Method::Ml
-            ]
-        );
-        let estimators: Vec<Estimator> = EstimatorArg::value_variants()
-            .iter()
-            .map(|&v| library(v).ok().expect("an estimator"))
-            .collect();
-        assert_eq!(
-            estimators,
-            [
-                Estimator::PairedSets,
-                Estimator::H1,
-                Estimator::H2,
-                Estimator::Hv
-            ]
-        );
-        let uncertainties: Vec<Uncertainty> = UncertaintyArg::value_variants()
-            .iter()
-            .map(|&v| library(v).ok().expect("an uncertainty"))
-            .collect();
-        assert_eq!(uncertainties.len(), 5);
-        assert!(uncertainties.contains(&Uncertainty::BOOTSTRAP));
-    }
-}

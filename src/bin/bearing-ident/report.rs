@@ -2,6 +2,7 @@
 
 use std::fmt::Write as _;
 
+use bearing_ident::Choice;
 use bearing_ident::job::Facts;
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::plot::{coefficient_rows, significant as sig};
@@ -177,12 +178,15 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         freqs[0],
         freqs[freqs.len() - 1],
         id.frf().averages(),
-        match id.window().decay_per_s() {
-            Some(a) => format!("exponential, a = {a:.4}/s, coefficients corrected"),
-            None => id.window().name().to_string(),
-        } + &id.force_gate().map_or(String::new(), |g| {
-            format!("; force gate {} s + {} s taper", g.open_s(), g.taper_s())
-        })
+        id.window().describe()
+            + if id.window().decay_per_s().is_some() {
+                ", coefficients corrected"
+            } else {
+                ""
+            }
+            + &id.force_gate().map_or(String::new(), |g| {
+                format!("; force gate {} s + {} s taper", g.open_s(), g.taper_s())
+            })
     );
     if !id.frf().unexcited_hz().is_empty() {
         let _ = writeln!(
@@ -248,7 +252,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         let _ = writeln!(
             out,
             "  maximum likelihood: {} steps, cost {:.4e} (IVF start {:.4e}), cost / expected {:.3}{}",
-            ml.iterations,
+            ml.convergence.iterations(),
             ml.cost,
             ml.start_cost,
             ml.cost_ratio,

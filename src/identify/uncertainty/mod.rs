@@ -7,8 +7,6 @@ mod bootstrap;
 mod budget;
 mod jackknife;
 
-use std::str::FromStr;
-
 use faer::Mat;
 
 use crate::error::{Error, Result, Warning};
@@ -73,17 +71,6 @@ impl Uncertainty {
         seed: 0,
     };
 
-    /// Short name: `"none"`, `"sandwich"`, `"jackknife"`, `"bootstrap"` or `"auto"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Uncertainty::None => "none",
-            Uncertainty::Sandwich => "sandwich",
-            Uncertainty::Jackknife => "jackknife",
-            Uncertainty::Bootstrap { .. } => "bootstrap",
-            Uncertainty::Auto => "auto",
-        }
-    }
-
     /// Whether the replicates' own spectra must be kept.
     pub(crate) fn resamples(self) -> bool {
         matches!(
@@ -93,29 +80,48 @@ impl Uncertainty {
     }
 }
 
-impl FromStr for Uncertainty {
-    type Err = Error;
+impl crate::Choice for Uncertainty {
+    const OPTION: &'static str = "uncertainty";
+    const ALL: &'static [Uncertainty] = &[
+        Uncertainty::Auto,
+        Uncertainty::None,
+        Uncertainty::Sandwich,
+        Uncertainty::Jackknife,
+        Uncertainty::BOOTSTRAP,
+    ];
 
-    /// Parses an [`Uncertainty::name`] (the command line's `--uncertainty` values);
-    /// `"bootstrap"` is [`Uncertainty::BOOTSTRAP`].
+    /// `"auto"`, `"none"`, `"sandwich"`, `"jackknife"` or `"bootstrap"` (the command line's
+    /// `--uncertainty` values); `"bootstrap"` parses as [`Uncertainty::BOOTSTRAP`].
     ///
-    /// # Errors
-    /// [`Error::UnknownName`] quoting the name given and listing the accepted ones.
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "none" => Ok(Uncertainty::None),
-            "sandwich" => Ok(Uncertainty::Sandwich),
-            "jackknife" => Ok(Uncertainty::Jackknife),
-            "bootstrap" => Ok(Uncertainty::BOOTSTRAP),
-            "auto" => Ok(Uncertainty::Auto),
-            _ => Err(Error::UnknownName {
-                what: "uncertainty",
-                given: s.to_owned(),
-                expected: "none, sandwich, jackknife, bootstrap or auto",
-            }),
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Choice, Uncertainty};
+    /// assert_eq!("bootstrap".parse::<Uncertainty>()?, Uncertainty::BOOTSTRAP);
+    /// assert_eq!(Uncertainty::Bootstrap { replicates: 9, seed: 1 }.name(), "bootstrap");
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    fn name(self) -> &'static str {
+        match self {
+            Uncertainty::None => "none",
+            Uncertainty::Sandwich => "sandwich",
+            Uncertainty::Jackknife => "jackknife",
+            Uncertainty::Bootstrap { .. } => "bootstrap",
+            Uncertainty::Auto => "auto",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            Uncertainty::Auto => "the jackknife with at least 3 sets or records, else the sandwich",
+            Uncertainty::None => "no error bars",
+            Uncertainty::Sandwich => "first order from the fit's residuals",
+            Uncertainty::Jackknife => "leave-one-out refits of the sets or records",
+            Uncertainty::Bootstrap { .. } => "refits of resampled sets or records",
         }
     }
 }
+
+crate::choice::choice_text!(Uncertainty);
 
 /// The error bars of a fit: the estimate used, the combined standard deviations, their
 /// budget and the factor `q` of the 95 % half-widths `q · σ`.
@@ -253,6 +259,7 @@ fn spread(thetas: &[Mat<f64>], factor: f64) -> Result<Coefficients> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Choice;
 
     #[test]
     fn names_round_trip() {

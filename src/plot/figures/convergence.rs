@@ -1,5 +1,6 @@
 //! The IVF convergence figure: block-wise relative changes of `M`, `C`, `K` per iteration.
 
+use crate::Choice;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 

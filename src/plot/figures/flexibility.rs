@@ -1,5 +1,6 @@
 //! The flexibility figure: `|G_ij|` and `∠G_ij`, measured and fitted.
 
+use crate::Choice;
 use faer::{Mat, c64};
 use plotters::prelude::*;
 

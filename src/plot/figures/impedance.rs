@@ -1,6 +1,7 @@
 //! The impedance figure: `Re H_ij` and `Im H_ij` with error bars, against the fitted
 //! `K − ω²M` and `ωC`.
 
+use crate::Choice;
 use plotters::prelude::*;
 
 use super::canvas::{Key, MEASURED, MODEL, header, render, series};

@@ -1,6 +1,7 @@
 //! The time-record figure: force and displacement per record, the impact, double hits,
 //! clipping, the force gate and the exponential window marked.
 
+use crate::Choice;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 

@@ -31,7 +31,7 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, c64};
 
-use super::{block_change, std_from};
+use super::{Convergence, block_change, std_from};
 use crate::error::{Error, Result};
 use crate::linalg::Inverter;
 use crate::model::Coefficients;
@@ -82,13 +82,16 @@ impl Default for MlOptions {
 }
 
 /// What the maximum-likelihood loop did.
+///
+/// Serialized (feature `serde`) as `iterations`, `converged` (from
+/// [`MlReport::convergence`]), then the other fields by name.
 #[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct MlReport {
-    /// Steps tried.
-    pub iterations: usize,
-    /// Whether the tolerance was met.
-    pub converged: bool,
+    /// How the loop ended, as every iterative fit reports it: converged, at its step limit
+    /// (with the last accepted step's change), or fallen back to the start
+    /// ([`Convergence::Diverged`] with `fallback_iteration` 0, the reason in
+    /// [`MlReport::fell_back`]).
+    pub convergence: Convergence,
     /// Cost `V` at the IVF start.
     pub start_cost: f64,
     /// Cost `V` at the result.
@@ -102,6 +105,22 @@ pub struct MlReport {
     pub fell_back: Option<String>,
     /// Where the noise covariances came from (the JSON's `ml.noise_model`).
     pub noise_model: NoiseModel,
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for MlReport {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(7))?;
+        m.serialize_entry("iterations", &self.convergence.iterations())?;
+        m.serialize_entry("converged", &self.convergence.is_converged())?;
+        m.serialize_entry("start_cost", &self.start_cost)?;
+        m.serialize_entry("cost", &self.cost)?;
+        m.serialize_entry("cost_ratio", &self.cost_ratio)?;
+        m.serialize_entry("fell_back", &self.fell_back)?;
+        m.serialize_entry("noise_model", &self.noise_model)?;
+        m.end()
+    }
 }
 
 /// Per-parameter factors `c` of `∂H/∂θ = c E_ab`: `−ω²` (M), `iω` (C), `1` (K).
@@ -333,8 +352,10 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         coefficients: start.clone(),
         covariance: None,
         report: MlReport {
-            iterations,
-            converged: false,
+            convergence: Convergence::Diverged {
+                iterations,
+                fallback_iteration: 0,
+            },
             start_cost,
             cost: start_cost,
             cost_ratio: start_cost / data.expected_cost(),
@@ -353,7 +374,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
     let start_cost = current.cost;
     let p = theta.len();
     let mut lambda = 1e-3;
-    let (mut iterations, mut converged) = (0, false);
+    let (mut iterations, mut converged, mut last_change) = (0, false, None);
     while iterations < options.max_iterations {
         iterations += 1;
         let mut a = current.fisher.clone();
@@ -366,6 +387,7 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         match evaluate(data, &trial, None) {
             Some(next) if next.cost <= current.cost => {
                 let change = largest_change(&trial, &theta, n);
+                last_change = Some(change);
                 theta = trial;
                 current = next;
                 lambda = (lambda / 10.0).max(1e-12);
@@ -403,8 +425,14 @@ pub fn fit(data: &MlData, start: &Coefficients, options: &MlOptions) -> Result<M
         coefficients,
         covariance,
         report: MlReport {
-            iterations,
-            converged,
+            convergence: if converged {
+                Convergence::Converged { iterations }
+            } else {
+                Convergence::IterationLimit {
+                    iterations,
+                    change: last_change,
+                }
+            },
             start_cost,
             cost: current.cost,
             cost_ratio: current.cost / data.expected_cost(),
@@ -533,7 +561,7 @@ mod tests {
         )
         .unwrap();
         let out = fit(&data, &start, &MlOptions::default()).unwrap();
-        assert!(out.report.converged && out.report.fell_back.is_none());
+        assert!(out.report.convergence.is_converged() && out.report.fell_back.is_none());
         assert!(out.report.cost <= out.report.start_cost);
         let err =
             (out.coefficients.stiffness() - rig.stiffness()).norm_l2() / rig.stiffness().norm_l2();

@@ -55,10 +55,11 @@ use crate::model::Coefficients;
 use crate::tolerance::{MOMENT_RANK, POOLED_NOISE_DOF};
 
 /// Where the maximum-likelihood fit's noise covariances came from (the JSON's
-/// `ml.noise_model`, by [`NoiseModel::name`]).
+/// `ml.noise_model`, by its [`Choice::name`](crate::Choice::name)).
 ///
 /// # Examples
 /// ```
+/// use bearing_ident::Choice;
 /// use bearing_ident::solve::ml::NoiseModel;
 /// assert_eq!(NoiseModel::ImpactResiduals.name(), "impact_residuals");
 /// ```
@@ -82,9 +83,17 @@ pub enum NoiseModel {
     WelchResiduals,
 }
 
-impl NoiseModel {
+impl crate::Choice for NoiseModel {
+    const OPTION: &'static str = "noise model";
+    const ALL: &'static [NoiseModel] = &[
+        NoiseModel::Given,
+        NoiseModel::PeriodicRepeats,
+        NoiseModel::ImpactResiduals,
+        NoiseModel::WelchResiduals,
+    ];
+
     /// Short name: `given`, `periodic_repeats`, `impact_residuals`, `welch_residuals`.
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
             NoiseModel::Given => "given",
             NoiseModel::PeriodicRepeats => "periodic_repeats",
@@ -92,13 +101,18 @@ impl NoiseModel {
             NoiseModel::WelchResiduals => "welch_residuals",
         }
     }
-}
 
-impl std::fmt::Display for NoiseModel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+    fn describe(self) -> &'static str {
+        match self {
+            NoiseModel::Given => "covariances given by the caller",
+            NoiseModel::PeriodicRepeats => "the scatter of repeated periods",
+            NoiseModel::ImpactResiduals => "residuals of whole records about the IVF fit, pooled",
+            NoiseModel::WelchResiduals => "residuals of Welch segments about the IVF fit, pooled",
+        }
     }
 }
+
+crate::choice::choice_text!(NoiseModel);
 
 /// Lines pooled on each side of a line so that `2h + 1` lines of `2S/κ` real degrees of
 /// freedom each (`S` spectra per line, `κ ≥ 1` the correlation inflation of overlapping

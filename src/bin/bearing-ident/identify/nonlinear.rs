@@ -11,6 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use bearing_ident::Choice;
 use bearing_ident::excitation::{Excitation, deciding_crest_factor};
 use bearing_ident::model::rows;
 use bearing_ident::nonlinear::{Differentiation, NonlinearIdentification, Regressor, ReversePath};
@@ -20,7 +21,6 @@ use serde_json::json;
 
 use super::IdentifyArgs;
 use crate::failure::{Failure, invalid, print_out};
-use crate::parse::library;
 use bearing_ident::job::{Channels, read_file, read_first};
 
 /// The regressors of `--nonlinear` (a comma list of names).
@@ -47,7 +47,7 @@ pub(super) fn linear_only(args: &IdentifyArgs) -> Result<(), Failure> {
 pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Result<(), Failure> {
     let start = Instant::now();
     let first = read_file(&args.files[0], channels)?;
-    let excitation = match args.excitation.kind() {
+    let excitation = match args.excitation {
         Some(kind) => kind,
         None => {
             let rest = args.files[1..]
@@ -76,7 +76,7 @@ pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Resu
         records.extend(read_file(path, channels)?);
     }
     let read_ms = start.elapsed().as_secs_f64() * 1e3;
-    let method: Method = library(args.method)?;
+    let method: Method = args.method;
     let mut path = ReversePath::new(lo, hi, &regressors)
         .method(method)
         .ivf_options(IvfOptions {

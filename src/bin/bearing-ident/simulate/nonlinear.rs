@@ -1,6 +1,7 @@
 //! `simulate`'s nonlinear terms: `--coulomb`, `--coulomb-planar`, `--cubic`,
 //! `--quadratic-damping`, and the integration's `--smoothing` and `--oversampling`.
 
+use bearing_ident::Choice;
 use bearing_ident::Coefficients;
 use bearing_ident::nonlinear::{Regressor, Term};
 use bearing_ident::simulate::{AntiAlias, NonlinearSimulator};
