@@ -371,7 +371,7 @@ fn simulate(
             other => Err(Error::UnknownName {
                 what: "simulated test",
                 given: other.to_owned(),
-                expected: "impact or random",
+                expected: "impact or random".into(),
             }),
         })
         .map_err(|e| raise(&e))?;
