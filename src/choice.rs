@@ -62,8 +62,8 @@ pub trait Choice: Copy + Sized + 'static {
 ///
 /// # Examples
 /// ```
-/// use bearing_ident::{choice::names, Estimator};
-/// assert_eq!(names::<Estimator>(), ["paired", "h1", "h2", "hv"]);
+/// use bearing_ident::{choice::names, Response};
+/// assert_eq!(names::<Response>(), ["displacement", "velocity", "acceleration"]);
 /// ```
 pub fn names<T: Choice>() -> Vec<&'static str> {
     T::ALL.iter().map(|c| c.name()).collect()

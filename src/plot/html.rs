@@ -46,52 +46,6 @@ impl Default for ReportOptions {
     }
 }
 
-/// The figures of a report: file stem, heading, caption.
-const FIGURES: [(&str, &str, &str); 7] = [
-    (
-        "flexibility",
-        "Flexibility",
-        "Measured flexibility G = H⁻¹ per element (points) and the fitted model (line): \
-         magnitude on a log scale above phase.",
-    ),
-    (
-        "impedance",
-        "Impedance",
-        "Real part against the fitted K − ω²M, imaginary part against the fitted ωC; error \
-         bars ±σ where the FRF carries a variance.",
-    ),
-    (
-        "coherence",
-        "Coherence and conditioning",
-        "Multiple coherence per output and the condition number per line, with the warning \
-         and refusal thresholds; the band used is shaded.",
-    ),
-    (
-        "per_frequency",
-        "Per-frequency coefficients",
-        "K(ω) = Re H + ω²M and C(ω) = Im H/ω line by line with ±σ, against the constant fit: \
-         a trend says the coefficients depend on frequency.",
-    ),
-    (
-        "records",
-        "Time records",
-        "Force and displacement of some records (the first two per excitation direction and \
-         any with an issue); the impact is marked at the dominant force's peak.",
-    ),
-    (
-        "convergence",
-        "IVF convergence",
-        "Block-wise relative change of M, C and K per iteration.",
-    ),
-    (
-        "residual",
-        "Model check",
-        "Per line, the fit's squared residual over the replicates' own scatter (the pure \
-         error), about 1 where the model fits; the shaded band holds 95 % of the lines of a \
-         right model. Lines far above it are what the model misses.",
-    ),
-];
-
 /// Writes every figure of `id` as an SVG file into `dir` (created if missing) and an
 /// `index.html` that shows them inline with the coefficient table, the diagnostics and the
 /// warnings; returns the paths written, `index.html` last.
@@ -134,15 +88,15 @@ pub fn report(
         .into_iter()
         .map(|r| records[r].clone())
         .collect();
-    let mut svgs: Vec<(&str, String)> = Vec::with_capacity(Figure::REPORT.len());
+    let mut svgs: Vec<(Figure, String)> = Vec::with_capacity(Figure::REPORT.len());
     for &figure in Figure::REPORT {
         if let Some(svg) = figure.of_report(id, &chosen, options.checks.as_ref(), fig)? {
-            svgs.push((figure.name(), svg));
+            svgs.push((figure, svg));
         }
     }
     let mut written = Vec::with_capacity(svgs.len() + 1);
-    for (stem, svg) in &svgs {
-        written.push(write_file(&dir.join(format!("{stem}.svg")), svg)?);
+    for (figure, svg) in &svgs {
+        written.push(write_file(&dir.join(format!("{figure}.svg")), svg)?);
     }
     let html = page(id, options, &svgs, records.len(), chosen.len());
     written.push(write_file(&dir.join("index.html"), &html)?);
@@ -272,7 +226,7 @@ overflow-x:auto}";
 fn page(
     id: &Identification,
     options: &ReportOptions,
-    svgs: &[(&str, String)],
+    svgs: &[(Figure, String)],
     total_records: usize,
     drawn_records: usize,
 ) -> String {
@@ -287,9 +241,9 @@ fn page(
         "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#model-check\">Model check</a> \
          · <a href=\"#diagnostics\">Diagnostics</a>"
     );
-    for (stem, _) in svgs {
-        if let Some((_, heading, _)) = FIGURES.iter().find(|f| f.0 == *stem) {
-            let _ = write!(h, " · <a href=\"#fig-{stem}\">{heading}</a>");
+    for (figure, _) in svgs {
+        {
+            let _ = write!(h, " · <a href=\"#fig-{figure}\">{}</a>", figure.heading());
         }
     }
     let _ = writeln!(h, "</p>");
@@ -418,11 +372,8 @@ fn page(
     let _ = writeln!(h, "</ul>");
     warnings_list(&mut h, id.warnings());
     // Figures.
-    for (stem, svg) in svgs {
-        let (heading, caption) = FIGURES
-            .iter()
-            .find(|f| f.0 == *stem)
-            .map_or((*stem, ""), |f| (f.1, f.2));
+    for (figure, svg) in svgs {
+        let (stem, heading, caption) = (figure.name(), figure.heading(), figure.caption());
         let _ = writeln!(
             h,
             "<figure id=\"fig-{stem}\">\n<h2>{heading}</h2>\n{svg}\n<figcaption>{} \

@@ -116,6 +116,55 @@ impl Figure {
         Figure::Residual,
     ];
 
+    /// The heading of this figure in a report.
+    pub(crate) fn heading(self) -> &'static str {
+        match self {
+            Figure::Flexibility => "Flexibility",
+            Figure::Impedance => "Impedance",
+            Figure::Coherence => "Coherence and conditioning",
+            Figure::PerFrequency => "Per-frequency coefficients",
+            Figure::Records => "Time records",
+            Figure::Convergence => "IVF convergence",
+            Figure::Residual => "Model check",
+            Figure::Nonlinear => "Nonlinear terms",
+            Figure::Field => "Field identification",
+            Figure::Campaign => "Campaign",
+        }
+    }
+
+    /// The caption of this figure in an identification's report.
+    pub(crate) fn caption(self) -> &'static str {
+        match self {
+            Figure::Flexibility => {
+                "Measured flexibility G = H⁻¹ per element (points) and the fitted model (line): \
+                 magnitude on a log scale above phase."
+            }
+            Figure::Impedance => {
+                "Real part against the fitted K − ω²M, imaginary part against the fitted ωC; \
+                 error bars ±σ where the FRF carries a variance."
+            }
+            Figure::Coherence => {
+                "Multiple coherence per output and the condition number per line, with the \
+                 warning and refusal thresholds; the band used is shaded."
+            }
+            Figure::PerFrequency => {
+                "K(ω) = Re H + ω²M and C(ω) = Im H/ω line by line with ±σ, against the constant \
+                 fit: a trend says the coefficients depend on frequency."
+            }
+            Figure::Records => {
+                "Force and displacement of some records (the first two per excitation direction \
+                 and any with an issue); the impact is marked at the dominant force's peak."
+            }
+            Figure::Convergence => "Block-wise relative change of M, C and K per iteration.",
+            Figure::Residual => {
+                "Per line, the fit's squared residual over the replicates' own scatter (the pure \
+                 error), about 1 where the model fits; the shaded band holds 95 % of the lines \
+                 of a right model. Lines far above it are what the model misses."
+            }
+            Figure::Nonlinear | Figure::Field | Figure::Campaign => crate::Choice::describe(self),
+        }
+    }
+
     /// This figure of `id`'s report drawn: the records figure from `records` (`None` when
     /// there are none to draw), `None` for a figure that is not of an identification.
     pub(crate) fn of_report(
