@@ -249,7 +249,7 @@ pub(crate) fn gather(
 /// expectation instead is unbiased (regression calibration): the force's own conditional mean
 /// is the friction times it.
 fn sign_sharpness(v_hat: &[f64], noise_std: f64) -> f64 {
-    if !(noise_std > 0.0) || v_hat.is_empty() {
+    if noise_std.is_nan() || noise_std <= 0.0 || v_hat.is_empty() {
         return 0.0;
     }
     let power = v_hat.iter().map(|v| v * v).sum::<f64>() / v_hat.len() as f64;
