@@ -318,6 +318,10 @@ pub const INTERFERENCE_GUARD: usize = 2;
 /// tests lies many decades further out.
 pub const MODEL_MISFIT_P: f64 = 0.01;
 
+/// Fewest lines the runs test of the model check's residual signs counts over (its normal
+/// approximation wants about ten of each sign); shorter sequences are left out of it.
+pub const MIN_RUNS_LINES: usize = 20;
+
 /// Lines by which the band-sensitivity refits move each band edge inward
 /// ([`Budget`](crate::identify::Budget)): a few lines, enough to move a fit that leans on its
 /// edges, few enough to leave a right model's estimate within a fraction of its σ.

@@ -70,6 +70,8 @@ named_table! {
         HighPassOrder => "high-pass order",
         /// `corrected channel`, checked in `frf::transfer`.
         CorrectedChannel => "corrected channel",
+        /// `channel transfer uncertainty`, checked in `frf::transfer`.
+        TransferUncertainty => "channel transfer uncertainty",
         /// `flexibility lines`, checked in `frf`.
         FlexibilityLines => "flexibility lines",
         /// `flexibility matrix size`, checked in `frf`.

@@ -21,7 +21,7 @@ use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 /// `natural_frequencies_hz`, `damping_ratios`, `averages`, `coherence_min`, `warnings` (sentences), `warning_kinds` (their
 /// [`Warning::kind`] names, in the same order), `history`
 /// (IVF iterations), `predicted_bias` (`{source, M, C, K}`, absolute, or null; see
-/// [`Identification::predicted_bias`]), `period` and `periods_dropped`; `model_check` (`statistic`, `expected`, `dof`, `p_value`, `verdict`
+/// [`Identification::predicted_bias`]), `period` and `periods_dropped`; `model_check` (`statistic`, `expected`, `dof`, `p_value`, `runs_p_value`, `verdict`
 /// `fits`/`misfit`/`untested`, `reason`), `budget` (`random`, `model`, `calibration`, each
 /// with `M_std`, `C_std`, `K_std`; null without error bars; the top-level `*_std` are the
 /// combined standard uncertainties), `natural_frequencies_hz_std`, `damping_ratios_std`.
@@ -134,11 +134,12 @@ impl serde::Serialize for Identification {
 impl serde::Serialize for ModelCheck {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let mut m = s.serialize_map(Some(6))?;
+        let mut m = s.serialize_map(Some(7))?;
         m.serialize_entry("statistic", &self.statistic)?;
         m.serialize_entry("expected", &self.expected)?;
         m.serialize_entry("dof", &self.dof)?;
         m.serialize_entry("p_value", &self.p_value)?;
+        m.serialize_entry("runs_p_value", &self.runs_p_value)?;
         m.serialize_entry("verdict", self.verdict.name())?;
         let reason = match &self.verdict {
             Verdict::Untested { reason } => Some(reason.as_str()),

@@ -348,7 +348,6 @@ impl Job {
             .max_iterations(o.max_iterations)
             .min_coherence(o.min_coherence)
             .drop_periods(o.drop_periods)
-            .channel_transfers(o.channel_transfers.clone())
             .fit_gate(FitGate { min_r2: o.min_r2 })
             .uncertainty(o.uncertainty())
             .on_non_convergence(if o.allow_unconverged {
@@ -359,19 +358,27 @@ impl Job {
         if let Some(open) = o.force_gate_s {
             identifier = identifier.force_gate(ForceGate::new(open, open / 5.0)?);
         }
+        // Channels by the names of the files' columns (or the defaults for as many DOFs).
+        let names = if self.channels.csv.forces.len() == first.dofs() {
+            self.channels.csv.clone()
+        } else {
+            crate::io::CsvLayout::for_dofs(first.dofs())
+        };
         if let Some(spec) = &o.calibration {
-            // Channels by the names of the files' columns (or the defaults for as many DOFs).
-            let names = if self.channels.csv.forces.len() == first.dofs() {
-                self.channels.csv.clone()
-            } else {
-                crate::io::CsvLayout::for_dofs(first.dofs())
-            };
             identifier = identifier.calibration(crate::identify::Calibration::parse(
                 spec,
                 &names.forces,
                 &names.displacements,
             )?);
         }
+        let mut transfers = o.channel_transfers.clone();
+        if let Some(spec) = &o.delay {
+            transfers = transfers.parse_delays(spec, &names.forces, &names.displacements)?;
+        }
+        if let Some(spec) = &o.highpass {
+            transfers = transfers.parse_high_passes(spec, &names.forces, &names.displacements)?;
+        }
+        identifier = identifier.channel_transfers(transfers);
         // Screening on every excitation; the double-hit check only for impacts.
         let checks = excitation.checks();
         identifier = identifier.screening(if o.reject_bad_records {

@@ -157,15 +157,23 @@ pub struct Options {
     /// `drop-periods`: periodic records: the first periods of every record left out (a
     /// start-up transient); default 0.
     pub drop_periods: usize,
-    /// `delay`, `highpass`: the channels' known transfer characteristics (a delay, an AC
-    /// coupling), divided out of their spectra before any average. The command line reads
-    /// them from `--delay NAME=0.25ms` and `--highpass NAME=3Hz`.
+    /// The channels' known transfer characteristics (a delay, an AC coupling), divided out of
+    /// their spectra before any average, with channels by index; those of `delay` and
+    /// `highpass` (by name) are added to them.
     pub channel_transfers: crate::frf::ChannelTransfers,
+    /// `delay`: channels' known delays by name, `x=0.25ms` or with a stated standard
+    /// uncertainty `x=0.25ms±0.02ms`, comma list
+    /// ([`crate::frf::ChannelTransfers::parse_delays`]).
+    pub delay: Option<String>,
+    /// `highpass`: channels' known AC coupling by name, `x=3Hz`, `x=3Hz:2` or with a stated
+    /// standard uncertainty `x=3Hz±0.3Hz`, comma list
+    /// ([`crate::frf::ChannelTransfers::parse_high_passes`]).
+    pub highpass: Option<String>,
 }
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 23] = [
         "band",
         "method",
         "excitation",
@@ -187,6 +195,8 @@ impl Options {
         "baseline",
         "calibration",
         "drop-periods",
+        "delay",
+        "highpass",
     ];
 
     /// The defaults of the `identify` command over the band `low_hz`–`high_hz`.
@@ -214,6 +224,8 @@ impl Options {
             calibration: None,
             drop_periods: 0,
             channel_transfers: crate::frf::ChannelTransfers::new(),
+            delay: None,
+            highpass: None,
         }
     }
 
@@ -277,6 +289,8 @@ impl Options {
             "baseline" => self.baseline = Some(PathBuf::from(value)),
             "calibration" => self.calibration = Some(value.to_owned()),
             "drop-periods" => self.drop_periods = count()?,
+            "delay" => self.delay = Some(value.to_owned()),
+            "highpass" => self.highpass = Some(value.to_owned()),
             _ => unreachable!("every name of NAMES has its arm"),
         }
         Ok(())
@@ -344,6 +358,8 @@ mod tests {
             ("baseline", "dry/"),
             ("calibration", "force=1%"),
             ("drop-periods", "1"),
+            ("delay", "x=0.25ms±0.02ms"),
+            ("highpass", "response=3Hz"),
         ];
         assert_eq!(values.len(), Options::NAMES.len());
         let mut o = Options::new(8.0, 49.0);

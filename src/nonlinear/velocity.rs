@@ -141,6 +141,12 @@ pub struct Differentiator {
     sorted: Vec<f64>,
     scratch_forward: Vec<c64>,
     scratch_inverse: Vec<c64>,
+    /// The Wiener floor of the last channel relative to its largest spectral component
+    /// squared, and that component (floor 0 for a cutoff).
+    floor: (f64, f64),
+    /// Standard deviation of the noise left in the last velocity (see
+    /// [`Differentiator::velocity_noise_std`]).
+    velocity_noise_std: f64,
 }
 
 impl std::fmt::Debug for Differentiator {
@@ -196,6 +202,8 @@ impl Differentiator {
             sorted: Vec::with_capacity(lines),
             scratch_forward: forward.make_scratch_vec(),
             scratch_inverse: inverse.make_scratch_vec(),
+            floor: (0.0, 0.0),
+            velocity_noise_std: 0.0,
             forward,
             inverse,
         })
@@ -231,6 +239,19 @@ impl Differentiator {
         let floor = self.gain();
         let dw = 2.0 * std::f64::consts::PI * self.sample_rate / n as f64;
         let p = response.order();
+        // White noise of power N₀ per line through the gain and (iω)^(1−p): a one-sided sum,
+        // each line standing for itself and its mirror.
+        // Relative to the largest component, so that no square leaves f64's range.
+        let (relative, largest) = self.floor;
+        let sum: f64 = self
+            .power
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| **g > 0.0)
+            .map(|(k, g)| 2.0 * g * g * (dw * k as f64).powi(2 * (1 - p)) * relative)
+            .sum();
+        let std = sum.sqrt() * largest / n as f64;
+        self.velocity_noise_std = if std.is_finite() { std } else { 0.0 };
         // Displacement: X̂ = g S / (iω)^p; velocity: V̂ = g S (iω)^(1−p). `power` holds g.
         for order_shift in [0, 1] {
             for (k, (dst, &s)) in self.work.iter_mut().zip(&self.spectrum).enumerate() {
@@ -255,6 +276,30 @@ impl Differentiator {
         floor
     }
 
+    /// The standard deviation of the measurement noise left in the velocity of the last
+    /// [`Differentiator::kinematics`], from its Wiener floor $N_0$ taken as white:
+    /// $\sigma_n^2 = \frac{2}{N^2}\sum_k g_k^2\,\omega_k^{2(1-p)} N_0$ (0 for a cutoff,
+    /// which reads no floor). It sets how often the sign of the velocity is wrong near its
+    /// zero crossings, which biases dry friction low unless accounted for (see
+    /// [`Regressor::Coulomb`](crate::nonlinear::Regressor::Coulomb)).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::Band;
+    /// use bearing_ident::nonlinear::{Differentiation, Differentiator};
+    /// use bearing_ident::records::Response;
+    /// let (fs, n) = (256.0, 512);
+    /// let x: Vec<f64> = (0..n).map(|m| (2.0 * std::f64::consts::PI * 8.0 * m as f64 / fs).sin()).collect();
+    /// let mut d = Differentiator::new(n, fs, Differentiation::Cutoff(50.0), Band::new(5.0, 20.0)?)?;
+    /// let (mut xo, mut vo) = (vec![0.0; n], vec![0.0; n]);
+    /// d.kinematics(&x, Response::Displacement, &mut xo, &mut vo);
+    /// assert_eq!(d.velocity_noise_std(), 0.0);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn velocity_noise_std(&self) -> f64 {
+        self.velocity_noise_std
+    }
+
     /// The gain per line into `self.power` (DC and, for even lengths, Nyquist zero); returns
     /// the noise floor of the Wiener gain (0 for a cutoff).
     fn gain(&mut self) -> f64 {
@@ -265,6 +310,7 @@ impl Differentiator {
                 for (k, g) in self.power.iter_mut().enumerate() {
                     *g = if k as f64 * df <= hz { 1.0 } else { 0.0 };
                 }
+                self.floor = (0.0, 0.0);
                 0.0
             }
             Differentiation::Wiener => {
@@ -289,6 +335,19 @@ impl Differentiator {
                     self.sorted.extend_from_slice(&self.smooth[1..]);
                     quantile(&mut self.sorted, 0.1)
                 };
+                // The noise level for the velocity's noise: the upper half of the lines above
+                // the band, where a structure's own response to the harmonics of a
+                // nonlinear force (falling with frequency) has died away and white noise has
+                // not.
+                let upper = &self.smooth[first_above + above.len() / 2..];
+                let noise = if upper.len() >= WIENER_MIN_FLOOR_LINES {
+                    self.sorted.clear();
+                    self.sorted.extend_from_slice(upper);
+                    quantile(&mut self.sorted, 0.5)
+                } else {
+                    floor
+                };
+                self.floor = (noise, largest);
                 let floor_over = WIENER_OVERSUBTRACTION * floor;
                 for (g, &p) in self.power.iter_mut().zip(&self.smooth) {
                     *g = if p > 0.0 {

@@ -1500,6 +1500,49 @@ fn calibration_enters_the_budget_and_bad_values_are_refused() {
     }
 }
 
+/// `--delay x=0.1ms±5us`: the stated uncertainty of the delay enters `budget.calibration` on
+/// the coefficients of response column x (and the combined `*_std` with it); `+-` reads the
+/// same; without it the calibration part is zero; a negative uncertainty is refused.
+#[test]
+fn a_stated_delay_uncertainty_enters_the_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &["--impacts", "4", "--noise", "0.05"]);
+    let cal = |delay: &str| {
+        let v = identify_json(&["--band", "8,49", "--delay", delay], &files);
+        (
+            matrix(&v["budget"]["calibration"], "C_std"),
+            matrix(&v["budget"]["random"], "C_std"),
+            matrix(&v, "C_std"),
+        )
+    };
+    let (stated, random, combined) = cal("x=0.1ms±5us");
+    assert!(stated[0][0] > 0.0 && stated[1][0] > 0.0, "{stated:?}");
+    // Column y is not delayed: what moves there is the weighting's coupling alone.
+    assert!(stated[1][1] < 1e-2 * stated[0][0], "{stated:?}");
+    assert!(combined[0][0] >= random[0][0].hypot(stated[0][0]) * (1.0 - 1e-12));
+    let plus_minus = cal("x=0.1ms+-0.005ms").0;
+    for (a, b) in plus_minus.iter().flatten().zip(stated.iter().flatten()) {
+        assert!(
+            (a - b).abs() <= 1e-9 * stated[0][0],
+            "{plus_minus:?} vs {stated:?}"
+        );
+    }
+    assert_eq!(cal("x=0.1ms").0, [[0.0, 0.0], [0.0, 0.0]]);
+    let file = files[0].as_str();
+    expect_failure(
+        &[
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            "--delay",
+            "x=0.1ms±-5us",
+            file,
+        ],
+        "invalid_argument",
+    );
+}
+
 /// Three multisine records, one driving x and two driving y, with `--excitation periodic`:
 /// before, the run failed as `bad_band` "the band holds 0 usable frequency lines" — the cause
 /// was the jackknife, whose refit without the lone x record has no excitation in x. Now the fit

@@ -147,7 +147,7 @@ fn dry_friction_is_recovered_and_removes_the_equivalent_damping() {
     eprintln!("linear only: C diagonal {c_bias:?}");
     assert!(c_bias.iter().all(|&b| b > 0.08), "{c_bias:?}");
     // The README's nonlinear section quotes this run (its commands are this case's): linear C
-    // +120 % / +88 %; with the term, friction 2.3 % / 1.5 % low and C within 1.5 %.
+    // +120 % / +88 %; with the term, friction 0.8 % / 0.8 % low and C within 1.5 %.
     assert!(
         (1.15..1.25).contains(&c_bias[0]) && (0.83..0.93).contains(&c_bias[1]),
         "README figures: {c_bias:?}"
@@ -155,7 +155,7 @@ fn dry_friction_is_recovered_and_removes_the_equivalent_damping() {
     let friction_low =
         [(0, 20.0), (1, 15.0)].map(|(d, f)| 1.0 - coefficient(&with, "coulomb", Some(d)).0 / f);
     assert!(
-        (0.018..0.028).contains(&friction_low[0]) && (0.010..0.020).contains(&friction_low[1]),
+        (0.004..0.013).contains(&friction_low[0]) && (0.004..0.013).contains(&friction_low[1]),
         "README figures: {friction_low:?}"
     );
     let c_with = diagonal_errors(&with, "C", &t[1]);
@@ -330,4 +330,58 @@ fn method_reference_case() {
         eprintln!("{name}: linear only C {c:?}, K {k:?}; simulated in {simulated:.1} s");
         assert!(!warned_misfit(&with), "{name}: {}", with["nonlinear_check"]);
     }
+}
+
+/// Dry friction's bias over 6 seeds, in its own standard deviations: the quick forcing with
+/// 2 % noise. Taking the sign of a noisy velocity flips it near zero crossings, which biased the
+/// friction low by 2.0–3.4 % (dof 0), −4.9 σ on average; the regressor is now the sign's
+/// expectation given the noisy velocity (`gather::sign_sharpness`), measured at −0.4 to −1.2 %,
+/// −2.5 σ on average. What is left comes from the velocity dwelling near zero (sticking) more
+/// than a Gaussian velocity would, which the correction does not model.
+#[test]
+#[ignore = "release only, 6 simulations: cargo test --release --all-features --test nonlinear end_to_end::friction_bias -- --include-ignored"]
+fn friction_bias_over_seeds() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut in_sigma = Vec::new();
+    for seed in 1..=6 {
+        let seed = seed.to_string();
+        let forcing = [
+            "--excitation",
+            "random",
+            "--freqs",
+            "8,49",
+            "--rate",
+            "1024",
+            "--duration",
+            "32",
+            "--records",
+            "2",
+            "--noise",
+            "0.02",
+            "--seed",
+            &seed,
+        ];
+        let files = simulate(
+            &dir.path().join(format!("friction-{seed}")),
+            &forcing,
+            &["--coulomb", "20,15"],
+        );
+        let with = identify(
+            &[&QUICK_ID[..], &["--nonlinear", "coulomb"]].concat(),
+            &files,
+        );
+        for (dof, f) in [(0, 20.0), (1, 15.0)] {
+            let (value, std) = coefficient(&with, "coulomb", Some(dof));
+            eprintln!(
+                "seed {seed} dof {dof}: {:+.3} % ± {:.3} %, {:+.2} σ",
+                100.0 * (value / f - 1.0),
+                100.0 * std / f,
+                (value - f) / std
+            );
+            in_sigma.push((value - f) / std);
+        }
+    }
+    let mean = in_sigma.iter().sum::<f64>() / in_sigma.len() as f64;
+    eprintln!("mean bias {mean:+.2} σ");
+    assert!(mean > -3.5, "{mean}");
 }

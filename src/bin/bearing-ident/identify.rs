@@ -135,12 +135,14 @@ pub struct IdentifyArgs {
     geometry: Option<PathBuf>,
     /// Known delay of channels, divided out of their spectra before any average: `NAME=0.25ms`
     /// (units s, ms, us), NAME a `--force`/`--disp` column or `force`/`response` for every
-    /// channel of that kind (e.g. a multiplexed acquisition's skew); comma list.
+    /// channel of that kind (e.g. a multiplexed acquisition's skew); comma list. A stated
+    /// standard uncertainty after `±` or `+-` (`x=0.25ms±0.02ms`) enters `budget.calibration`.
     #[arg(long, value_delimiter = ',')]
     delay: Vec<String>,
     /// Known AC coupling of channels, divided out of their spectra before any average:
     /// `NAME=3Hz` (a first-order high-pass with that corner) or `NAME=3Hz:2` (order 2), NAME as
-    /// for `--delay`; comma list.
+    /// for `--delay`; comma list. A stated standard uncertainty after `±` or `+-`
+    /// (`x=3Hz±0.3Hz`) enters `budget.calibration`.
     #[arg(long, value_delimiter = ',')]
     highpass: Vec<String>,
     /// IVF tolerance on the block-wise relative change.

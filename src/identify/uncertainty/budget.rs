@@ -18,7 +18,12 @@
 //!   leakage of Welch segments, the truncation of records that have not decayed) enters in
 //!   quadrature too when it passes half a random standard deviation (the threshold of its
 //!   warning, `leakage_bias` or `not_decayed`).
-//! - **calibration**: the stated gain uncertainties ([`Calibration::std_dev`]).
+//! - **calibration**: the stated gain uncertainties ([`Calibration::std_dev`]) and, in
+//!   quadrature, those of the channels' stated transfer characteristics
+//!   ([`ChannelTransfers::with_uncertainty`](crate::frf::ChannelTransfers::with_uncertainty)):
+//!   for each, the half difference of two refits of the impedance perturbed to first order
+//!   by plus and minus its standard uncertainty, $(\theta_+ - \theta_-)/2$ (exact to first
+//!   order; maximum likelihood refits by IVF, as for the band part).
 //!
 //! The combined standard uncertainty is
 //! $\sigma = \sqrt{\sigma_r^2 + \sigma_m^2 + \sigma_c^2}$ (GUM: independent components add in
@@ -33,8 +38,10 @@ use crate::model::Coefficients;
 use crate::solve::{self, Method};
 use crate::tolerance::BAND_SHIFT_LINES;
 
+#[cfg(doc)]
+use super::super::Calibration;
 use super::super::model_check::Verdict;
-use super::super::{Calibration, ModelCheck, Settings};
+use super::super::{ModelCheck, Settings};
 #[cfg(doc)]
 use super::Uncertainty;
 
@@ -140,8 +147,46 @@ impl Settings {
         Ok(Budget {
             random: random.clone(),
             model: Coefficients::from_stacked(model.as_ref())?,
-            calibration: calibration_std(&self.calibration, fitted)?,
+            calibration: self.calibration_std(fitted, frf)?,
         })
+    }
+
+    /// The calibration component: the stated gains' and, in quadrature, the stated transfer
+    /// characteristics' (see the module docs); zero when nothing was stated.
+    ///
+    /// # Errors
+    /// The calibration's channel check; a refit that fails.
+    fn calibration_std(&self, fitted: &Coefficients, frf: &Frf) -> Result<Coefficients> {
+        let gains = self.calibration.std_dev(fitted)?;
+        if !self.transfers.any_uncertain() {
+            return Ok(gains);
+        }
+        let method = match self.method {
+            Method::Ml => Method::Ivf,
+            m => m,
+        };
+        let decay = self.window.decay_per_s().unwrap_or(0.0);
+        let refit = |step: f64, entry: usize| -> Result<Mat<f64>> {
+            let frf = self.transfers.perturbed(frf, entry, step, decay);
+            let fit = self.corrected(solve::fit_point(&frf, method, &self.ivf)?)?;
+            Ok(fit.coefficients().stacked())
+        };
+        let mut variance = gains.stacked();
+        variance
+            .col_iter_mut()
+            .for_each(|c| c.iter_mut().for_each(|v| *v *= *v));
+        for (entry, &u) in self.transfers.uncertainties().iter().enumerate() {
+            if u > 0.0 {
+                let (plus, minus) = (refit(u, entry)?, refit(-u, entry)?);
+                variance += Mat::from_fn(plus.nrows(), plus.ncols(), |i, j| {
+                    (0.5 * (plus[(i, j)] - minus[(i, j)])).powi(2)
+                });
+            }
+        }
+        variance
+            .col_iter_mut()
+            .for_each(|c| c.iter_mut().for_each(|v| *v = v.sqrt()));
+        Coefficients::from_stacked(variance.as_ref())
     }
 
     /// The band-sensitivity spread (stacked), or `None` when the band is too short to move
@@ -185,7 +230,107 @@ impl Settings {
     }
 }
 
-/// The calibration component, zero when nothing was stated.
-fn calibration_std(calibration: &Calibration, fitted: &Coefficients) -> Result<Coefficients> {
-    calibration.std_dev(fitted)
+#[cfg(test)]
+mod tests {
+    use faer::{Mat, c64};
+    use std::f64::consts::PI;
+
+    use crate::frf::{ChannelTransfer, ChannelTransfers, Frf};
+    use crate::simulate::seed_rig;
+    use crate::{Channel, Identifier, Method};
+
+    /// A force channel late by `δ` more than stated leaves `H(1 − iωδ)` to first order; for
+    /// `H = K + iωC` (no mass) that is `K + iω(C − δK) + ω²δC`, so a fit returns
+    /// `C − δK` and `M = −δC`: a stated `u` on the delay is `σ(C) = K·u`, `σ(M) = C·u`,
+    /// `σ(K) = 0`, exactly.
+    #[test]
+    fn a_stated_delay_uncertainty_is_carried_as_in_closed_form() {
+        let (c, k, u) = (100.0, 1e5, 1e-4);
+        let freqs: Vec<f64> = (5..=60).map(f64::from).collect();
+        let g: Vec<Mat<c64>> = freqs
+            .iter()
+            .map(|f| Mat::from_fn(1, 1, |_, _| c64::new(k, 2.0 * PI * f * c).inv()))
+            .collect();
+        let frf = Frf::from_flexibility(freqs, &g).unwrap();
+        let transfers = ChannelTransfers::new().with_uncertainty(
+            Channel::Force(0),
+            ChannelTransfer::delay(0.0),
+            u,
+        );
+        let id = Identifier::new(5.0, 60.0)
+            .method(Method::LeastSquares)
+            .channel_transfers(transfers)
+            .identify_frf(frf)
+            .unwrap();
+        let cal = &id.budget().unwrap().calibration;
+        assert!((cal.damping()[(0, 0)] / (k * u) - 1.0).abs() < 1e-9);
+        assert!((cal.mass()[(0, 0)] / (c * u) - 1.0).abs() < 1e-9);
+        assert!(cal.stiffness()[(0, 0)] < 1e-9 * k);
+    }
+
+    /// A stated corner `3 ± 0.3 Hz` on response `x`: the calibration part of the budget is
+    /// half the difference of the fits of exact data whose corner really was 3.3 and 2.7 Hz
+    /// (divided by the stated 3 Hz), to second order in `u`.
+    #[test]
+    fn a_stated_corner_uncertainty_matches_refits_at_plus_and_minus_sigma() {
+        let truth = seed_rig();
+        let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+        let (corner, u) = (3.0, 0.3);
+        // The corrected data when the true corner is `f`: column x of H times T(3)/T(f).
+        let data = |f: f64| {
+            let g: Vec<Mat<c64>> = freqs
+                .iter()
+                .map(|&hz| {
+                    let s = c64::new(0.0, 2.0 * PI * hz);
+                    let d = ChannelTransfer::high_pass(f).at(s)
+                        / ChannelTransfer::high_pass(corner).at(s);
+                    let mut g = truth.flexibility_at(hz).unwrap();
+                    // G = H⁻¹: H's column x divided by d is G's row x times d.
+                    for c in 0..2 {
+                        g[(0, c)] *= d;
+                    }
+                    g
+                })
+                .collect();
+            Frf::from_flexibility(freqs.clone(), &g).unwrap()
+        };
+        let id = Identifier::new(8.0, 49.0).method(Method::LeastSquares);
+        let plus = id.identify_frf(data(corner + u)).unwrap();
+        let minus = id.identify_frf(data(corner - u)).unwrap();
+        let stated = ChannelTransfers::new().with_uncertainty(
+            Channel::Displacement(0),
+            ChannelTransfer::high_pass(corner),
+            u,
+        );
+        let cal = id
+            .channel_transfers(stated)
+            .identify_frf(data(corner))
+            .unwrap()
+            .budget()
+            .unwrap()
+            .calibration
+            .stacked();
+        let (p, m) = (
+            plus.coefficients().stacked(),
+            minus.coefficients().stacked(),
+        );
+        let mut checked = 0;
+        for i in 0..6 {
+            for j in 0..2 {
+                let expected = 0.5 * (p[(i, j)] - m[(i, j)]).abs();
+                if j == 0 && expected > 0.0 {
+                    // Column x only moves; relative to its size, the second-order term.
+                    assert!(
+                        (cal[(i, j)] / expected - 1.0).abs() < 0.02,
+                        "({i},{j}): {} vs {expected}",
+                        cal[(i, j)]
+                    );
+                    checked += 1;
+                } else {
+                    assert!(cal[(i, j)] <= 1e-9 * p[(i, j)].abs().max(1.0), "({i},{j})");
+                }
+            }
+        }
+        assert_eq!(checked, 6);
+    }
 }
