@@ -196,21 +196,30 @@ class Identification:
 
     def __init__(self, native) -> None:
         self._native = native
-        self._dict = _json.loads(_call(native.json))
-        d = self._dict
-        self.M, self.C, self.K = (np.array(d[k], dtype=float) for k in ("M", "C", "K"))
-        self.M_std, self.C_std, self.K_std = (
-            None if d.get(k) is None else np.array(d[k], dtype=float)
-            for k in ("M_std", "C_std", "K_std")
-        )
-        self.natural_frequencies_hz = np.array(d["natural_frequencies_hz"], dtype=float)
-        self.damping_ratios = np.array(d["damping_ratios"], dtype=float)
-        self.warnings = list(zip(d["warning_kinds"], d["warnings"]))
-        self.timings_ms = dict(d["timings_ms"])
+        # The arrays straight from the result; the JSON (``to_dict``) is written on demand.
+        self._dict = None
+        array = lambda rows: np.array(rows, dtype=float)
+        self.M, self.C, self.K = map(array, native.coefficients())
+        std = native.std_dev()
+        self.M_std, self.C_std, self.K_std = (None,) * 3 if std is None else map(array, std)
+        frequencies, ratios = native.modes()
+        self.natural_frequencies_hz = array(frequencies)
+        self.damping_ratios = array(ratios)
+        self.warnings = native.warnings()
+
+    def _json(self) -> dict:
+        if self._dict is None:
+            self._dict = _json.loads(_call(self._native.json))
+        return self._dict
+
+    @property
+    def timings_ms(self) -> dict:
+        """Wall time per stage (ms): ``read``, each stage of the identification, ``total``."""
+        return dict(self._json()["timings_ms"])
 
     def to_dict(self) -> dict:
         """The result as the CLI's ``identify --json`` prints it (a fresh copy)."""
-        return _json.loads(_json.dumps(self._dict))
+        return _json.loads(_json.dumps(self._json()))
 
     def to_ross_toml(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False) -> str:
         """The identified bearing as a ROSS 3.x ``BearingElement`` TOML table at node ``n``
@@ -237,7 +246,7 @@ class Identification:
             return ross.BearingElement.load(path)
 
     def __repr__(self) -> str:
-        d = self._dict
+        d = self._json()
         return (
             f"Identification(n={d['n']}, method={d['method']!r}, records={d['n_records']}, "
             f"band={tuple(d['band_hz'])}, warnings={len(self.warnings)})"

@@ -140,8 +140,46 @@ struct NativeResult {
     per_frequency: bool,
 }
 
+/// A coefficient set as rows of `M`, `C`, `K`.
+type Blocks = (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>);
+
+/// `c`'s mass, damping and stiffness as rows.
+fn blocks(c: &bearing_ident::Coefficients) -> Blocks {
+    use bearing_ident::model::rows;
+    (rows(c.mass()), rows(c.damping()), rows(c.stiffness()))
+}
+
 #[pymethods]
 impl NativeResult {
+    /// `M`, `C`, `K` as rows: the JSON's values, without writing the JSON.
+    fn coefficients(&self) -> Blocks {
+        blocks(self.outcome.identification().coefficients())
+    }
+
+    /// `M_std`, `C_std`, `K_std` as rows, or `None` without error bars (as the JSON's).
+    fn std_dev(&self) -> Option<Blocks> {
+        self.outcome.identification().std_dev().map(blocks)
+    }
+
+    /// The modes' natural frequencies (Hz) and damping ratios (as the JSON's).
+    fn modes(&self) -> (Vec<f64>, Vec<f64>) {
+        let modes = self.outcome.identification().modes().unwrap_or_default();
+        modes
+            .iter()
+            .map(|m| (m.natural_frequency_hz, m.damping_ratio))
+            .unzip()
+    }
+
+    /// The warnings as `(kind, sentence)` (as the JSON's `warning_kinds` and `warnings`).
+    fn warnings(&self) -> Vec<(&'static str, String)> {
+        self.outcome
+            .identification()
+            .warnings()
+            .iter()
+            .map(|w| (w.kind(), w.to_string()))
+            .collect()
+    }
+
     /// The JSON of the run, as `bearing-ident identify --json` prints it.
     fn json(&self) -> PyResult<String> {
         self.outcome
@@ -349,7 +387,7 @@ fn square(rows: &[Vec<f64>], what: &str) -> PyResult<bearing_ident::faer::Mat<f6
 fn simulate(
     py: Python<'_>,
     options: Vec<(String, String)>,
-    system: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+    system: Option<Blocks>,
 ) -> PyResult<(Vec<PyRecordOut>, f64)> {
     use bearing_ident::simulate::{Setup, seed_rig};
     let mut setup = Setup::default();
@@ -366,12 +404,13 @@ fn simulate(
         None => seed_rig(),
     };
     let test = py
-        .detach(|| {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| setup.run(&system)))
-        })
+        .detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| setup.run(&system))))
         .map_err(|_| NativeError::new_err(("internal", "the simulation panicked")))?
         .map_err(|e| raise(&e))?;
-    Ok((test.records.iter().map(record_out).collect(), test.duration_s))
+    Ok((
+        test.records.iter().map(record_out).collect(),
+        test.duration_s,
+    ))
 }
 
 /// The Rust library's own time (ms) on the same records and options, `repeat` times: each run
@@ -390,7 +429,9 @@ fn _rust_reference_ms(
         let n = r.dofs();
         (
             (0..n).map(|i| r.force(i).to_vec()).collect::<Vec<_>>(),
-            (0..n).map(|i| r.displacement(i).to_vec()).collect::<Vec<_>>(),
+            (0..n)
+                .map(|i| r.displacement(i).to_vec())
+                .collect::<Vec<_>>(),
         )
     };
     py.detach(|| {

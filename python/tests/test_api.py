@@ -307,3 +307,15 @@ def test_field_equals_the_cli():
     assert untimed(as_dicts) == untimed(cli)
     with pytest.raises(bi.InvalidInputError, match="^tests: "):
         bi.field(str(rotor), "{}")
+
+
+def test_result_arrays_equal_its_json():
+    """The arrays come from the result itself, the JSON only on demand: the same numbers."""
+    result = bi.identify(bi.simulate("impact", impacts=2, noise=0.05), band=(8, 49), uncertainty="sandwich")
+    d = result.to_dict()
+    for key in ("M", "C", "K", "M_std", "C_std", "K_std", "natural_frequencies_hz", "damping_ratios"):
+        assert np.array_equal(getattr(result, key), np.array(d[key])), key
+    assert result.warnings == list(zip(d["warning_kinds"], d["warnings"]))
+    assert set(result.timings_ms) == set(d["timings_ms"])
+    plain = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49), uncertainty="none")
+    assert plain.K_std is None and plain.to_dict()["K_std"] is None

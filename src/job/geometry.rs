@@ -520,7 +520,7 @@ mod tests {
             assert_eq!(at.dofs(), 2);
             assert!((at.displacement(0)[7] - (1.0 - 2.0 * bearing)).abs() < 1e-14);
             assert!((at.displacement(1)[7] - (0.5 + 3.0 * bearing)).abs() < 1e-14);
-            assert_eq!(at.force(1)[0], 1.5);
+            assert_eq!(at.force(1), [1.5; 16]);
         }
     }
 

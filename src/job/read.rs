@@ -47,8 +47,8 @@ impl Channels {
     /// too; when all are, the kinds are checked by its reader against its channels).
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] for unequal numbers of force and response columns, a
-    /// Universal File channel that does not parse, a number of response kinds that is
+    /// [`Error::InvalidOption`] for other than one (or, for two planes, two) response columns
+    /// per force column, a Universal File channel that does not parse, a number of response kinds that is
     /// neither one nor one per response column, or a channel named twice
     /// ([`Channels::check`]).
     ///
