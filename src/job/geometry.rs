@@ -166,7 +166,7 @@ impl Geometry {
     /// assert_eq!(at_bearing.dofs(), 2);
     /// assert!((at_bearing.displacement(0)[0] - 0.151).abs() < 1e-15);
     /// assert!((at_bearing.displacement(1)[3] - 1.0).abs() < 1e-15);
-    /// assert!(Geometry::two_plane(0.151, vec![0.213, 0.254, 0.213, 0.254]).is_ok());
+    /// assert!(Geometry::two_plane(0.151, vec![0.213, 0.22, 0.254, 0.26]).is_ok()); // y apart
     /// assert!(Geometry::two_plane(0.151, vec![0.213, 0.2, 0.213, 0.3]).is_err()); // x: one plane
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```

@@ -59,7 +59,8 @@ impl Channels {
     /// let files = [std::path::PathBuf::from("hit-1.csv")];
     /// let c = Channels::named(&[], &[], &[Response::Velocity], "t", &files)?;
     /// assert_eq!(c.csv.displacements, ["vx", "vy"]);
-    /// let e = Channels::named(&["fx".into()], &[], &[], "t", &files).unwrap_err();
+    /// let three = ["fx".into(), "fy".into(), "fz".into()];
+    /// let e = Channels::named(&three, &[], &[], "t", &files).unwrap_err();
     /// assert_eq!(e.kind(), "invalid_argument");
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
