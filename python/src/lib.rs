@@ -41,16 +41,9 @@ fn invalid(message: String) -> PyErr {
     NativeError::new_err(("invalid_argument", message))
 }
 
-/// Rows of a 2-D float array (float64 or float32, any strides), copied once.
+/// Rows of a 2-D float array (float64 or float32, any strides), converted once.
 fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
-        // C order: each row is one run of memory, copied as such.
-        // (`as_slice` takes Fortran order too, whose runs are columns.)
-        if let (true, Ok(all), &[_, n]) = (a.is_c_contiguous(), a.as_slice(), a.shape())
-            && n > 0
-        {
-            return Ok(all.chunks_exact(n).map(<[f64]>::to_vec).collect());
-        }
         return Ok(a
             .as_array()
             .rows()
@@ -75,6 +68,22 @@ fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     )))
 }
 
+/// `array` as a C-ordered float64 array with columns, if it is one.
+fn c_ordered<'py>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray2<'py, f64>> {
+    array
+        .extract::<PyReadonlyArray2<'py, f64>>()
+        .ok()
+        .filter(|a| a.is_c_contiguous() && a.shape()[1] > 0)
+}
+
+/// The rows of a C-ordered array, borrowed from its buffer.
+fn row_slices<'a>(array: &'a PyReadonlyArray2<'_, f64>) -> Vec<&'a [f64]> {
+    let n = array.shape()[1];
+    array
+        .as_slice()
+        .map_or_else(|_| Vec::new(), |all| all.chunks_exact(n).collect())
+}
+
 /// One record from Python: force and response arrays, sampling rate, label, response kinds.
 fn record(
     force: &Bound<'_, PyAny>,
@@ -83,16 +92,28 @@ fn record(
     label: String,
     kinds: Vec<String>,
 ) -> PyResult<Record> {
-    let forces = rows(force, "force")?;
-    let responses = rows(response, "response")?;
-    if forces.len() != responses.len() {
-        return Err(invalid(format!(
-            "record `{label}`: force has {} rows and response {}: one of each per degree of freedom",
-            forces.len(),
-            responses.len()
-        )));
+    let rows_differ = |f: usize, x: usize| {
+        invalid(format!(
+            "record `{label}`: force has {f} rows and response {x}: one of each per degree of freedom"
+        ))
+    };
+    // C-ordered float64 (the usual case): the crate copies each row from numpy's buffer and
+    // checks it in the same pass. Anything else is converted row by row first.
+    let r = if let (Some(f), Some(x)) = (c_ordered(force), c_ordered(response)) {
+        let (f, x) = (row_slices(&f), row_slices(&x));
+        if f.len() != x.len() {
+            return Err(rows_differ(f.len(), x.len()));
+        }
+        Record::from_slices(label, fs, &f, &x)
+    } else {
+        let forces = rows(force, "force")?;
+        let responses = rows(response, "response")?;
+        if forces.len() != responses.len() {
+            return Err(rows_differ(forces.len(), responses.len()));
+        }
+        Record::new(label, fs, forces, responses)
     }
-    let r = Record::new(label, fs, forces, responses).map_err(|e| raise(&e))?;
+    .map_err(|e| raise(&e))?;
     if kinds.is_empty() {
         return Ok(r);
     }
