@@ -564,7 +564,8 @@ mod tests {
         let mut late_nan = good.clone();
         late_nan[2500] = f64::INFINITY;
         let short = vec![0.0; 4];
-        let cases: Vec<(f64, Vec<&[f64]>, Vec<&[f64]>)> = vec![
+        type Channels<'a> = Vec<&'a [f64]>;
+        let cases: Vec<(f64, Channels<'_>, Channels<'_>)> = vec![
             (100.0, vec![&good, &good], vec![&good, &good]),
             (100.0, vec![&good, &good], vec![&good, &late_nan]),
             (0.0, vec![&good], vec![&good]),
