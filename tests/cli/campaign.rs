@@ -10,6 +10,7 @@ use bearing_ident::io::{CsvLayout, write_record};
 use bearing_ident::simulate::ImpactTest;
 use serde_json::Value;
 
+use crate::commands::{block_error, matrix};
 use crate::common::run;
 
 /// A 2-DOF system whose direct damping is `c` (N·s/m): the seed rig's mass and stiffness.
@@ -554,63 +555,32 @@ fn two_plane_geometry_recovers_the_bearing() {
         String::from_utf8_lossy(&out.stderr)
     );
     let point = &json_of(&out)["points"][0];
-    let rows = |v: &Value| -> Vec<Vec<f64>> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|r| {
-                r.as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|x| x.as_f64().unwrap())
-                    .collect()
-            })
-            .collect()
-    };
     let worst = [
         ("M", truth.mass()),
         ("C", truth.damping()),
         ("K", truth.stiffness()),
     ]
     .iter()
-    .map(|(key, t)| {
-        let got = rows(&point[key]);
-        let (mut err, mut norm) = (0.0_f64, 0.0_f64);
-        for i in 0..2 {
-            for j in 0..2 {
-                err += (got[i][j] - t[(i, j)]).powi(2);
-                norm += t[(i, j)].powi(2);
-            }
-        }
-        (err / norm).sqrt()
-    })
+    .map(|(key, t)| block_error(&matrix(point, key), &bearing_ident::model::rows(*t)))
     .fold(0.0, f64::max);
     assert!(worst < 1e-6, "worst block error {worst}");
     let files = files(&dir.join("hits"));
     let g = dir.join("geometry.toml").display().to_string();
-    let mut args = vec![
-        "identify",
-        "--json",
-        "--band",
-        "8,49",
-        "--disp",
-        "x1,y1,x2,y2",
-        "--geometry",
-        &g,
-    ];
-    args.extend(files.iter().map(String::as_str));
-    let one = json_of(&run(&args));
-    assert_eq!(one["K"], point["K"]);
-    let mut args = vec![
-        "identify",
-        "--json",
-        "--band",
-        "8,49",
-        "--disp",
-        "x1,y1,x2,y2",
-    ];
-    args.extend(files.iter().map(String::as_str));
-    let refused = json_of(&run(&args));
+    let identify = |geometry: &[&str]| {
+        let mut args = vec![
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            "--disp",
+            "x1,y1,x2,y2",
+        ];
+        args.extend(geometry);
+        args.extend(files.iter().map(String::as_str));
+        json_of(&run(&args))
+    };
+    assert_eq!(identify(&["--geometry", &g])["K"], point["K"]);
+    let refused = identify(&[]);
     assert_eq!(refused["error"], "invalid_argument");
     assert!(refused["message"].as_str().unwrap().contains("--disp 4"));
 }
