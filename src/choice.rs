@@ -52,7 +52,7 @@ pub trait Choice: Copy + Sized + 'static {
             .find(|c| same_name(c.name(), text))
             .ok_or_else(|| Error::UnknownName {
                 what: Self::OPTION,
-                given: text.to_owned(),
+                given: crate::error::excerpt(text),
                 expected: Cow::Owned(format!("one of {}", names::<Self>().join(", "))),
             })
     }
@@ -164,6 +164,7 @@ pub(crate) mod tests {
         round_trips::<crate::nonlinear::Regressor>();
         round_trips::<crate::solve::ml::NoiseModel>();
         round_trips::<crate::identify::NonConvergence>();
+        round_trips::<crate::simulate::Kind>();
         #[cfg(feature = "plot")]
         round_trips::<crate::plot::Figure>();
     }

@@ -7,7 +7,7 @@ likelihood, with error bars and diagnostics. This package calls it on numpy arra
 same options, the same results and the same errors as the ``bearing-ident identify`` command.
 
 >>> import bearing_ident as bi
->>> records = bi.simulate("impact", count=2, noise=0.0)
+>>> records = bi.simulate("impact", impacts=2, noise=0.0)
 >>> result = bi.identify(records, band=(8.0, 49.0))
 >>> print(round(result.K[0, 0] / 146.3e3, 6))
 1.0
@@ -48,7 +48,7 @@ class BearingIdentError(Exception):
 
     >>> import bearing_ident as bi
     >>> try:
-    ...     bi.identify(bi.simulate("impact", count=1), band=(8.0, 4000.0))
+    ...     bi.identify(bi.simulate("impact", impacts=1), band=(8.0, 4000.0))
     ... except bi.BearingIdentError as e:
     ...     print(e.kind)
     bad_band
@@ -196,21 +196,30 @@ class Identification:
 
     def __init__(self, native) -> None:
         self._native = native
-        self._dict = _json.loads(_call(native.json))
-        d = self._dict
-        self.M, self.C, self.K = (np.array(d[k], dtype=float) for k in ("M", "C", "K"))
-        self.M_std, self.C_std, self.K_std = (
-            None if d.get(k) is None else np.array(d[k], dtype=float)
-            for k in ("M_std", "C_std", "K_std")
-        )
-        self.natural_frequencies_hz = np.array(d["natural_frequencies_hz"], dtype=float)
-        self.damping_ratios = np.array(d["damping_ratios"], dtype=float)
-        self.warnings = list(zip(d["warning_kinds"], d["warnings"]))
-        self.timings_ms = dict(d["timings_ms"])
+        # The arrays straight from the result; the JSON (``to_dict``) is written on demand.
+        self._dict = None
+        array = lambda rows: np.array(rows, dtype=float)
+        self.M, self.C, self.K = map(array, native.coefficients())
+        std = native.std_dev()
+        self.M_std, self.C_std, self.K_std = (None,) * 3 if std is None else map(array, std)
+        frequencies, ratios = native.modes()
+        self.natural_frequencies_hz = array(frequencies)
+        self.damping_ratios = array(ratios)
+        self.warnings = native.warnings()
+
+    def _json(self) -> dict:
+        if self._dict is None:
+            self._dict = _json.loads(_call(self._native.json))
+        return self._dict
+
+    @property
+    def timings_ms(self) -> dict:
+        """Wall time per stage (ms): ``read``, each stage of the identification, ``total``."""
+        return dict(self._json()["timings_ms"])
 
     def to_dict(self) -> dict:
         """The result as the CLI's ``identify --json`` prints it (a fresh copy)."""
-        return _json.loads(_json.dumps(self._dict))
+        return _json.loads(_json.dumps(self._json()))
 
     def to_ross_toml(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False) -> str:
         """The identified bearing as a ROSS 3.x ``BearingElement`` TOML table at node ``n``
@@ -237,7 +246,7 @@ class Identification:
             return ross.BearingElement.load(path)
 
     def __repr__(self) -> str:
-        d = self._dict
+        d = self._json()
         return (
             f"Identification(n={d['n']}, method={d['method']!r}, records={d['n_records']}, "
             f"band={tuple(d['band_hz'])}, warnings={len(self.warnings)})"
@@ -339,6 +348,8 @@ def run_campaign(
 
 
 def _text(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (tuple, list)):
@@ -371,7 +382,7 @@ def identify(
     identifies the same records read from files. The GIL is released while the crate works.
 
     >>> import bearing_ident as bi
-    >>> r = bi.identify(bi.simulate("impact", count=2), band=(8, 49), method="ls")
+    >>> r = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49), method="ls")
     >>> r.to_dict()["method"]
     'ls'
     """
@@ -428,19 +439,85 @@ def read_uff(
 
 def simulate(
     kind: str = "impact",
-    count: int = 8,
-    noise: float = 0.0,
-    seed: int = 1,
-    rate: float = 6700.0,
+    *,
+    impacts: int | None = None,
+    records: int | None = None,
+    noise: float | None = None,
+    seed: int | None = None,
+    rate: float | None = None,
     duration: float | None = None,
+    pulse: float | None = None,
+    force_rms: float | None = None,
+    freqs: Sequence[float] | None = None,
+    period: float | None = None,
+    periods: int | None = None,
+    sweep_time: float | None = None,
+    simultaneous: bool | None = None,
+    response: str | Sequence[str] | None = None,
+    mass: Any = None,
+    damping: Any = None,
+    stiffness: Any = None,
+    coulomb: float | Sequence[float] | None = None,
+    coulomb_planar: float | None = None,
+    cubic: float | Sequence[float] | None = None,
+    quadratic_damping: float | Sequence[float] | None = None,
+    smoothing: float | None = None,
+    oversampling: int | None = None,
 ) -> list[Record]:
-    """Records of the seed's test rig (Diaz & San Andrés 1999: 4.7/4.8 kg, 146.3/169.1 kN/m),
-    simulated exactly: ``impact`` (``count`` hammer hits per direction) or ``random``
-    (``count`` records of ``duration`` s, 30 by default, of simultaneous random forces), with a
-    ``noise`` floor as a fraction of each signal's RMS.
+    """Records of a simulated test, exactly as ``bearing-ident simulate`` writes them with the
+    options of the same names (``_`` for ``-``); ``None`` takes the command's default.
 
-    >>> records = simulate("impact", count=1)
+    ``kind``: ``impact`` (``impacts`` half-sine hits per direction, 8), ``random``
+    (``records`` records, 4, of simultaneous Gaussian forces, white or band-limited to
+    ``freqs=(lo, hi)``, 60 s), ``multisine`` (random phases on one direction per record, or all
+    at once with ``simultaneous``, lines in ``freqs`` (8, 49) Hz, ``period`` 1 s, ``periods`` 8
+    kept after 2 s of settling), ``stepped-sine`` (one sine per record and direction at
+    ``freqs=(lo, hi, count)``, (10, 48, 15), ``duration`` 1 s kept after 1 s of settling) or
+    ``sweep`` (linear over ``freqs`` (5, 60) Hz in ``sweep_time`` 1 s, then free decay).
+    ``noise`` (0) is a fraction of each signal's RMS, ``seed`` (1) seeds forcing and noise,
+    ``rate`` (6700 Hz) the sampling, ``force_rms`` (50 N) the random and shaker forces,
+    ``pulse`` (0.002 s) the hits, ``response`` what the responses record (``displacement``,
+    ``velocity``, ``acceleration``; one or one per degree of freedom). The system is the seed's
+    rig (Diaz & San Andrés 1999: 4.7/4.8 kg, 146.3/169.1 kN/m) unless ``mass``, ``damping``
+    and ``stiffness`` are given (square arrays). ``coulomb``, ``coulomb_planar``, ``cubic``,
+    ``quadratic_damping`` add nonlinear terms (integrated by RK4, ``smoothing`` and
+    ``oversampling`` its settings). The GIL is released while it runs.
+
+    >>> records = simulate("impact", impacts=1)
     >>> len(records), records[0].n_dof
     (2, 2)
+    >>> [r.label for r in simulate("stepped-sine", freqs=(10, 40, 2), rate=1000)]
+    ['sine-10.000Hz-d0', 'sine-10.000Hz-d1', 'sine-40.000Hz-d0', 'sine-40.000Hz-d1']
     """
-    return _from_native(_call(_native.simulate, kind, count, noise, seed, rate, duration))
+    given = {
+        "kind": kind,
+        "impacts": impacts,
+        "records": records,
+        "noise": noise,
+        "seed": seed,
+        "rate": rate,
+        "duration": duration,
+        "pulse": pulse,
+        "force_rms": force_rms,
+        "freqs": freqs,
+        "period": period,
+        "periods": periods,
+        "sweep_time": sweep_time,
+        "simultaneous": simultaneous,
+        "response": response,
+        "coulomb": coulomb,
+        "coulomb_planar": coulomb_planar,
+        "cubic": cubic,
+        "quadratic_damping": quadratic_damping,
+        "smoothing": smoothing,
+        "oversampling": oversampling,
+    }
+    pairs = [(name, _text(value)) for name, value in given.items() if value is not None]
+    matrices = (mass, damping, stiffness)
+    system = None
+    if any(m is not None for m in matrices):
+        if any(m is None for m in matrices):
+            raise _error("invalid_argument", "give mass, damping and stiffness together, or none (the seed's rig)")
+        system = tuple(_float_2d(m, name).astype(np.float64).tolist() for m, name in zip(matrices, ("mass", "damping", "stiffness")))
+    items, _duration = _call(_native.simulate, pairs, system)
+    return _from_native(items)

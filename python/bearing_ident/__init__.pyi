@@ -2,6 +2,8 @@
 
 from typing import Any, Iterable, Sequence
 
+from numpy.typing import ArrayLike
+
 import numpy as np
 import numpy.typing as npt
 
@@ -100,11 +102,30 @@ def read_uff(
 ) -> list[Record]: ...
 def simulate(
     kind: str = "impact",
-    count: int = 8,
-    noise: float = 0.0,
-    seed: int = 1,
-    rate: float = 6700.0,
+    *,
+    impacts: int | None = None,
+    records: int | None = None,
+    noise: float | None = None,
+    seed: int | None = None,
+    rate: float | None = None,
     duration: float | None = None,
+    pulse: float | None = None,
+    force_rms: float | None = None,
+    freqs: Sequence[float] | None = None,
+    period: float | None = None,
+    periods: int | None = None,
+    sweep_time: float | None = None,
+    simultaneous: bool | None = None,
+    response: str | Sequence[str] | None = None,
+    mass: ArrayLike | None = None,
+    damping: ArrayLike | None = None,
+    stiffness: ArrayLike | None = None,
+    coulomb: float | Sequence[float] | None = None,
+    coulomb_planar: float | None = None,
+    cubic: float | Sequence[float] | None = None,
+    quadratic_damping: float | Sequence[float] | None = None,
+    smoothing: float | None = None,
+    oversampling: int | None = None,
 ) -> list[Record]: ...
 
 class Campaign:

@@ -10,7 +10,7 @@ import numpy as np
 import bearing_ident as bi
 
 # 8 hammer hits per direction on the 2-DOF rig of Diaz & San Andres (1999), 5 % noise floor.
-records = bi.simulate("impact", count=8, noise=0.05, seed=1)
+records = bi.simulate("impact", impacts=8, noise=0.05, seed=1)
 result = bi.identify(records, band=(8.0, 49.0), method="ivf")
 
 truth = {"K": np.array([[146.3e3, 22.3e3], [11.5e3, 169.1e3]]), "M": np.diag([4.7, 4.8])}

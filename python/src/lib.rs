@@ -41,16 +41,9 @@ fn invalid(message: String) -> PyErr {
     NativeError::new_err(("invalid_argument", message))
 }
 
-/// Rows of a 2-D float array (float64 or float32, any strides), copied once.
+/// Rows of a 2-D float array (float64 or float32, any strides), converted once.
 fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
-        // C order: each row is one run of memory, copied as such.
-        // (`as_slice` takes Fortran order too, whose runs are columns.)
-        if let (true, Ok(all), &[_, n]) = (a.is_c_contiguous(), a.as_slice(), a.shape())
-            && n > 0
-        {
-            return Ok(all.chunks_exact(n).map(<[f64]>::to_vec).collect());
-        }
         return Ok(a
             .as_array()
             .rows()
@@ -75,6 +68,22 @@ fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     )))
 }
 
+/// `array` as a C-ordered float64 array with columns, if it is one.
+fn c_ordered<'py>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray2<'py, f64>> {
+    array
+        .extract::<PyReadonlyArray2<'py, f64>>()
+        .ok()
+        .filter(|a| a.is_c_contiguous() && a.shape()[1] > 0)
+}
+
+/// The rows of a C-ordered array, borrowed from its buffer.
+fn row_slices<'a>(array: &'a PyReadonlyArray2<'_, f64>) -> Vec<&'a [f64]> {
+    let n = array.shape()[1];
+    array
+        .as_slice()
+        .map_or_else(|_| Vec::new(), |all| all.chunks_exact(n).collect())
+}
+
 /// One record from Python: force and response arrays, sampling rate, label, response kinds.
 fn record(
     force: &Bound<'_, PyAny>,
@@ -83,16 +92,28 @@ fn record(
     label: String,
     kinds: Vec<String>,
 ) -> PyResult<Record> {
-    let forces = rows(force, "force")?;
-    let responses = rows(response, "response")?;
-    if forces.len() != responses.len() {
-        return Err(invalid(format!(
-            "record `{label}`: force has {} rows and response {}: one of each per degree of freedom",
-            forces.len(),
-            responses.len()
-        )));
+    let rows_differ = |f: usize, x: usize| {
+        invalid(format!(
+            "record `{label}`: force has {f} rows and response {x}: one of each per degree of freedom"
+        ))
+    };
+    // C-ordered float64 (the usual case): the crate copies each row from numpy's buffer and
+    // checks it in the same pass. Anything else is converted row by row first.
+    let r = if let (Some(f), Some(x)) = (c_ordered(force), c_ordered(response)) {
+        let (f, x) = (row_slices(&f), row_slices(&x));
+        if f.len() != x.len() {
+            return Err(rows_differ(f.len(), x.len()));
+        }
+        Record::from_slices(label, fs, &f, &x)
+    } else {
+        let forces = rows(force, "force")?;
+        let responses = rows(response, "response")?;
+        if forces.len() != responses.len() {
+            return Err(rows_differ(forces.len(), responses.len()));
+        }
+        Record::new(label, fs, forces, responses)
     }
-    let r = Record::new(label, fs, forces, responses).map_err(|e| raise(&e))?;
+    .map_err(|e| raise(&e))?;
     if kinds.is_empty() {
         return Ok(r);
     }
@@ -117,6 +138,22 @@ fn record_out(r: &Record) -> PyRecordOut {
     )
 }
 
+/// The records from Python and the job of the options given by long name.
+fn records_and_job(
+    records: &[PyRecordIn<'_>],
+    options: &[(String, String)],
+) -> PyResult<(Vec<Record>, Job)> {
+    let records = records
+        .iter()
+        .map(|(f, x, fs, label, kinds)| record(f, x, *fs, label.clone(), kinds.clone()))
+        .collect::<PyResult<Vec<_>>>()?;
+    let mut o = Options::new(f64::NAN, f64::NAN);
+    for (name, value) in options {
+        o.set(name, value).map_err(|e| raise(&e))?;
+    }
+    Ok((records, Job::new(o, Channels::default())))
+}
+
 /// A finished run: the crate's [`Outcome`] behind the package's `Identification`.
 #[pyclass(frozen, module = "bearing_ident._native")]
 struct NativeResult {
@@ -124,8 +161,46 @@ struct NativeResult {
     per_frequency: bool,
 }
 
+/// A coefficient set as rows of `M`, `C`, `K`.
+type Blocks = (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>);
+
+/// `c`'s mass, damping and stiffness as rows.
+fn blocks(c: &bearing_ident::Coefficients) -> Blocks {
+    use bearing_ident::model::rows;
+    (rows(c.mass()), rows(c.damping()), rows(c.stiffness()))
+}
+
 #[pymethods]
 impl NativeResult {
+    /// `M`, `C`, `K` as rows: the JSON's values, without writing the JSON.
+    fn coefficients(&self) -> Blocks {
+        blocks(self.outcome.identification().coefficients())
+    }
+
+    /// `M_std`, `C_std`, `K_std` as rows, or `None` without error bars (as the JSON's).
+    fn std_dev(&self) -> Option<Blocks> {
+        self.outcome.identification().std_dev().map(blocks)
+    }
+
+    /// The modes' natural frequencies (Hz) and damping ratios (as the JSON's).
+    fn modes(&self) -> (Vec<f64>, Vec<f64>) {
+        let modes = self.outcome.identification().modes().unwrap_or_default();
+        modes
+            .iter()
+            .map(|m| (m.natural_frequency_hz, m.damping_ratio))
+            .unzip()
+    }
+
+    /// The warnings as `(kind, sentence)` (as the JSON's `warning_kinds` and `warnings`).
+    fn warnings(&self) -> Vec<(&'static str, String)> {
+        self.outcome
+            .identification()
+            .warnings()
+            .iter()
+            .map(|w| (w.kind(), w.to_string()))
+            .collect()
+    }
+
     /// The JSON of the run, as `bearing-ident identify --json` prints it.
     fn json(&self) -> PyResult<String> {
         self.outcome
@@ -158,15 +233,7 @@ fn identify(
     options: Vec<(String, String)>,
     per_frequency: bool,
 ) -> PyResult<NativeResult> {
-    let records = records
-        .iter()
-        .map(|(f, x, fs, label, kinds)| record(f, x, *fs, label.clone(), kinds.clone()))
-        .collect::<PyResult<Vec<_>>>()?;
-    let mut o = Options::new(f64::NAN, f64::NAN);
-    for (name, value) in &options {
-        o.set(name, value).map_err(|e| raise(&e))?;
-    }
-    let job = Job::new(o, Channels::default());
+    let (records, job) = records_and_job(&records, &options)?;
     let outcome = py
         .detach(|| {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job.run_records(records)))
@@ -321,61 +388,92 @@ fn field(py: Python<'_>, rotor: String, tests: String) -> PyResult<String> {
     Ok(id.to_json(start.elapsed().as_secs_f64() * 1e3).to_string())
 }
 
-/// Records of the seed's rig (or a given system) simulated by the crate: `kind` `impact` (hits
-/// per direction `count`) or `random` (`count` records of `duration` s).
+/// A square matrix from Python's rows, named by `what` when it is not one.
+fn square(rows: &[Vec<f64>], what: &str) -> PyResult<bearing_ident::faer::Mat<f64>> {
+    let n = rows.len();
+    if n == 0 || rows.iter().any(|r| r.len() != n) {
+        return Err(invalid(format!(
+            "{what}: expected a square matrix (n_dof, n_dof), got {n} rows of lengths {:?}",
+            rows.iter().map(Vec::len).collect::<Vec<_>>()
+        )));
+    }
+    Ok(bearing_ident::faer::Mat::from_fn(n, n, |i, j| rows[i][j]))
+}
+
+/// Records of a simulated test, as `bearing-ident simulate` makes them
+/// ([`bearing_ident::simulate::Setup`], options by long name) on the system `(M, C, K)` given
+/// as rows, or the seed's rig; with the record length (s) the test chose.
 #[pyfunction]
-#[pyo3(signature = (kind, count, noise, seed, rate, duration=None))]
+#[pyo3(signature = (options, system=None))]
 fn simulate(
     py: Python<'_>,
-    kind: &str,
-    count: usize,
-    noise: f64,
-    seed: u64,
-    rate: f64,
-    duration: Option<f64>,
-) -> PyResult<Vec<PyRecordOut>> {
-    use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, seed_rig};
-    let truth = seed_rig();
-    let records: Vec<Record> = py
-        .detach(|| match kind {
-            "impact" => {
-                let mut test = ImpactTest {
-                    per_direction: count,
-                    noise,
-                    seed,
-                    sample_rate: rate,
-                    ..ImpactTest::seed_rig()
-                };
-                if let Some(d) = duration {
-                    test.duration_s = d;
-                }
-                test.run(&truth)
-            }
-            "random" => {
-                use rand::SeedableRng;
-                let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
-                let n = (duration.unwrap_or(30.0) * rate).round() as usize;
-                let mut sim = Simulator::new(&truth, rate, n, AntiAlias::default())?;
-                (0..count)
-                    .map(|r| {
-                        let rec =
-                            sim.random_record(format!("random-{r}"), 50.0, seed + r as u64)?;
-                        if noise > 0.0 {
-                            bearing_ident::simulate::add_noise(&rec, noise, &mut rng)
-                        } else {
-                            Ok(rec)
-                        }
-                    })
-                    .collect()
-            }
-            other => Err(Error::UnknownName {
-                what: "simulated test",
-                given: other.to_owned(),
-                expected: "impact or random".into(),
-            }),
-        })
+    options: Vec<(String, String)>,
+    system: Option<Blocks>,
+) -> PyResult<(Vec<PyRecordOut>, f64)> {
+    use bearing_ident::simulate::{Setup, seed_rig};
+    let mut setup = Setup::default();
+    for (name, value) in &options {
+        setup.set(name, value).map_err(|e| raise(&e))?;
+    }
+    let system = match system {
+        Some((m, c, k)) => bearing_ident::Coefficients::new(
+            square(&m, "mass")?,
+            square(&c, "damping")?,
+            square(&k, "stiffness")?,
+        )
+        .map_err(|e| raise(&e))?,
+        None => seed_rig(),
+    };
+    let test = py
+        .detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| setup.run(&system))))
+        .map_err(|_| NativeError::new_err(("internal", "the simulation panicked")))?
         .map_err(|e| raise(&e))?;
-    Ok(records.iter().map(record_out).collect())
+    Ok((
+        test.records.iter().map(record_out).collect(),
+        test.duration_s,
+    ))
+}
+
+/// The Rust library's own time (ms) on the same records and options, `repeat` times: each run
+/// builds the records from owned sample vectors (`Record::new`, as a Rust caller does) and
+/// identifies them (`Job::run_records`); the vectors are cloned before the clock starts. The
+/// reference of `benches/overhead.py`.
+#[pyfunction]
+fn _rust_reference_ms(
+    py: Python<'_>,
+    records: Vec<PyRecordIn<'_>>,
+    options: Vec<(String, String)>,
+    repeat: usize,
+) -> PyResult<Vec<f64>> {
+    let (records, job) = records_and_job(&records, &options)?;
+    let owned = |r: &Record| {
+        let n = r.dofs();
+        (
+            (0..n).map(|i| r.force(i).to_vec()).collect::<Vec<_>>(),
+            (0..n)
+                .map(|i| r.displacement(i).to_vec())
+                .collect::<Vec<_>>(),
+        )
+    };
+    py.detach(|| {
+        (0..repeat)
+            .map(|_| {
+                let data: Vec<_> = records.iter().map(owned).collect();
+                let start = std::time::Instant::now();
+                let built = records
+                    .iter()
+                    .zip(data)
+                    .map(|(r, (f, x))| {
+                        Record::new(r.label(), r.sample_rate(), f, x)?
+                            .with_responses(r.responses().to_vec())
+                    })
+                    .collect::<bearing_ident::Result<Vec<_>>>()?;
+                std::hint::black_box(job.run_records(built)?);
+                Ok(start.elapsed().as_secs_f64() * 1e3)
+            })
+            .collect::<bearing_ident::Result<Vec<f64>>>()
+    })
+    .map_err(|e| raise(&e))
 }
 
 /// Panics inside the crate's call, to show that a panic becomes an exception.
@@ -393,6 +491,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     kinds.push("internal");
     m.add("ERROR_KINDS", kinds)?;
     m.add("OPTION_NAMES", Options::NAMES.to_vec())?;
+    m.add(
+        "SIMULATE_OPTION_NAMES",
+        bearing_ident::simulate::Setup::NAMES.to_vec(),
+    )?;
     m.add_class::<NativeResult>()?;
     m.add_class::<NativeCampaign>()?;
     m.add_function(wrap_pyfunction!(campaign, m)?)?;
@@ -401,5 +503,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_files, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    m.add_function(wrap_pyfunction!(_rust_reference_ms, m)?)?;
     Ok(())
 }

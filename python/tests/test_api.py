@@ -105,7 +105,7 @@ def test_identify_equals_the_cli_json(tmp_path, simulate_args, identify_args, op
 
 
 def test_result_arrays_and_truth():
-    result = bi.identify(bi.simulate("impact", count=3, noise=0.02, seed=4), band=(8, 49))
+    result = bi.identify(bi.simulate("impact", impacts=3, noise=0.02, seed=4), band=(8, 49))
     assert result.K.shape == (2, 2) and result.K_std.shape == (2, 2)
     np.testing.assert_allclose(np.diag(result.K), [146.3e3, 169.1e3], rtol=0.02)
     np.testing.assert_allclose(np.diag(result.M), [4.7, 4.8], rtol=0.02)
@@ -115,7 +115,7 @@ def test_result_arrays_and_truth():
 
 
 def test_float32_and_strided_inputs_are_read_as_they_are():
-    records = bi.simulate("impact", count=2, noise=0.01)
+    records = bi.simulate("impact", impacts=2, noise=0.01)
     base = bi.identify(records, band=(8, 49))
     # Non-contiguous views of the same float64 values: the same result, bit for bit.
     strided = []
@@ -171,7 +171,7 @@ def test_every_error_kind_has_its_class():
     ],
 )
 def test_errors_carry_the_cli_kind(make, kind):
-    records = bi.simulate("impact", count=1)
+    records = bi.simulate("impact", impacts=1)
     with pytest.raises(bi.BearingIdentError) as info:
         make(records)
     assert info.value.kind == kind, str(info.value)
@@ -207,7 +207,7 @@ def test_identify_releases_the_gil():
     blocks or when native code releases it. The second thread is woken while the first waits
     for the GIL back: if `identify` held the GIL throughout, the first thread would finish
     (and set `done`) before the second could run a line."""
-    records = bi.simulate("random", count=2, rate=512.0, duration=60.0)
+    records = bi.simulate("random", records=2, rate=512.0, duration=60.0)
     started, done = threading.Event(), threading.Event()
     inside = []
 
@@ -231,7 +231,7 @@ def test_identify_releases_the_gil():
 
 
 def test_ross_hand_off():
-    result = bi.identify(bi.simulate("impact", count=2), band=(8, 49))
+    result = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49))
     toml = result.to_ross_toml(n=3, tag="brg")
     assert "[BearingElement_brg]" in toml and "n = 3" in toml
     try:
@@ -307,3 +307,15 @@ def test_field_equals_the_cli():
     assert untimed(as_dicts) == untimed(cli)
     with pytest.raises(bi.InvalidInputError, match="^tests: "):
         bi.field(str(rotor), "{}")
+
+
+def test_result_arrays_equal_its_json():
+    """The arrays come from the result itself, the JSON only on demand: the same numbers."""
+    result = bi.identify(bi.simulate("impact", impacts=2, noise=0.05), band=(8, 49), uncertainty="sandwich")
+    d = result.to_dict()
+    for key in ("M", "C", "K", "M_std", "C_std", "K_std", "natural_frequencies_hz", "damping_ratios"):
+        assert np.array_equal(getattr(result, key), np.array(d[key])), key
+    assert result.warnings == list(zip(d["warning_kinds"], d["warnings"]))
+    assert set(result.timings_ms) == set(d["timings_ms"])
+    plain = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49), uncertainty="none")
+    assert plain.K_std is None and plain.to_dict()["K_std"] is None

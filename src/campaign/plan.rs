@@ -159,13 +159,13 @@ impl<'t> Reader<'t> {
     fn geometry(&self, item: &Item<'_>) -> Result<Geometry> {
         let table = self.table(item, "[geometry]")?;
         let mut mode = None;
-        let (mut pivot, mut bearing, mut probes, mut forces) = (None, None, None, None);
+        let (mut pivot, mut bearing, mut probes_given, mut forces) = (None, None, None, None);
         for (key, value) in table {
             match key.get_ref().as_ref() {
                 "mode" => mode = Some((self.string(value, "geometry mode")?, value.span())),
                 "pivot" => pivot = Some(self.number(value, "geometry pivot")?),
                 "bearing" => bearing = Some(self.number(value, "geometry bearing")?),
-                "probes" => probes = Some(self.numbers(value, "geometry probes")?),
+                "probes" => probes_given = Some(self.numbers(value, "geometry probes")?),
                 "forces" => forces = Some(self.numbers(value, "geometry forces")?),
                 other => {
                     return Err(self.error(
@@ -181,29 +181,41 @@ impl<'t> Reader<'t> {
         }
         let whole = item.span();
         let missing = |key: &str| self.error(whole.clone(), format!("[geometry] needs `{key}`"));
-        match mode {
-            Some(("conical", _)) => {}
+        let probes = |probes: Option<Vec<f64>>| probes.ok_or_else(|| missing("probes"));
+        let bearing = bearing.ok_or_else(|| missing("bearing"))?;
+        let geometry = match mode {
+            Some(("conical", _)) => {
+                let pivot = pivot.ok_or_else(|| missing("pivot"))?;
+                Geometry::conical(pivot, bearing, probes(probes_given)?, forces)
+            }
             Some(("two-plane", span)) => {
-                return Err(self.error(
-                    span,
-                    "geometry mode `two-plane` needs two probes per direction, which records of \
-                     one response channel per degree of freedom do not hold; not supported yet \
-                     (use `conical`)"
-                        .into(),
-                ));
+                if let Some((key, _)) = [("pivot", pivot.is_some()), ("forces", forces.is_some())]
+                    .into_iter()
+                    .find(|(_, given)| *given)
+                {
+                    return Err(self.error(
+                        span,
+                        format!(
+                            "geometry mode `two-plane` takes no `{key}`: the motion is \
+                             interpolated between the two planes, and the forces act at the \
+                             bearing plane"
+                        ),
+                    ));
+                }
+                Geometry::two_plane(bearing, probes(probes_given)?)
             }
             Some((other, span)) => {
                 return Err(self.error(
                     span,
-                    format!("geometry mode `{}`: expected conical", excerpt(other)),
+                    format!(
+                        "geometry mode `{}`: expected conical or two-plane",
+                        excerpt(other)
+                    ),
                 ));
             }
             None => return Err(missing("mode")),
-        }
-        let pivot = pivot.ok_or_else(|| missing("pivot"))?;
-        let bearing = bearing.ok_or_else(|| missing("bearing"))?;
-        let probes = probes.ok_or_else(|| missing("probes"))?;
-        Geometry::conical(pivot, bearing, probes, forces).map_err(|e| match e {
+        };
+        geometry.map_err(|e| match e {
             Error::InvalidParameter {
                 name,
                 value,
@@ -541,6 +553,55 @@ mod tests {
         Plan::from_toml(text, "p.toml", ".".into())
             .unwrap_err()
             .to_string()
+    }
+
+    /// `mode = "two-plane"`: the probes read, two per direction; a pivot or force planes, an
+    /// odd count, coincident planes or a response count that does not fit are faults naming
+    /// the key or the line.
+    #[test]
+    fn two_plane_geometry_is_read_and_checked() {
+        let geometry = "[identify]\nband = [8.0, 49.0]\ndisp = [\"x1\", \"y1\", \"x2\", \"y2\"]\n\
+                        [geometry]\nmode = \"two-plane\"\nbearing = 0.151\n";
+        let point = "[[point]]\nname = \"a\"\nfiles = \"x\"\n";
+        let plan = |extra: &str| format!("{geometry}{extra}\n{point}");
+        let ok = Plan::from_toml(
+            &plan("probes = [0.213, 0.213, 0.254, 0.254]"),
+            "p.toml",
+            ".".into(),
+        )
+        .unwrap();
+        let g = ok.geometry.unwrap();
+        assert!(g.is_two_plane());
+        assert_eq!(g.probes(), [0.213, 0.213, 0.254, 0.254]);
+        let e = err(&plan("probes = [0.213, 0.213, 0.254, 0.254]\npivot = 0.0"));
+        assert!(
+            e.starts_with("p.toml:5:") && e.contains("no `pivot`"),
+            "{e}"
+        );
+        let e = err(&plan(
+            "probes = [0.213, 0.213, 0.254, 0.254]\nforces = [0.1, 0.1]",
+        ));
+        assert!(e.contains("no `forces`"), "{e}");
+        let e = err(&plan("probes = [0.213, 0.254, 0.3]"));
+        assert!(e.contains("geometry probes = 3"), "{e}");
+        let e = err(&plan("probes = [0.213, 0.2, 0.213, 0.3]"));
+        assert!(
+            e.contains("geometry probes = 0.213") && e.contains("distinct"),
+            "{e}"
+        );
+        let e = err(&plan("probes = [0.2, 0.3]"));
+        assert!(
+            e.contains("2 probes") && e.contains("4 response channels"),
+            "{e}"
+        );
+        assert!(err(&plan("")).contains("needs `probes`"));
+        assert!(
+            err(&format!(
+                "{}\nprobes = [0.2, 0.3]\n{point}",
+                geometry.replace("two-plane", "three-plane")
+            ))
+            .contains("expected conical or two-plane")
+        );
     }
 
     /// Every fault of a plan is named with its line.

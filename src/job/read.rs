@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, sync_channel};
 
 use crate::error::{Error, Result};
+use std::borrow::Cow;
+
 use crate::io::{self, CsvLayout};
 use crate::records::{Record, Response};
 use crate::uff::{UffChannel, UffLayout};
@@ -45,8 +47,8 @@ impl Channels {
     /// too; when all are, the kinds are checked by its reader against its channels).
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] for unequal numbers of force and response columns, a
-    /// Universal File channel that does not parse, a number of response kinds that is
+    /// [`Error::InvalidOption`] for other than one (or, for two planes, two) response columns
+    /// per force column, a Universal File channel that does not parse, a number of response kinds that is
     /// neither one nor one per response column, or a channel named twice
     /// ([`Channels::check`]).
     ///
@@ -57,7 +59,8 @@ impl Channels {
     /// let files = [std::path::PathBuf::from("hit-1.csv")];
     /// let c = Channels::named(&[], &[], &[Response::Velocity], "t", &files)?;
     /// assert_eq!(c.csv.displacements, ["vx", "vy"]);
-    /// let e = Channels::named(&["fx".into()], &[], &[], "t", &files).unwrap_err();
+    /// let three = ["fx".into(), "fy".into(), "fz".into()];
+    /// let e = Channels::named(&three, &[], &[], "t", &files).unwrap_err();
     /// assert_eq!(e.kind(), "invalid_argument");
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
@@ -82,13 +85,15 @@ impl Channels {
             displacements: pick(disp, response_columns(&defaults.displacements, responses)),
         };
         let invalid = |option, message| Error::InvalidOption { option, message };
-        if csv.forces.len() != csv.displacements.len() {
+        // Two response columns per force are two measurement planes, for a two-plane
+        // geometry ([`Geometry::reading_layout`] checks that one is given).
+        let (f, x) = (csv.forces.len(), csv.displacements.len());
+        if x != f && x != 2 * f {
             return Err(invalid(
                 "disp",
                 format!(
-                    "--force names {} columns and --disp {}: one of each per degree of freedom",
-                    csv.forces.len(),
-                    csv.displacements.len()
+                    "--force names {f} columns and --disp {x}: one of each per degree of \
+                     freedom (or two per force, at two planes, with a two-plane geometry)"
                 ),
             ));
         }
@@ -169,6 +174,30 @@ pub fn response_columns(displacements: &[String], kinds: &[Response]) -> Vec<Str
 }
 
 impl Channels {
+    /// The CSV columns read: [`Channels::csv`], or as the geometry reads them
+    /// ([`Geometry::reading_layout`]: two-plane records hold each force twice).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for response columns that are not one per force column, or
+    /// two with a two-plane geometry.
+    pub fn layout(&self) -> Result<Cow<'_, CsvLayout>> {
+        match &self.geometry {
+            Some(g) => g.reading_layout(&self.csv),
+            None if self.csv.displacements.len() != self.csv.forces.len() => {
+                Err(Error::InvalidOption {
+                    option: "disp",
+                    message: format!(
+                        "--force names {} columns and --disp {}: one of each per degree of \
+                         freedom, or two per force with a two-plane [geometry]",
+                        self.csv.forces.len(),
+                        self.csv.displacements.len()
+                    ),
+                })
+            }
+            None => Ok(Cow::Borrowed(&self.csv)),
+        }
+    }
+
     /// Checks that no channel is named twice: a CSV column (time, force or response) or a
     /// Universal File channel (node and axis, either sign, or ID text) given as both a force
     /// and a response, or twice among either, would be read as two channels of one signal.
@@ -273,7 +302,10 @@ pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
     } else {
-        vec![with_kinds(io::read_record(path, &channels.csv)?, channels)?]
+        vec![with_kinds(
+            io::read_record(path, &*channels.layout()?)?,
+            channels,
+        )?]
     };
     let records = moved(records, channels)?;
     if records.is_empty() {
@@ -361,7 +393,11 @@ impl ReadAhead {
         let slots = (0..k)
             .map(|w| {
                 let (tx, rx) = sync_channel(1);
-                let mut reader = io::CsvReader::new(channels.csv.clone());
+                // A layout the geometry refuses fails the first file, read before these.
+                let layout = channels
+                    .layout()
+                    .map_or_else(|_| channels.csv.clone(), Cow::into_owned);
+                let mut reader = io::CsvReader::new(layout);
                 scope.spawn(move || {
                     for path in rest.iter().skip(w).step_by(k) {
                         if tx.send(read_records(path, channels, &mut reader)).is_err() {

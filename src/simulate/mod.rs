@@ -23,6 +23,7 @@ mod impact;
 mod noise;
 mod nonlinear;
 mod rig;
+mod setup;
 mod simulator;
 mod waveforms;
 
@@ -35,6 +36,7 @@ pub use nonlinear::{
     DEFAULT_OVERSAMPLING, DEFAULT_SMOOTHING, MAX_OVERSAMPLING, NonlinearSimulator, SMOOTHING_BAND,
 };
 pub use rig::{seed_rig, slowest_decay};
+pub use setup::{Kind, NonlinearTerms, Setup, Simulated};
 pub use simulator::Simulator;
 pub use waveforms::{SWEEP_TAPER, band_noise, multisine, sine, sweep};
 

@@ -10,6 +10,7 @@ use bearing_ident::io::{CsvLayout, write_record};
 use bearing_ident::simulate::ImpactTest;
 use serde_json::Value;
 
+use crate::commands::{block_error, matrix};
 use crate::common::run;
 
 /// A 2-DOF system whose direct damping is `c` (N·s/m): the seed rig's mass and stiffness.
@@ -489,4 +490,97 @@ fn ross_speed_table() {
     assert_eq!(kxx.len(), 5);
     assert!(kxx.iter().all(|row| row.as_array().unwrap().len() == f));
     assert!(f >= 5);
+}
+
+/// A two-plane campaign end to end: a rigid rotor's motion measured at 213 and 254 mm in x and
+/// y (a tilt unrelated to the bearing's motion on top of it), files of `fx, fy, x1, y1, x2, y2`;
+/// `mode = "two-plane"` brings back the bearing plane's M, C, K (at 151 mm, outside the
+/// probes) to the noise-free simulation's floor, and `identify --geometry` gives the same
+/// point; without the geometry the four response columns are refused naming `--disp`.
+#[test]
+fn two_plane_geometry_recovers_the_bearing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let truth = system(131.98);
+    let (bearing, planes) = (0.151, [0.213, 0.254]);
+    let test = ImpactTest {
+        per_direction: 2,
+        ..ImpactTest::seed_rig()
+    };
+    std::fs::create_dir_all(dir.join("hits")).unwrap();
+    let layout = CsvLayout {
+        time: "t".into(),
+        // The record holds each force twice (the reader reads fx, fy twice); fx2, fy2 unread.
+        forces: ["fx", "fy", "fx2", "fy2"].map(String::from).to_vec(),
+        displacements: ["x1", "y1", "x2", "y2"].map(String::from).to_vec(),
+    };
+    for (k, r) in test.run(&truth).unwrap().iter().enumerate() {
+        let tilt =
+            |d: usize, m: usize| 40.0 * r.displacement(1 - d)[m] + 1e-4 * (m as f64 * 0.01).sin();
+        let at = |z: f64, d: usize| -> Vec<f64> {
+            (0..r.len())
+                .map(|m| r.displacement(d)[m] + tilt(d, m) * (z - bearing))
+                .collect()
+        };
+        let x = vec![
+            at(planes[0], 0),
+            at(planes[0], 1),
+            at(planes[1], 0),
+            at(planes[1], 1),
+        ];
+        let f = (0..4).map(|i| r.force(i % 2).to_vec()).collect();
+        let r = bearing_ident::Record::new(r.label(), r.sample_rate(), f, x).unwrap();
+        write_record(dir.join("hits").join(format!("hit-{k}.csv")), &r, &layout).unwrap();
+    }
+    let geometry = "[geometry]\nmode = \"two-plane\"\nbearing = 0.151\n\
+                    probes = [0.213, 0.213, 0.254, 0.254]\n";
+    std::fs::write(
+        dir.join("plan.toml"),
+        format!(
+            "[identify]\nband = [8.0, 49.0]\ndisp = [\"x1\", \"y1\", \"x2\", \"y2\"]\n{geometry}\
+             [[point]]\nname = \"rig\"\nfiles = \"hits/*.csv\"\n"
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("geometry.toml"),
+        geometry.replace("[geometry]\n", ""),
+    )
+    .unwrap();
+    let plan = dir.join("plan.toml");
+    let out = run(&["campaign".as_ref(), plan.as_os_str(), "--json".as_ref()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let point = &json_of(&out)["points"][0];
+    let worst = [
+        ("M", truth.mass()),
+        ("C", truth.damping()),
+        ("K", truth.stiffness()),
+    ]
+    .iter()
+    .map(|(key, t)| block_error(&matrix(point, key), &bearing_ident::model::rows(*t)))
+    .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "worst block error {worst}");
+    let files = files(&dir.join("hits"));
+    let g = dir.join("geometry.toml").display().to_string();
+    let identify = |geometry: &[&str]| {
+        let mut args = vec![
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            "--disp",
+            "x1,y1,x2,y2",
+        ];
+        args.extend(geometry);
+        args.extend(files.iter().map(String::as_str));
+        json_of(&run(&args))
+    };
+    assert_eq!(identify(&["--geometry", &g])["K"], point["K"]);
+    let refused = identify(&[]);
+    assert_eq!(refused["error"], "invalid_argument");
+    assert!(refused["message"].as_str().unwrap().contains("--disp 4"));
 }

@@ -41,7 +41,7 @@ fn identify_json(args: &[&str], files: &[String]) -> Value {
     serde_json::from_slice(&out.stdout).expect("valid JSON")
 }
 
-fn matrix(v: &Value, key: &str) -> Vec<Vec<f64>> {
+pub(crate) fn matrix(v: &Value, key: &str) -> Vec<Vec<f64>> {
     v[key]
         .as_array()
         .unwrap()
@@ -57,7 +57,7 @@ fn matrix(v: &Value, key: &str) -> Vec<Vec<f64>> {
 }
 
 /// Largest error relative to the block's Frobenius norm ([`common::relative_error`]).
-fn block_error(got: &[Vec<f64>], truth: &[Vec<f64>]) -> f64 {
+pub(crate) fn block_error(got: &[Vec<f64>], truth: &[Vec<f64>]) -> f64 {
     common::relative_error(
         got.iter().flatten().copied(),
         truth.iter().flatten().copied(),
