@@ -575,6 +575,41 @@ mod tests {
             "right model, 40 seeds: χ² {chi2}, runs {runs}, verdict misfit {either}; runs p {ps:.2?}"
         );
         assert!(either <= 4, "{either}/40 false alarms");
+        // Random records through Welch segments under Hann (lines taken two apart).
+        let random = |seed: u64| {
+            let mut sim = crate::simulate::Simulator::new(
+                &truth,
+                500.0,
+                16_384,
+                crate::simulate::AntiAlias::default(),
+            )
+            .unwrap();
+            let mut rng = StdRng::seed_from_u64(seed);
+            (0..4)
+                .map(|r| {
+                    let clean = sim
+                        .random_record(format!("r{r}"), 20.0, 100 * seed + r)
+                        .unwrap();
+                    add_noise(&clean, 0.05, &mut rng).unwrap()
+                })
+                .collect::<Vec<_>>()
+        };
+        let (mut chi2, mut runs, mut either) = (0, 0, 0);
+        for seed in 0..20 {
+            let id = Identifier::new(8.0, 49.0)
+                .estimator(crate::Estimator::H1)
+                .segmentation(crate::Segmentation::Welch { len: 2048 })
+                .window(crate::spectra::Window::Hann)
+                .identify(&random(seed))
+                .unwrap();
+            let check = id.model_check();
+            chi2 += usize::from(check.p_value.is_some_and(|p| p < MODEL_MISFIT_P));
+            runs += usize::from(check.runs_p_value.is_some_and(|p| p < MODEL_MISFIT_P));
+            either += usize::from(misfit(&id));
+        }
+        eprintln!(
+            "random records, Welch/Hann, 20 seeds: χ² {chi2}, runs {runs}, verdict misfit {either}"
+        );
         for (mass, hz) in [(0.1, 55.0), (0.05, 55.0), (0.1, 60.0)] {
             let (chi2, runs, either, ps) = count(&|s| with_attached_mass(s, mass, hz), 10);
             eprintln!(
