@@ -610,6 +610,7 @@ mod tests {
         eprintln!(
             "random records, Welch/Hann, 20 seeds: χ² {chi2}, runs {runs}, verdict misfit {either}"
         );
+        assert!(either <= 2, "{either}/20 false alarms on random records");
         for (mass, hz) in [(0.1, 55.0), (0.05, 55.0), (0.1, 60.0)] {
             let (chi2, runs, either, ps) = count(&|s| with_attached_mass(s, mass, hz), 10);
             eprintln!(
