@@ -423,7 +423,7 @@ impl Settings {
         // So does the model check: the windowed data against the windowed fit.
         let (model_check, misfit) = match &ml {
             Some(report) if fit.method() == Method::Ml => ModelCheck::ml(report, &frf)?,
-            _ => ModelCheck::replicates(&frf, fit.coefficients())?,
+            _ => ModelCheck::replicates(&frf, fit.coefficients(), self.runs_stride(&frf))?,
         };
         warnings.extend(misfit);
         let fit = self.corrected(fit)?;

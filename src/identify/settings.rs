@@ -8,7 +8,7 @@
 
 use crate::conditioning::ConditionLimits;
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, FrfBuilder};
+use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, Frf, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
@@ -218,6 +218,27 @@ impl Settings {
     }
 
     /// The fit mapped back through an exponential window's exact correction, if any.
+    /// The stride over lines of the model check's runs test: past the window's correlation of
+    /// neighbouring lines (see `model_check`'s module docs): 1 without a window, 2 for Hann,
+    /// `⌈1.56·a·T⌉` for an exponential window of decay `a` over segments of `T = 1/spacing`.
+    pub(super) fn runs_stride(&self, frf: &Frf) -> usize {
+        match self.window {
+            Window::Rectangular => 1,
+            Window::Hann => 2,
+            Window::Exponential { decay_per_s } => match frf.line_spacing_hz() {
+                Some(spacing) if spacing > 0.0 => {
+                    let d = (1.56 * decay_per_s / spacing).ceil();
+                    if d.is_finite() && d >= 1.0 {
+                        d.min(frf.line_count() as f64 + 1.0) as usize
+                    } else {
+                        1
+                    }
+                }
+                _ => usize::MAX,
+            },
+        }
+    }
+
     pub(super) fn corrected(&self, fit: Fit) -> Result<Fit> {
         match self.window.decay_per_s() {
             Some(a) if a > 0.0 => fit.corrected_for_window(a),
