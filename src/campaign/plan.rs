@@ -650,6 +650,7 @@ mod tests {
 band = [8.0, 49.0]
 method = "ivf"
 reject_bad_records = true
+delay = "force=0.25ms±0.02ms"
 [conditions]
 speed = "rpm"
 air_fraction = "1"
@@ -672,7 +673,7 @@ files = ["oil_3000/*.csv"]
 speed = 3000
 air_fraction = 0.0
 baseline = "dry"
-identify = { band = [10.0, 45.0] }
+identify = { band = [10.0, 45.0], highpass = "response=3Hz" }
 "#,
             "p.toml",
             "study".into(),
@@ -685,11 +686,15 @@ identify = { band = [10.0, 45.0] }
         assert_eq!(plan.points[1].baseline, Some(0));
         assert_eq!(plan.points[1].values[0], Some(Value::Number(3000.0)));
         assert_eq!(plan.points[1].overrides[0].text, "10,45");
+        // The channels' known delays and AC coupling, as `--delay`/`--highpass` take them.
+        assert_eq!(plan.shared[3].name, "delay");
+        assert_eq!(plan.shared[3].text, "force=0.25ms±0.02ms");
+        assert_eq!(plan.points[1].overrides[1].name, "highpass");
         assert_eq!(
             plan.points[0].expect[1].reference.to_bits(),
             150e3_f64.to_bits()
         );
-        assert_eq!(plan.points[0].line, 14); // its `[[point]]` header
+        assert_eq!(plan.points[0].line, 15); // its `[[point]]` header
         assert_eq!(plan.geometry.unwrap().probes(), [0.213, 0.254]);
     }
 }
