@@ -322,6 +322,13 @@ pub const MODEL_MISFIT_P: f64 = 0.01;
 /// approximation wants about ten of each sign); shorter sequences are left out of it.
 pub const MIN_RUNS_LINES: usize = 20;
 
+/// Smallest `χ²/expected` of the model check at which runs of residual signs count as a
+/// misfit. Below it the residuals are far smaller than the replicates' scatter says the
+/// noise is, so that scatter is not the residuals' noise (a multisine cut into Welch
+/// segments: leakage inflates the scatter and shapes the residuals alike); a pattern in
+/// residuals that small is no misfit of consequence.
+pub const RUNS_MIN_RATIO: f64 = 0.5;
+
 /// Lines by which the band-sensitivity refits move each band edge inward
 /// ([`Budget`](crate::identify::Budget)): a few lines, enough to move a fit that leans on its
 /// edges, few enough to leave a right model's estimate within a fraction of its σ.

@@ -36,7 +36,10 @@
 //! correlation (1 for none, 2 for Hann, whose lines two apart correlate by 1/6; for an
 //! exponential window of decay `a` over `T` seconds, whose lines `d` apart correlate by
 //! $1/\sqrt{1 + (\pi d/aT)^2}$, the first `d` where that is below 0.2, $d \ge 1.56\,aT$).
-//! Terms whose pure error is at the floor (noise-free data) are left out.
+//! Terms whose pure error is at the floor (noise-free data) are left out, and runs count only
+//! when the residuals are not far below the pure error (`χ²/expected` at least
+//! [`RUNS_MIN_RATIO`]): a multisine cut into Welch segments leaks, which both inflates the
+//! replicates' scatter and gives its small residuals a pattern.
 //!
 //! For maximum likelihood the cost itself is the statistic: with the noise covariances right,
 //! `2V` is χ² with `2·expected` degrees of freedom ([`MlReport::cost_ratio`]).
@@ -57,7 +60,7 @@ use crate::frf::Frf;
 use crate::model::Coefficients;
 use crate::solve::ml::MlReport;
 use crate::statistics::chi2_upper_tail;
-use crate::tolerance::{MIN_RUNS_LINES, MODEL_CHECK_FLOOR, MODEL_MISFIT_P};
+use crate::tolerance::{MIN_RUNS_LINES, MODEL_CHECK_FLOOR, MODEL_MISFIT_P, RUNS_MIN_RATIO};
 
 /// What the model check found.
 ///
@@ -246,7 +249,9 @@ impl ModelCheck {
             Self::concluded(total, dof, p_value, line_ratios, worst, "replicates");
         check.runs_p_value = runs_p_value;
         match runs_p_value {
-            Some(runs) if warning.is_none() && runs < MODEL_MISFIT_P => {
+            Some(runs)
+                if warning.is_none() && runs < MODEL_MISFIT_P && total / dof >= RUNS_MIN_RATIO =>
+            {
                 check.verdict = Verdict::Misfit;
                 let warning = Warning::ModelMisfit {
                     ratio: total / dof,
