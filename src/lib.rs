@@ -146,7 +146,6 @@ pub mod solve;
 pub mod spectra;
 pub mod statistics;
 pub mod stepped;
-#[cfg(any(feature = "plot", feature = "campaign"))]
 mod text;
 pub mod tolerance;
 #[cfg(feature = "uff")]
