@@ -117,17 +117,7 @@ impl Record {
             for (b, block) in samples.chunks(BLOCK).enumerate() {
                 out.extend_from_slice(block);
                 if !lanes::all_finite(block) {
-                    let (k, &value) = block
-                        .iter()
-                        .enumerate()
-                        .find(|(_, v)| !v.is_finite())
-                        .expect("a sample is not finite");
-                    return Err(Error::NonFinite {
-                        record: label.clone(),
-                        channel,
-                        sample: b * BLOCK + k,
-                        value,
-                    });
+                    return Err(non_finite(&label, channel, block, b * BLOCK));
                 }
             }
             Ok(out)
@@ -184,17 +174,7 @@ impl Record {
                 });
             }
             if check_finite && !lanes::all_finite(samples) {
-                let (sample, &value) = samples
-                    .iter()
-                    .enumerate()
-                    .find(|(_, v)| !v.is_finite())
-                    .expect("a sample is not finite");
-                return Err(Error::NonFinite {
-                    record: label,
-                    channel,
-                    sample,
-                    value,
-                });
+                return Err(non_finite(&label, channel, samples, 0));
             }
         }
         if expected < MIN_SAMPLES {
@@ -391,6 +371,22 @@ fn dominant(forces: &[Vec<f64>]) -> usize {
         }
     }
     best.0
+}
+
+/// [`Error::NonFinite`] for the first sample of `samples` (which holds one) that is not
+/// finite, `samples` starting at sample `offset` of `channel` of record `record`.
+fn non_finite(record: &str, channel: Channel, samples: &[f64], offset: usize) -> Error {
+    let (k, &value) = samples
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.is_finite())
+        .expect("a sample is not finite");
+    Error::NonFinite {
+        record: record.to_owned(),
+        channel,
+        sample: offset + k,
+        value,
+    }
 }
 
 #[cfg(test)]

@@ -2,12 +2,11 @@
 //! one file's records ([`read_file`]), and the files after the first parsed ahead on worker
 //! threads ([`ReadAhead`]).
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, sync_channel};
 
 use crate::error::{Error, Result};
-use std::borrow::Cow;
-
 use crate::io::{self, CsvLayout};
 use crate::records::{Record, Response};
 use crate::uff::{UffChannel, UffLayout};
@@ -182,8 +181,8 @@ impl Channels {
     /// two with a two-plane geometry.
     pub fn layout(&self) -> Result<Cow<'_, CsvLayout>> {
         match &self.geometry {
-            Some(g) => g.reading_layout(&self.csv),
-            None if self.csv.displacements.len() != self.csv.forces.len() => {
+            Some(g) if g.is_two_plane() => g.reading_layout(&self.csv),
+            _ if self.csv.displacements.len() != self.csv.forces.len() => {
                 Err(Error::InvalidOption {
                     option: "disp",
                     message: format!(
@@ -194,7 +193,7 @@ impl Channels {
                     ),
                 })
             }
-            None => Ok(Cow::Borrowed(&self.csv)),
+            _ => Ok(Cow::Borrowed(&self.csv)),
         }
     }
 
