@@ -378,6 +378,17 @@ pub enum Warning {
         /// Its predicted bias in standard deviations.
         sigmas: f64,
     },
+    /// A dry-friction coefficient whose predicted sign bias (noise flipping the sign of the
+    /// velocity near zero, [`TermEstimate::model_std`](crate::nonlinear::TermEstimate::model_std))
+    /// is above half its random standard deviation: carried in its error bar.
+    FrictionBias {
+        /// The term ([`Term::label`](crate::nonlinear::Term::label)).
+        term: String,
+        /// The predicted bias (N), carried as a standard uncertainty.
+        predicted: f64,
+        /// The coefficient's random standard deviation (N).
+        random_std: f64,
+    },
     // ---- end of predicted bias ----
     // ---- Periodic records (issue 25, item 5) ----
     /// The stated period does not fit periodic records: the dominant force's energy between
@@ -504,6 +515,7 @@ impl Warning {
             Warning::ModelMisfit { .. } => "model_misfit",
             Warning::NotDecayed { .. } => "not_decayed",
             Warning::LeakageBias { .. } => "leakage_bias",
+            Warning::FrictionBias { .. } => "friction_bias",
             Warning::PeriodMismatch { .. } => "period_mismatch",
             Warning::StartTransient { .. } => "start_transient",
             Warning::TransferFrf { .. } => "transfer_frf",

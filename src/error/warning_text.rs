@@ -289,6 +289,17 @@ impl fmt::Display for Warning {
                 100.0 * remaining,
                 100.0 * relative
             ),
+            Warning::FrictionBias {
+                term,
+                predicted,
+                random_std,
+            } => write!(
+                f,
+                "nonlinear term {term}: velocity noise flips the sign of slow velocities, a \
+                 predicted friction bias of up to {predicted:.3e} N ({:.1} σ), carried in its \
+                 error bar; a less noisy velocity (a velocity probe, `--vel-cutoff`) reduces it",
+                predicted / random_std
+            ),
             Warning::LeakageBias {
                 spacing_hz,
                 block,

@@ -309,11 +309,6 @@ impl ChannelTransfers {
         out
     }
 
-    /// Whether any entry states an uncertainty above 0.
-    pub(crate) fn any_uncertain(&self) -> bool {
-        self.uncertainties.iter().any(|&u| u > 0.0)
-    }
-
     /// `frf` as it would have come out had entry `entry`'s parameter been `step` larger than
     /// stated, to first order in `step`: its channel's corrected spectrum scaled by
     /// $d = 1 + \text{step}\cdot g(s)$ ([`ChannelTransfer::log_derivative`];

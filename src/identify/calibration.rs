@@ -11,12 +11,18 @@
 //! exactly. With independent gains of relative standard uncertainty `u` (a calibration
 //! sheet's 1σ), to first order
 //! $$\sigma_{\mathrm{cal}}(P_{ij}) = |P_{ij}|\sqrt{u_{f_i}^2 + u_{x_j}^2},$$
-//! which is exact when one gain error is common to every force (or every response) channel,
-//! the usual case of one calibration for one sensor kind. The error is the same in every
+//! whether the gain errors are shared between channels or not. The error is the same in every
 //! record, so no replicate statistic sees it: only this stated budget does.
 //!
-//! A common gain scales `M`, `C` and `K` alike and so leaves natural frequencies and damping
-//! ratios unchanged; the derived quantities' error bars do not include it.
+//! # Which errors are shared
+//! A kind-wide entry (`force=1%`) is one error common to every force channel it covers (one
+//! calibration constant, one amplifier gain for the kind); a channel's own entry (`fx=0.5%`)
+//! is an error of that channel alone, independent of every other
+//! ([`Calibration::directions`]: one change of the coefficients per source). Per coefficient
+//! both give the formula above. Neither moves a natural frequency or damping ratio: a gain
+//! multiplies the impedance by a constant diagonal matrix from the left or the right, which
+//! scales $\det Z(s)$ by a constant and leaves its roots, the modes, where they are. (A
+//! stated delay or AC-coupling corner is not a constant: it does move them.)
 
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
@@ -185,6 +191,63 @@ impl Calibration {
             })
         };
         Coefficients::new(scale(c.mass()), scale(c.damping()), scale(c.stiffness()))
+    }
+
+    /// One change of the stacked coefficients $\Theta = [M; C; K]$ (`3n × n`) per independent
+    /// error source, each at one standard uncertainty: a kind-wide gain changes every row
+    /// (force) or column (response) it covers, $dP_{ij} = \pm u P_{ij}$; a channel's own
+    /// gain its row or column alone. Their squares sum to [`Calibration::std_dev`]'s
+    /// variances.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a channel index at or above `c`'s degrees of freedom.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::identify::Calibration;
+    /// use bearing_ident::simulate::seed_rig;
+    /// let rig = seed_rig();
+    /// // One common force gain and the first response channel's own gain: two sources.
+    /// let d = Calibration::default().force(0.01).response_channel(0, 0.02).directions(&rig)?;
+    /// assert_eq!(d.len(), 2);
+    /// let k = rig.stiffness()[(1, 0)];
+    /// // K_yx = K[1, 0]: row 1 (force y, common) and column 0 (response x, its own).
+    /// assert!((d[0][(5, 0)] - 0.01 * k).abs() < 1e-9 * k.abs());
+    /// assert!((d[1][(5, 0)] + 0.02 * k).abs() < 1e-9 * k.abs());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn directions(&self, c: &Coefficients) -> Result<Vec<faer::Mat<f64>>> {
+        let n = c.dofs();
+        self.check(Some(n))?;
+        let theta = c.stacked();
+        // (force side?, the channels covered, u): the kind-wide sources first.
+        let kind_wide = |own: &[(usize, f64)]| -> Vec<usize> {
+            (0..n).filter(|&i| !own.iter().any(|c| c.0 == i)).collect()
+        };
+        let mut sources: Vec<(bool, Vec<usize>, f64)> = vec![
+            (true, kind_wide(&self.force_channels), self.force),
+            (false, kind_wide(&self.response_channels), self.response),
+        ];
+        sources.extend(self.force_channels.iter().map(|&(i, u)| (true, vec![i], u)));
+        sources.extend(
+            self.response_channels
+                .iter()
+                .map(|&(j, u)| (false, vec![j], u)),
+        );
+        Ok(sources
+            .into_iter()
+            .filter(|(_, channels, u)| *u > 0.0 && !channels.is_empty())
+            .map(|(force, channels, u)| {
+                faer::Mat::from_fn(3 * n, n, |r, j| {
+                    let (channel, sign) = if force { (r % n, 1.0) } else { (j, -1.0) };
+                    if channels.contains(&channel) {
+                        sign * u * theta[(r, j)]
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect())
     }
 }
 

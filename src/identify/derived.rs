@@ -15,7 +15,9 @@
 //! $d|\lambda| = \mathrm{Re}(\bar\lambda\, d\lambda)/|\lambda|$ and
 //! $d\zeta = -\mathrm{Re}\,d\lambda/|\lambda| + \mathrm{Re}\,\lambda\; d|\lambda|/|\lambda|^2$;
 //! each variance is $g^\top \mathrm{Cov}\, g$ summed over the columns of `Θ`, whose
-//! covariances are independent in the fits' first-order model.
+//! covariances are independent in the fits' first-order model, plus, for each systematic
+//! source given as a change `d` of the whole of `Θ` (a stated calibration's), $(g\cdot d)^2$:
+//! such a change moves every coefficient at once, so its effects add before they are squared.
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::prelude::Solve;
@@ -28,12 +30,18 @@ use crate::tolerance::OSCILLATORY_ROOT;
 
 /// `(σ(f_n) in Hz, σ(ζ))` of every oscillatory mode of `c`, in the order of
 /// [`Coefficients::modes`] (increasing natural frequency), from `covariance[j]`, the `3n × 3n`
-/// covariance of column `j` of `Θ = [M; C; K]` (as [`Fit::covariance`](crate::Fit::covariance)).
+/// covariance of column `j` of `Θ = [M; C; K]` (as [`Fit::covariance`](crate::Fit::covariance)),
+/// and `directions`, each a `3n × n` change of the whole of `Θ` at one standard uncertainty of
+/// an independent systematic source.
 ///
 /// # Errors
 /// [`Error::Singular`] if `M` or the eigenvector matrix is singular; [`Error::Decomposition`]
 /// if the eigenvalue iteration fails.
-pub(crate) fn mode_std(c: &Coefficients, covariance: &[Mat<f64>]) -> Result<Vec<(f64, f64)>> {
+pub(crate) fn mode_std(
+    c: &Coefficients,
+    covariance: &[Mat<f64>],
+    directions: &[Mat<f64>],
+) -> Result<Vec<(f64, f64)>> {
     let n = c.dofs();
     let lu = c.mass().partial_piv_lu();
     let minv = lu.inverse();
@@ -76,6 +84,8 @@ pub(crate) fn mode_std(c: &Coefficients, covariance: &[Mat<f64>]) -> Result<Vec<
                 .map(|a| (0..n).map(|i| w[(k, n + i)] * minv[(i, a)]).sum())
                 .collect();
             let (mut var_f, mut var_z) = (0.0, 0.0);
+            // Each direction's first-order change of f_n and ζ, summed over the columns.
+            let mut moved = vec![(0.0, 0.0); directions.len()];
             for (j, cov) in covariance.iter().enumerate() {
                 // Gradients over column j's parameters M_aj, C_aj, K_aj (that order).
                 let (mut gf, mut gz) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
@@ -99,6 +109,15 @@ pub(crate) fn mode_std(c: &Coefficients, covariance: &[Mat<f64>]) -> Result<Vec<
                 };
                 var_f += quad(&gf);
                 var_z += quad(&gz);
+                for (m, d) in moved.iter_mut().zip(directions) {
+                    let dot = |g: &[f64]| (0..3 * n).map(|p| g[p] * d[(p, j)]).sum::<f64>();
+                    m.0 += dot(&gf);
+                    m.1 += dot(&gz);
+                }
+            }
+            for (df, dz) in moved {
+                var_f += df * df;
+                var_z += dz * dz;
             }
             (var_f.max(0.0).sqrt(), var_z.max(0.0).sqrt())
         })
@@ -146,6 +165,39 @@ mod tests {
     use rand::rngs::StdRng;
     use rand_distr::{Distribution, StandardNormal};
 
+    /// A stated gain, common or a channel's own, moves no mode: it multiplies the impedance
+    /// by a constant diagonal matrix from the left (forces) or the right (responses), which
+    /// scales `det Z(s)` by a constant and leaves its roots where they are. The first-order
+    /// propagation of the gains' directions gives zero to rounding, on a coupled element
+    /// where the rows and columns really scale differently.
+    #[test]
+    fn calibration_gains_move_no_mode() {
+        use crate::identify::Calibration;
+        let m = |v: [f64; 4]| Mat::from_fn(2, 2, |i, j| v[2 * i + j]);
+        let c = Coefficients::new(
+            m([10.0, 1.0, 0.5, 12.0]),
+            m([400.0, 50.0, -30.0, 600.0]),
+            m([1.0e6, 2.0e5, -1.0e5, 1.5e6]),
+        )
+        .unwrap();
+        let zero = vec![Mat::<f64>::zeros(6, 6); 2];
+        let modes = c.modes().unwrap();
+        for calibration in [
+            Calibration::default().force(0.02).response(0.03),
+            Calibration::default()
+                .force_channel(0, 0.02)
+                .response_channel(1, 0.03),
+        ] {
+            let directions = calibration.directions(&c).unwrap();
+            assert!(!directions.is_empty());
+            let moved = mode_std(&c, &zero, &directions).unwrap();
+            for ((sf, sz), mode) in moved.iter().zip(&modes) {
+                assert!(*sf < 1e-12 * mode.natural_frequency_hz, "{sf:e}");
+                assert!(*sz < 1e-12 * mode.damping_ratio, "{sz:e}");
+            }
+        }
+    }
+
     /// First order against sampling: θ drawn from the fit's own covariance (column by column,
     /// through its Cholesky factor), the modes of each draw computed exactly; the sample
     /// standard deviations of `f_n` and `ζ` over 400 draws agree with the first-order ones
@@ -163,7 +215,7 @@ mod tests {
         let id = Identifier::new(8.0, 49.0).identify(&records).unwrap();
         let c = id.coefficients();
         let cov = id.fit().covariance().unwrap();
-        let first = mode_std(c, cov).unwrap();
+        let first = mode_std(c, cov, &[]).unwrap();
         let n = c.dofs();
         let theta = c.stacked();
         let factors: Vec<Mat<f64>> = cov

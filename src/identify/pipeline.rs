@@ -448,10 +448,11 @@ impl Settings {
             budget.carry_bias(&bias.bias)?;
             bars.std_dev = Some(budget.combined()?);
         }
-        // Calibration is left out: a common gain scales M, C, K alike and moves no mode.
+        // The calibration's sources move every coefficient at once (a common gain scales
+        // M, C, K alike and moves no mode; a delay moves damping): carried as directions.
         let modes_std = bars.budget.as_ref().and_then(|b| {
             let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
-            mode_std(fit.coefficients(), &cov).ok()
+            mode_std(fit.coefficients(), &cov, b.calibration_directions()).ok()
         });
         t.total = start.elapsed();
         Ok(Identification {

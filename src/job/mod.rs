@@ -200,7 +200,7 @@ impl Job {
             None => {
                 let crest =
                     deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
-                Ok((Excitation::from_crest_factor(crest), crest, true))
+                Ok((Excitation::from_record(crest, first), crest, true))
             }
         }
     }
@@ -318,7 +318,9 @@ impl Job {
                 return Err(Error::InvalidOption {
                     option: "period",
                     message: match o.period_s {
-                        None => "--excitation periodic needs --period SECONDS".to_string(),
+                        None => "--excitation periodic: the first record's force does not \
+                                 repeat within half its length; give --period SECONDS"
+                            .to_string(),
                         Some(period) => format!(
                             "--period {period}: {} samples; expected 8 samples up to the record \
                              length",

@@ -79,7 +79,8 @@ fn random_files_choose_the_welch_length_and_keep_every_record() {
     assert!((k / 146.3e3 - 1.0).abs() < 0.02, "{k}");
 }
 
-/// A periodic test without its period is refused, naming the option; a band that does not
+/// A periodic test without a period given or found (impacts do not repeat) is refused,
+/// naming the option; a band that does not
 /// parse is `bad_band`.
 #[test]
 fn options_that_do_not_fit_are_named() {
@@ -100,7 +101,8 @@ fn options_that_do_not_fit_are_named() {
     );
     assert_eq!(
         e.to_string(),
-        "--excitation periodic needs --period SECONDS"
+        "--excitation periodic: the first record's force does not repeat within half its \
+         length; give --period SECONDS"
     );
     options.period_s = Some(1e3);
     let e = Job::new(options, Channels::default())

@@ -88,6 +88,10 @@ pub(crate) struct Gathered {
     pub blocks: Vec<BlockSums>,
     /// How the velocities were derived.
     pub velocity: VelocityChoice,
+    /// Per DOF, the relative bias a plain sign of its noisy velocity would give a friction
+    /// coefficient, averaged over the records ([`sign_flip_bias`]); 0 without a noise
+    /// estimate.
+    pub sign_flip: Vec<f64>,
 }
 
 impl Gathered {
@@ -149,6 +153,7 @@ pub(crate) fn gather(
     let mut inputs = vec![vec![0.0; len]; channels.len()];
     let (mut xs, mut vs, mut ys) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut sharpness = vec![0.0; n];
+    let mut sign_flip = vec![0.0; n];
     let l = lines.len();
     let mut fbuf = vec![c64::new(0.0, 0.0); n * l];
     let mut zbuf = vec![c64::new(0.0, 0.0); q * l];
@@ -169,6 +174,8 @@ pub(crate) fn gather(
                     &mut v_hat[i],
                 );
                 sharpness[i] = sign_sharpness(&v_hat[i], diff.velocity_noise_std());
+                sign_flip[i] +=
+                    sign_flip_bias(&v_hat[i], diff.velocity_noise_std()) / records.len() as f64;
             }
         }
         if needs_kinematics {
@@ -232,6 +239,7 @@ pub(crate) fn gather(
             differentiation: differentiation.check()?,
             sources,
         },
+        sign_flip,
     })
 }
 
@@ -249,13 +257,38 @@ pub(crate) fn gather(
 /// expectation instead is unbiased (regression calibration): the force's own conditional mean
 /// is the friction times it.
 fn sign_sharpness(v_hat: &[f64], noise_std: f64) -> f64 {
-    if noise_std.is_nan() || noise_std <= 0.0 || v_hat.is_empty() {
+    let Some(power) = noisy_power(v_hat, noise_std) else {
         return 0.0;
-    }
-    let power = v_hat.iter().map(|v| v * v).sum::<f64>() / v_hat.len() as f64;
+    };
     let k = (1.0 - noise_std * noise_std / power).max(0.0);
     let a = k.sqrt() / (std::f64::consts::SQRT_2 * noise_std);
     if a.is_finite() { a } else { 0.0 }
+}
+
+/// The relative bias of a friction coefficient regressed on the plain sign of a noisy
+/// velocity: $b = \frac{2}{\pi}\arctan(\sigma_n/\sigma_v)$, twice the probability that
+/// Gaussian noise of deviation $\sigma_n$ flips the sign of a Gaussian velocity of deviation
+/// $\sigma_v = \sqrt{\overline{\hat v^2} - \sigma_n^2}$ (about $2\sigma_n/(\pi\sigma_v)$).
+/// The expected-sign regressor ([`sign_sharpness`]) removes it when the velocity is
+/// Gaussian; how far it is removed depends on how long the velocity dwells near zero
+/// (sticking), which the records do not resolve below the noise, so `b` times the
+/// coefficient is what the reverse path carries as the friction's model uncertainty.
+/// 0 without a noise estimate.
+pub(crate) fn sign_flip_bias(v_hat: &[f64], noise_std: f64) -> f64 {
+    let Some(power) = noisy_power(v_hat, noise_std) else {
+        return 0.0;
+    };
+    let sigma_v = (power - noise_std * noise_std).max(0.0).sqrt();
+    let b = std::f64::consts::FRAC_2_PI * noise_std.atan2(sigma_v);
+    if b.is_finite() { b } else { 0.0 }
+}
+
+/// The mean square of `v_hat` when there is a positive noise estimate and a sample.
+fn noisy_power(v_hat: &[f64], noise_std: f64) -> Option<f64> {
+    if noise_std.is_nan() || noise_std <= 0.0 || v_hat.is_empty() {
+        return None;
+    }
+    Some(v_hat.iter().map(|v| v * v).sum::<f64>() / v_hat.len() as f64)
 }
 
 /// The regressor time series of `record` into `inputs`, one per input channel; a dry

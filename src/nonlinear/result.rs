@@ -18,7 +18,12 @@ use super::velocity::VelocityChoice;
 /// # Examples
 /// ```
 /// use bearing_ident::nonlinear::{Regressor, Term, TermEstimate};
-/// let t = TermEstimate { term: Term { regressor: Regressor::Coulomb, dof: Some(0) }, value: 0.8, std: Some(0.01) };
+/// let t = TermEstimate {
+///     term: Term { regressor: Regressor::Coulomb, dof: Some(0) },
+///     value: 0.8,
+///     std: Some(0.01),
+///     model_std: 0.0,
+/// };
 /// assert_eq!((t.unit(), t.term.label().as_str()), ("N", "coulomb[0]"));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,9 +33,17 @@ pub struct TermEstimate {
     /// Its coefficient $a_j$ in [`TermEstimate::unit`]: the weighted band average of
     /// $\operatorname{Re}\hat A_j$.
     pub value: f64,
-    /// Its standard deviation (jackknife over blocks of Welch segments, or from the per-line
-    /// variances with fewer than 3 blocks); `None` when neither is available.
+    /// Its combined standard uncertainty: the random part (jackknife over blocks of Welch
+    /// segments, or from the per-line variances with fewer than 3 blocks) and
+    /// [`model_std`](TermEstimate::model_std) in quadrature; `None` when no random part is
+    /// available.
     pub std: Option<f64>,
+    /// The model part of its uncertainty, included in `std`: for dry friction, the bias a
+    /// noisy velocity's sign would give it, $|F|\,\frac{2}{\pi}\arctan(\sigma_n/\sigma_v)$
+    /// (velocity noise $\sigma_n$ against velocity $\sigma_v$, averaged over the records),
+    /// which the expected-sign regressor removes only as far as the velocity is Gaussian;
+    /// 0 for the other terms.
+    pub model_std: f64,
 }
 
 impl TermEstimate {

@@ -13,7 +13,7 @@ use crate::model::Coefficients;
 use crate::records::{Record, common_shape};
 use crate::solve::{Convergence, IvfOptions, Method, NonConvergence};
 use crate::spectra::Segmentation;
-use crate::tolerance::{NONLINEAR_CHECK_SIGMAS, REVERSE_PATH_AVERAGES_PER_INPUT};
+use crate::tolerance::{BIAS_SIGMAS, NONLINEAR_CHECK_SIGMAS, REVERSE_PATH_AVERAGES_PER_INPUT};
 
 use super::check::TermCheck;
 use super::gather::{Gathered, gather, input_channels, segment_count};
@@ -231,6 +231,34 @@ impl ReversePath {
             let per_line = spectra_var.iter().map(|v| per_line_std(v)).collect();
             (fit.std_dev().cloned(), per_line)
         };
+        // Dry friction's sign bias, predicted from the velocity noise, joins its error bar.
+        let model_std: Vec<f64> = terms
+            .iter()
+            .zip(&values)
+            .map(|(term, value)| {
+                let flip = &gathered.sign_flip;
+                let b = match (term.regressor, term.dof) {
+                    (Regressor::Coulomb, Some(d)) => flip[d],
+                    (Regressor::CoulombPlanar, _) => 0.5 * (flip[0] + flip[1]),
+                    _ => 0.0,
+                };
+                value.abs() * b
+            })
+            .collect();
+        for ((term, &model), random) in terms.iter().zip(&model_std).zip(&term_std) {
+            if random.is_none_or(|s| model > BIAS_SIGMAS * s) && model > 0.0 {
+                warnings.push(Warning::FrictionBias {
+                    term: term.label(),
+                    predicted: model,
+                    random_std: random.unwrap_or(f64::NAN),
+                });
+            }
+        }
+        let term_std: Vec<Option<f64>> = term_std
+            .iter()
+            .zip(&model_std)
+            .map(|(s, m)| s.map(|s| s.hypot(*m)))
+            .collect();
         timings.uncertainty = clock.elapsed();
 
         warnings.extend(fit.convergence().warning());
@@ -271,7 +299,13 @@ impl ReversePath {
                 .iter()
                 .zip(values)
                 .zip(term_std)
-                .map(|((&term, value), std)| TermEstimate { term, value, std })
+                .zip(model_std)
+                .map(|(((&term, value), std), model_std)| TermEstimate {
+                    term,
+                    value,
+                    std,
+                    model_std,
+                })
                 .collect(),
             fit,
             std,

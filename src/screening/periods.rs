@@ -60,7 +60,7 @@ pub fn find_period(record: &Record) -> Option<f64> {
     }
     let rho = |lag: usize| r[lag] / r[0] * n as f64 / (n - lag) as f64;
     let last = n / 2;
-    let peaks: Vec<(usize, f64)> = (9..last)
+    let peaks: Vec<(usize, f64)> = (9..=last)
         .map(|lag| (lag, rho(lag)))
         .filter(|&(lag, v)| v >= rho(lag - 1) && v >= rho(lag + 1))
         .collect();

@@ -74,6 +74,10 @@ pub struct Budget {
     pub model: Coefficients,
     /// The stated calibration uncertainty.
     pub calibration: Coefficients,
+    /// The calibration component's independent sources, one change of the stacked
+    /// coefficients per source at one standard uncertainty ([`Calibration::directions`] and
+    /// the transfer refits): what moves the derived quantities.
+    calibration_directions: Vec<Mat<f64>>,
 }
 
 impl Budget {
@@ -85,13 +89,23 @@ impl Budget {
         quadrature(&[&self.random, &self.model, &self.calibration])
     }
 
-    /// Random and model components in quadrature (what moves natural frequencies and damping
-    /// ratios: a common calibration gain scales `M`, `C`, `K` alike and moves neither).
+    /// Random and model components in quadrature: the part whose errors are taken as
+    /// uncorrelated between coefficients (the calibration's are not: see
+    /// [`Budget::calibration_directions`]).
     ///
     /// # Errors
     /// None in practice (the components share one shape).
     pub fn random_and_model(&self) -> Result<Coefficients> {
         quadrature(&[&self.random, &self.model])
+    }
+
+    /// The calibration component as its independent sources: one change of the stacked
+    /// coefficients $[M; C; K]$ (`3n × n`) per source at one standard uncertainty. Their
+    /// squares sum to [`Budget::calibration`]'s variances. A gain's moves no natural
+    /// frequency or damping ratio; a stated delay's or corner's does, and the derived
+    /// quantities' error bars carry it.
+    pub fn calibration_directions(&self) -> &[Mat<f64>] {
+        &self.calibration_directions
     }
 
     /// Adds a predicted bias (absolute, per coefficient) to the model component in
@@ -144,23 +158,32 @@ impl Settings {
             let b = band.as_ref().map_or(0.0, |b| b[(i, j)]);
             (r[(i, j)].powi(2) * birge + b * b).sqrt()
         });
+        let calibration_directions = self.calibration_directions(fitted, frf)?;
+        let theta = fitted.stacked();
+        let calibration = Mat::from_fn(theta.nrows(), theta.ncols(), |i, j| {
+            // A fold from +0.0: an empty `sum` of floats is −0.0, which JSON would show.
+            calibration_directions
+                .iter()
+                .fold(0.0, |acc, d| acc + d[(i, j)].powi(2))
+                .sqrt()
+        });
         Ok(Budget {
             random: random.clone(),
             model: Coefficients::from_stacked(model.as_ref())?,
-            calibration: self.calibration_std(fitted, frf)?,
+            calibration: Coefficients::from_stacked(calibration.as_ref())?,
+            calibration_directions,
         })
     }
 
-    /// The calibration component: the stated gains' and, in quadrature, the stated transfer
-    /// characteristics' (see the module docs); zero when nothing was stated.
+    /// The calibration component's independent sources (see the module docs): the stated
+    /// gains' ([`Calibration::directions`]) and, per stated transfer uncertainty, half the
+    /// difference of the refits at plus and minus one standard uncertainty; none when nothing
+    /// was stated.
     ///
     /// # Errors
     /// The calibration's channel check; a refit that fails.
-    fn calibration_std(&self, fitted: &Coefficients, frf: &Frf) -> Result<Coefficients> {
-        let gains = self.calibration.std_dev(fitted)?;
-        if !self.transfers.any_uncertain() {
-            return Ok(gains);
-        }
+    fn calibration_directions(&self, fitted: &Coefficients, frf: &Frf) -> Result<Vec<Mat<f64>>> {
+        let mut directions = self.calibration.directions(fitted)?;
         let method = match self.method {
             Method::Ml => Method::Ivf,
             m => m,
@@ -171,22 +194,15 @@ impl Settings {
             let fit = self.corrected(solve::fit_point(&frf, method, &self.ivf)?)?;
             Ok(fit.coefficients().stacked())
         };
-        let mut variance = gains.stacked();
-        variance
-            .col_iter_mut()
-            .for_each(|c| c.iter_mut().for_each(|v| *v *= *v));
         for (entry, &u) in self.transfers.uncertainties().iter().enumerate() {
             if u > 0.0 {
                 let (plus, minus) = (refit(u, entry)?, refit(-u, entry)?);
-                variance += Mat::from_fn(plus.nrows(), plus.ncols(), |i, j| {
-                    (0.5 * (plus[(i, j)] - minus[(i, j)])).powi(2)
-                });
+                directions.push(Mat::from_fn(plus.nrows(), plus.ncols(), |i, j| {
+                    0.5 * (plus[(i, j)] - minus[(i, j)])
+                }));
             }
         }
-        variance
-            .col_iter_mut()
-            .for_each(|c| c.iter_mut().for_each(|v| *v = v.sqrt()));
-        Coefficients::from_stacked(variance.as_ref())
+        Ok(directions)
     }
 
     /// The band-sensitivity spread (stacked), or `None` when the band is too short to move
@@ -302,14 +318,36 @@ mod tests {
             ChannelTransfer::high_pass(corner),
             u,
         );
-        let cal = id
+        let stated_id = id
             .channel_transfers(stated)
             .identify_frf(data(corner))
-            .unwrap()
-            .budget()
-            .unwrap()
-            .calibration
-            .stacked();
+            .unwrap();
+        let cal = stated_id.budget().unwrap().calibration.stacked();
+        // The modes move with the corner too: the derived error bars (exact data, so the
+        // calibration part alone) are half the difference of the refits' modes.
+        let (fn_std, zeta_std) = (
+            stated_id.natural_frequencies_hz_std().unwrap(),
+            stated_id.damping_ratios_std().unwrap(),
+        );
+        let (mp, mm) = (
+            plus.coefficients().modes().unwrap(),
+            minus.coefficients().modes().unwrap(),
+        );
+        for k in 0..2 {
+            let df = 0.5 * (mp[k].natural_frequency_hz - mm[k].natural_frequency_hz).abs();
+            let dz = 0.5 * (mp[k].damping_ratio - mm[k].damping_ratio).abs();
+            assert!(dz > 1e-6 * mp[k].damping_ratio, "mode {k}: ζ does not move");
+            assert!(
+                (fn_std[k] / df - 1.0).abs() < 0.05,
+                "f_n {k}: {} vs {df}",
+                fn_std[k]
+            );
+            assert!(
+                (zeta_std[k] / dz - 1.0).abs() < 0.05,
+                "ζ {k}: {} vs {dz}",
+                zeta_std[k]
+            );
+        }
         let (p, m) = (
             plus.coefficients().stacked(),
             minus.coefficients().stacked(),

@@ -157,6 +157,7 @@ fn json(id: &NonlinearIdentification, run: &Run) -> serde_json::Value {
                 "dof": t.term.dof,
                 "value": t.value,
                 "std": t.std,
+                "model_std": t.model_std,
                 "unit": t.unit(),
             })
         })
