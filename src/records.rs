@@ -81,7 +81,13 @@ impl Record {
         displacements: Vec<Vec<f64>>,
     ) -> Result<Self> {
         let own = |c: Vec<Vec<f64>>| c.into_iter().map(Samples::from).collect();
-        Self::checked(label.into(), sample_rate, own(forces), own(displacements), true)
+        Self::checked(
+            label.into(),
+            sample_rate,
+            own(forces),
+            own(displacements),
+            true,
+        )
     }
 
     /// Builds a record whose channels share their samples with their owners instead of
@@ -101,9 +107,10 @@ impl Record {
     /// assert_eq!(r.force(0)[1], 1.0);
     /// assert_eq!(r.force(0).as_ptr(), (*fx).as_ref().as_ptr()); // read in place
     /// assert_eq!(r.dominant_force(), 0);
-    /// let nan: SharedSamples = Arc::new(vec![f64::NAN; 8]);
-    /// let e = Record::from_shared("hit", 1000.0, vec![fx], vec![nan]).unwrap_err();
-    /// assert_eq!(e.to_string(), Record::new("hit", 1000.0, vec![vec![0.0; 8]], vec![vec![f64::NAN; 8]]).unwrap_err().to_string());
+    /// let mut bad = vec![0.0; 8];
+    /// bad[3] = f64::NAN;
+    /// let e = Record::from_shared("hit", 1000.0, vec![fx], vec![Arc::new(bad)]).unwrap_err();
+    /// assert_eq!(e.to_string(), "record `hit`: displacement channel 0, sample 3: value NaN is not finite");
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn from_shared(
@@ -423,7 +430,9 @@ impl Record {
 /// forces near `f64::MAX` compare rather than all overflow to infinity; a power of two scales
 /// exactly, so the order is that of the unscaled energies.
 fn dominant(forces: &[Samples]) -> usize {
-    let peak = (forces.iter()).map(|c| lanes::max_abs(c.as_slice())).fold(0.0, f64::max);
+    let peak = (forces.iter())
+        .map(|c| lanes::max_abs(c.as_slice()))
+        .fold(0.0, f64::max);
     // 2^e ≥ peak (up to the rounding of log2, which only halves or doubles the scale), e kept
     // where 2^-e is a normal number.
     let e = if peak > 0.0 {
@@ -760,7 +769,10 @@ mod shared_tests {
         assert!(matches!(e, Error::InvalidSampleRate { .. }), "{e:?}");
         let (_, short) = rows_of(&[&good[..10]]);
         let e = Record::from_shared("r", 100.0, one, short).unwrap_err();
-        assert!(matches!(e, Error::ChannelLength { actual: 10, .. }), "{e:?}");
+        assert!(
+            matches!(e, Error::ChannelLength { actual: 10, .. }),
+            "{e:?}"
+        );
     }
 
     #[test]

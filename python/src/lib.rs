@@ -131,7 +131,11 @@ fn rows<'py>(
             return Ok(rows);
         }
         return Ok(owned(
-            a.as_array().rows().into_iter().map(|r| r.to_vec()).collect(),
+            a.as_array()
+                .rows()
+                .into_iter()
+                .map(|r| r.to_vec())
+                .collect(),
         ));
     }
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {

@@ -372,7 +372,12 @@ impl Geometry {
                     return record.force_samples(i);
                 }
                 let k = self.force_factor(i);
-                record.force(i).iter().map(|f| f * k).collect::<Vec<_>>().into()
+                record
+                    .force(i)
+                    .iter()
+                    .map(|f| f * k)
+                    .collect::<Vec<_>>()
+                    .into()
             })
             .collect();
         let responses = responses.into_iter().map(Into::into).collect();
