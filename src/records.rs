@@ -665,6 +665,7 @@ mod tests {
 /// Records that share their samples with an owner: one buffer of rows, as a C-ordered
 /// numpy array holds a record's channels.
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are read through, not computed
 mod shared_tests {
     use std::sync::Arc;
 
