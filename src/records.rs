@@ -7,8 +7,9 @@
 //! Validation happens once, when the record is built: every later stage may assume equal
 //! lengths and finite samples.
 //!
-//! What lives where: [`Record`] is here; what the records of a test share and the crate-wide
-//! checks of numbers in `records/shape.rs`, the probe geometry in `records/probes.rs`, what a
+//! What lives where: [`Record`] is here; a channel's samples, owned or shared with their
+//! owner, in `records/samples.rs`; what the records of a test share and the crate-wide checks
+//! of numbers in `records/shape.rs`, the probe geometry in `records/probes.rs`, what a
 //! response channel measures in `records/response.rs`.
 
 use std::ops::Range;
@@ -18,9 +19,12 @@ use crate::lanes;
 
 mod probes;
 mod response;
+mod samples;
 mod shape;
 pub use probes::{conical_to_bearing, two_plane_to_bearing};
 pub use response::Response;
+pub(crate) use samples::Samples;
+pub use samples::SharedSamples;
 pub use shape::{Shape, common_shape, sample_rates_agree};
 pub(crate) use shape::{check_against, finite_positive, require_finite_positive};
 
@@ -31,8 +35,11 @@ pub use crate::tolerance::TIME_GRID_TOLERANCE;
 
 /// One validated test record: forces and displacements for every degree of freedom.
 ///
-/// Channels are stored one `Vec<f64>` per channel. The label names the record in every error
-/// and warning (the CLI uses the file path).
+/// Each channel's samples are either the record's own (the vectors [`Record::new`] takes, not
+/// copied) or shared with an owner the record keeps alive ([`Record::from_shared`]: the Python
+/// package's numpy arrays); a record never writes them, so cloning or cutting a record
+/// ([`Record::trimmed`]) shares them too. The label names the record in every error and
+/// warning (the CLI uses the file path).
 ///
 /// # Examples
 /// ```
@@ -49,8 +56,8 @@ pub use crate::tolerance::TIME_GRID_TOLERANCE;
 pub struct Record {
     label: String,
     sample_rate: f64,
-    forces: Vec<Vec<f64>>,
-    displacements: Vec<Vec<f64>>,
+    forces: Vec<Samples>,
+    displacements: Vec<Samples>,
     /// What each response channel measures.
     responses: Vec<Response>,
     /// The force channel with the largest energy about its mean ([`Record::dominant_force`]),
@@ -73,7 +80,67 @@ impl Record {
         forces: Vec<Vec<f64>>,
         displacements: Vec<Vec<f64>>,
     ) -> Result<Self> {
-        Self::checked(label.into(), sample_rate, forces, displacements, true)
+        let own = |c: Vec<Vec<f64>>| c.into_iter().map(Samples::from).collect();
+        Self::checked(
+            label.into(),
+            sample_rate,
+            own(forces),
+            own(displacements),
+            true,
+        )
+    }
+
+    /// Builds a record whose channels share their samples with their owners instead of
+    /// copying them: each owner is kept alive by the record (and its clones) and read in
+    /// place. The checks are [`Record::new`]'s, on the owners' samples.
+    ///
+    /// # Errors
+    /// As [`Record::new`].
+    ///
+    /// # Examples
+    /// ```
+    /// use std::sync::Arc;
+    /// use bearing_ident::records::{Record, SharedSamples};
+    /// let fx: SharedSamples = Arc::new(vec![0.0, 1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    /// let x: SharedSamples = Arc::new(vec![0.0, 0.0, 1e-6, 2e-6, 1e-6, 0.0, 0.0, 0.0]);
+    /// let r = Record::from_shared("hit", 1000.0, vec![fx.clone()], vec![x])?;
+    /// assert_eq!(r.force(0)[1], 1.0);
+    /// assert_eq!(r.force(0).as_ptr(), (*fx).as_ref().as_ptr()); // read in place
+    /// assert_eq!(r.dominant_force(), 0);
+    /// let mut bad = vec![0.0; 8];
+    /// bad[3] = f64::NAN;
+    /// let e = Record::from_shared("hit", 1000.0, vec![fx], vec![Arc::new(bad)]).unwrap_err();
+    /// assert_eq!(e.to_string(), "record `hit`: displacement channel 0, sample 3: value NaN is not finite");
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn from_shared(
+        label: impl Into<String>,
+        sample_rate: f64,
+        forces: Vec<SharedSamples>,
+        displacements: Vec<SharedSamples>,
+    ) -> Result<Self> {
+        let share = |c: Vec<SharedSamples>| c.into_iter().map(Samples::shared).collect();
+        Self::checked(
+            label.into(),
+            sample_rate,
+            share(forces),
+            share(displacements),
+            true,
+        )
+    }
+
+    /// A record of channels some of which another record shares (their samples not copied),
+    /// with `responses`: [`Record::new`]'s checks, for the crate's own records built from
+    /// records.
+    pub(crate) fn from_samples(
+        label: impl Into<String>,
+        sample_rate: f64,
+        forces: Vec<Samples>,
+        displacements: Vec<Samples>,
+        responses: Vec<Response>,
+    ) -> Result<Self> {
+        Self::checked(label.into(), sample_rate, forces, displacements, true)?
+            .with_responses(responses)
     }
 
     /// Builds a record by copying its channels from borrowed samples (numpy buffers, a
@@ -111,7 +178,7 @@ impl Record {
             let own = |c: &[&[f64]]| c.iter().map(|s| s.to_vec()).collect();
             return Self::new(label, sample_rate, own(forces), own(displacements));
         }
-        let copy = |channel: Channel, samples: &[f64]| -> Result<Vec<f64>> {
+        let copy = |channel: Channel, samples: &[f64]| -> Result<Samples> {
             const BLOCK: usize = 1024;
             let mut out = Vec::with_capacity(samples.len());
             for (b, block) in samples.chunks(BLOCK).enumerate() {
@@ -120,7 +187,7 @@ impl Record {
                     return Err(non_finite(&label, channel, block, b * BLOCK));
                 }
             }
-            Ok(out)
+            Ok(out.into())
         };
         let forces = (forces.iter().enumerate())
             .map(|(i, c)| copy(Channel::Force(i), c))
@@ -136,8 +203,8 @@ impl Record {
     fn checked(
         label: String,
         sample_rate: f64,
-        forces: Vec<Vec<f64>>,
-        displacements: Vec<Vec<f64>>,
+        forces: Vec<Samples>,
+        displacements: Vec<Samples>,
         check_finite: bool,
     ) -> Result<Self> {
         if !finite_positive(sample_rate) {
@@ -153,7 +220,7 @@ impl Record {
                 displacements: displacements.len(),
             });
         }
-        let expected = forces[0].len();
+        let expected = forces[0].as_slice().len();
         let channels = forces
             .iter()
             .enumerate()
@@ -165,6 +232,7 @@ impl Record {
                     .map(|(i, c)| (Channel::Displacement(i), c)),
             );
         for (channel, samples) in channels {
+            let samples = samples.as_slice();
             if samples.len() != expected {
                 return Err(Error::ChannelLength {
                     record: label,
@@ -255,7 +323,7 @@ impl Record {
 
     /// Number of samples per channel.
     pub fn len(&self) -> usize {
-        self.forces[0].len()
+        self.forces[0].as_slice().len()
     }
 
     /// Always `false`: a record holds at least [`MIN_SAMPLES`] samples.
@@ -278,7 +346,15 @@ impl Record {
     /// # Panics
     /// If `i >= self.dofs()`.
     pub fn force(&self, i: usize) -> &[f64] {
-        &self.forces[i]
+        self.forces[i].as_slice()
+    }
+
+    /// Force channel `i`'s samples, to share with another record.
+    ///
+    /// # Panics
+    /// If `i >= self.dofs()`.
+    pub(crate) fn force_samples(&self, i: usize) -> Samples {
+        self.forces[i].clone()
     }
 
     /// Response channel `i`: displacement (m) unless [`Record::response`] says it measures
@@ -287,10 +363,11 @@ impl Record {
     /// # Panics
     /// If `i >= self.dofs()`.
     pub fn displacement(&self, i: usize) -> &[f64] {
-        &self.displacements[i]
+        self.displacements[i].as_slice()
     }
 
-    /// The samples `range` of every channel as a new record with the same label and rate: to
+    /// The samples `range` of every channel as a new record with the same label and rate
+    /// (sharing this record's samples, none copied): to
     /// discard the transient before a periodic or sine response reaches its steady state, or to
     /// cut a record to a whole number of periods.
     ///
@@ -318,14 +395,14 @@ impl Record {
                 expected: "start ≤ end ≤ record length",
             });
         }
-        let cut = |channels: &[Vec<f64>]| -> Vec<Vec<f64>> {
-            channels.iter().map(|c| c[range.clone()].to_vec()).collect()
-        };
-        Record::new(
+        let cut = |channels: &[Samples]| channels.iter().map(|c| c.cut(range.clone())).collect();
+        // The samples were checked when this record was built.
+        Self::checked(
             self.label.clone(),
             self.sample_rate,
             cut(&self.forces),
             cut(&self.displacements),
+            false,
         )?
         .with_responses(self.responses.clone())
     }
@@ -352,8 +429,10 @@ impl Record {
 /// The forces are scaled by a power of two at or above the largest `|f|` of the record, so that
 /// forces near `f64::MAX` compare rather than all overflow to infinity; a power of two scales
 /// exactly, so the order is that of the unscaled energies.
-fn dominant(forces: &[Vec<f64>]) -> usize {
-    let peak = forces.iter().map(|c| lanes::max_abs(c)).fold(0.0, f64::max);
+fn dominant(forces: &[Samples]) -> usize {
+    let peak = (forces.iter())
+        .map(|c| lanes::max_abs(c.as_slice()))
+        .fold(0.0, f64::max);
     // 2^e ≥ peak (up to the rounding of log2, which only halves or doubles the scale), e kept
     // where 2^-e is a normal number.
     let e = if peak > 0.0 {
@@ -363,7 +442,7 @@ fn dominant(forces: &[Vec<f64>]) -> usize {
     };
     let scale = f64::from_bits(((1023 - e) as u64) << 52);
     let mut best = (0, f64::NEG_INFINITY);
-    for (i, c) in forces.iter().enumerate() {
+    for (i, c) in forces.iter().map(Samples::as_slice).enumerate() {
         let mean = lanes::sum_scaled(c, scale) / c.len() as f64;
         let energy = lanes::sum_sq_dev_scaled(c, scale, mean);
         if energy > best.1 {
@@ -580,5 +659,139 @@ mod tests {
                 x.len()
             );
         }
+    }
+}
+
+/// Records that share their samples with an owner: one buffer of rows, as a C-ordered
+/// numpy array holds a record's channels.
+#[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are read through, not computed
+mod shared_tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::simulate::{ImpactTest, seed_rig};
+
+    /// Row `row` of a buffer of rows `len` long.
+    struct Row {
+        buffer: Arc<Vec<f64>>,
+        row: usize,
+        len: usize,
+    }
+
+    impl AsRef<[f64]> for Row {
+        fn as_ref(&self) -> &[f64] {
+            &self.buffer[self.row * self.len..(self.row + 1) * self.len]
+        }
+    }
+
+    /// `channels` laid out as rows of one buffer, each shared as a row of it.
+    fn rows_of(channels: &[&[f64]]) -> (Arc<Vec<f64>>, Vec<SharedSamples>) {
+        let len = channels[0].len();
+        let buffer = Arc::new(channels.concat());
+        let rows = (0..channels.len())
+            .map(|row| {
+                let row = Row {
+                    buffer: Arc::clone(&buffer),
+                    row,
+                    len,
+                };
+                Arc::new(row) as SharedSamples
+            })
+            .collect();
+        (buffer, rows)
+    }
+
+    /// `r` rebuilt on shared rows of two buffers (forces, responses), and those buffers.
+    fn shared(r: &Record) -> (Record, Arc<Vec<f64>>, Arc<Vec<f64>>) {
+        let n = r.dofs();
+        let f: Vec<&[f64]> = (0..n).map(|i| r.force(i)).collect();
+        let x: Vec<&[f64]> = (0..n).map(|i| r.displacement(i)).collect();
+        let ((fb, f), (xb, x)) = (rows_of(&f), rows_of(&x));
+        let record = Record::from_shared(r.label(), r.sample_rate(), f, x).unwrap();
+        (record, fb, xb)
+    }
+
+    #[test]
+    fn shared_records_identify_as_owned_ones_and_read_in_place() {
+        let test = ImpactTest {
+            per_direction: 2,
+            noise: 0.02,
+            ..ImpactTest::seed_rig()
+        };
+        let owned = test.run(&seed_rig()).unwrap();
+        let (shared, buffers): (Vec<_>, Vec<_>) = owned
+            .iter()
+            .map(|r| {
+                let (s, fb, xb) = shared(r);
+                (s, (fb, xb))
+            })
+            .unzip();
+        // Read in place: the channels are the buffers' rows.
+        let (s, (fb, xb)) = (&shared[1], &buffers[1]);
+        assert_eq!(s.force(1).as_ptr(), fb[8040..].as_ptr());
+        assert_eq!(s.displacement(0).as_ptr(), xb.as_ptr());
+        assert_eq!(s, &owned[1]);
+        assert_eq!(s.dominant_force(), owned[1].dominant_force());
+        let identifier = crate::Identifier::new(8.0, 49.0);
+        let a = identifier.identify(&owned).unwrap();
+        let b = identifier.identify(&shared).unwrap();
+        assert_eq!(a, b);
+        let k = b.coefficients().stiffness();
+        assert!((k[(0, 0)] / seed_rig().stiffness()[(0, 0)] - 1.0).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_non_finite_shared_sample_is_refused_naming_channel_and_sample() {
+        let good: Vec<f64> = (0..64).map(|m| f64::from(m).sin()).collect();
+        let mut bad = good.clone();
+        bad[37] = f64::NAN;
+        let (_, f) = rows_of(&[&good, &good]);
+        let (_, x) = rows_of(&[&good, &bad]);
+        let e = Record::from_shared("r", 100.0, f, x).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::NonFinite {
+                    ref record,
+                    channel: Channel::Displacement(1),
+                    sample: 37,
+                    ..
+                } if record == "r"
+            ),
+            "{e:?}"
+        );
+        // And every shape fault as `new` names it.
+        let (_, one) = rows_of(&[&good]);
+        let (_, two) = rows_of(&[&good, &good]);
+        let e = Record::from_shared("r", 100.0, one.clone(), two).unwrap_err();
+        assert!(matches!(e, Error::ChannelCount { forces: 1, .. }), "{e:?}");
+        let e = Record::from_shared("r", f64::NAN, one.clone(), one.clone()).unwrap_err();
+        assert!(matches!(e, Error::InvalidSampleRate { .. }), "{e:?}");
+        let (_, short) = rows_of(&[&good[..10]]);
+        let e = Record::from_shared("r", 100.0, one, short).unwrap_err();
+        assert!(
+            matches!(e, Error::ChannelLength { actual: 10, .. }),
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn a_shared_record_is_send_and_sync_and_clones_and_cuts_without_copying() {
+        fn send_sync<T: Send + Sync + Clone>() {}
+        send_sync::<Record>();
+        let ramp: Vec<f64> = (0..64).map(f64::from).collect();
+        let (buffer, f) = rows_of(&[&ramp]);
+        let (_, x) = rows_of(&[&ramp]);
+        let r = Record::from_shared("r", 100.0, f, x).unwrap();
+        let copy = r.clone();
+        assert_eq!(copy.force(0).as_ptr(), buffer.as_ptr());
+        let cut = copy.trimmed(16..48).unwrap();
+        assert_eq!(cut.force(0).as_ptr(), buffer[16..].as_ptr());
+        assert_eq!(cut.force(0)[0], 16.0);
+        // The buffer lives as long as a record reads it: here, and two rows' owners.
+        drop((r, copy));
+        assert_eq!(Arc::strong_count(&buffer), 2);
+        assert_eq!(cut.len(), 32);
     }
 }

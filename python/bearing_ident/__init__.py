@@ -93,7 +93,8 @@ def _call(function, *args, **kwargs):
 
 def _float_2d(values: Any, what: str) -> np.ndarray:
     """A 2-D float array of ``values``: float64 and float32 as they are (any strides, no copy),
-    other numbers converted once to float64."""
+    other numbers converted once to float64, an unaligned array (a field of a packed structured
+    array, a buffer at an odd offset) copied once to an aligned one."""
     try:
         array = np.asarray(values)
     except Exception as e:  # ragged lists and the like
@@ -102,6 +103,8 @@ def _float_2d(values: Any, what: str) -> np.ndarray:
         if array.dtype.kind not in "fiu":
             raise _error("invalid_argument", f"{what}: dtype {array.dtype} is not numeric")
         array = array.astype(np.float64)
+    if not array.flags.aligned:
+        array = np.require(array, requirements="A")
     if array.ndim != 2:
         raise _error(
             "invalid_argument",
@@ -117,7 +120,11 @@ class Record:
     ``fs`` is the sampling rate (Hz), or ``t`` the sample times (s, evenly spaced within 1 %
     of a step). ``response_kind`` says what the responses measure: ``"displacement"``,
     ``"velocity"`` or ``"acceleration"``, one for all or one per degree of freedom. Arrays of
-    any float dtype and any strides are taken as they are and read once by the crate.
+    any float dtype and any strides are taken as they are (a view, not a copy). The crate reads
+    the rows of a C-ordered float64 array in place, not copied; other arrays are converted
+    once, when :func:`identify` is called. Do not write to the arrays from another thread
+    while :func:`identify` runs: as with numpy's own functions that release the GIL, that is a
+    data race, and the crate may read half-written samples.
 
     >>> import numpy as np
     >>> r = Record(np.ones((2, 8)), np.zeros((2, 8)), fs=100.0, label="hit")
@@ -379,7 +386,9 @@ def identify(
     ``period``, ``force_gate``, ``min_coherence``, ``min_r2``, ``reject_bad_records``,
     ``bootstrap_draws``, ``seed``, ``tolerance``, ``max_iterations``, ``allow_unconverged``,
     ``step_tolerance``, ``baseline``. The records are identified exactly as the command
-    identifies the same records read from files. The GIL is released while the crate works.
+    identifies the same records read from files. The GIL is released while the crate works,
+    reading C-ordered float64 arrays in place: do not write to the records' arrays from
+    another thread meanwhile (see :class:`Record`).
 
     >>> import bearing_ident as bi
     >>> r = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49), method="ls")

@@ -1,8 +1,9 @@
 """The cost of calling `identify` from Python over the Rust library on the same records.
 
 For each shape, the Python figure is the wall time of `bi.identify(records, ...)` on numpy
-arrays: reading the arrays into the crate's records (one copy of contiguous float64), the
-identification with the GIL released, and the result's JSON and arrays. The Rust figure is
+arrays: the crate's records built on the arrays (the rows of C-ordered float64 arrays read in
+place, checked as `Record::new` checks them), the identification with the GIL released, and
+the result's arrays. The Rust figure is
 the library's own time on the same samples and options, as a Rust caller spends it: the
 records built from owned sample vectors (`Record::new`) and `job::Job::run_records`
 (`_native._rust_reference_ms`, the vectors cloned before the clock starts). Runs alternate

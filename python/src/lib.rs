@@ -1,15 +1,18 @@
 //! `bearing_ident._native`: the crate's `job` path from numpy arrays to a result, for the
 //! Python package `bearing_ident` (whose `__init__.py` is the public face: records, options
-//! by keyword, exceptions by kind). Arrays are read once into the crate's records (float64 or
-//! float32, any strides); the identification runs with the GIL released.
+//! by keyword, exceptions by kind). The crate's records read the rows of C-ordered float64
+//! arrays in place (shared, not copied); other arrays (float32, any strides) are converted
+//! once. The identification runs with the GIL released.
 
 use bearing_ident::campaign::{Campaign, Plan, RunOptions, Value};
 use bearing_ident::export::ross::{BearingElement, Table};
 use bearing_ident::job::{Channels, Job, Options, Outcome};
+use bearing_ident::records::SharedSamples;
 use bearing_ident::{Choice, Error, ErrorKind, Record, Response};
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
+use std::sync::Arc;
 
 pyo3::create_exception!(
     _native,
@@ -41,23 +44,111 @@ fn invalid(message: String) -> PyErr {
     NativeError::new_err(("invalid_argument", message))
 }
 
-/// Rows of a 2-D float array (float64 or float32, any strides), converted once.
-fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
-    if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f64>>() {
-        return Ok(a
-            .as_array()
-            .rows()
-            .into_iter()
-            .map(|r| r.to_vec())
-            .collect());
+/// A row of a C-ordered float64 numpy array that a crate record reads in place.
+struct NumpyRow {
+    /// The array: this strong reference keeps it, and so its buffer, alive as long as a
+    /// record (or a clone, or a cut of one) reads the row.
+    _array: Py<PyAny>,
+    /// The row's first sample, inside the array's buffer.
+    start: *const f64,
+    /// The row's length.
+    len: usize,
+}
+
+// SAFETY: a `NumpyRow` is only ever read (`as_ref`), from any thread: the pointer is valid
+// there for as long as the row lives (see `as_ref`), and the `Py` handle is itself `Send +
+// Sync` (PyO3 defers its reference count's decrement when it is dropped without the GIL).
+unsafe impl Send for NumpyRow {}
+// SAFETY: as for `Send`: shared references only read the buffer.
+unsafe impl Sync for NumpyRow {}
+
+impl AsRef<[f64]> for NumpyRow {
+    fn as_ref(&self) -> &[f64] {
+        // SAFETY: `start..start + len` is one row of the slice numpy's crate gave for the
+        // whole array (`PyReadonlyArray::as_slice`: aligned, contiguous, initialised f64s),
+        // and `_array` keeps the array alive. numpy never moves or frees the buffer of a live
+        // array: `ndarray.resize`, the one call that reallocates it in place, refuses while
+        // other references to the array exist, unless told `refcheck=False`, which numpy
+        // documents as unsafe. Nothing here writes the buffer, and the numpy crate's shared
+        // borrow of the array is held for the whole call (`Borrows`), so no Rust code using
+        // that crate gets it mutably meanwhile. Python code writing the array from another
+        // thread while the crate reads it is a data race, as it is with numpy's own
+        // functions that release the GIL: the package's `Record` and `identify` say so.
+        unsafe { std::slice::from_raw_parts(self.start, self.len) }
+    }
+}
+
+/// The numpy crate's shared borrows of the arrays whose rows records read in place, held
+/// until the records are done with (the end of the call that built them).
+type Borrows<'py> = Vec<PyReadonlyArray2<'py, f64>>;
+
+/// Whether `a`'s elements can be read where they are: aligned, and every stride a whole
+/// number of elements (the numpy crate's views assume both). The package's `Record` makes an
+/// aligned copy of any other array, so only an array put in its place afterwards fails this.
+fn aligned<T: numpy::Element>(a: &PyReadonlyArray2<'_, T>) -> bool {
+    let size = std::mem::size_of::<T>() as isize;
+    a.is_aligned() && a.strides().iter().all(|s| s % size == 0)
+}
+
+/// The rows of `array` for a record: shared with it in place for a C-ordered, aligned float64
+/// array (its borrow added to `borrows`), else converted once (float32, any strides).
+fn rows<'py>(
+    array: &Bound<'py, PyAny>,
+    what: &str,
+    borrows: &mut Borrows<'py>,
+) -> PyResult<Vec<SharedSamples>> {
+    let owned = |rows: Vec<Vec<f64>>| {
+        let share = |r: Vec<f64>| -> SharedSamples { Arc::new(r) };
+        rows.into_iter().map(share).collect()
+    };
+    let unaligned = |strides: &[isize]| {
+        invalid(format!(
+            "{what}: an unaligned array (strides {strides:?} bytes): \
+             numpy.require(array, requirements=\"A\") copies it aligned"
+        ))
+    };
+    if let Ok(a) = array.extract::<PyReadonlyArray2<'py, f64>>() {
+        if !aligned(&a) {
+            return Err(unaligned(a.strides()));
+        }
+        let n = a.shape()[1];
+        // `as_slice` is the buffer of an aligned array in memory order: rows for C order.
+        let in_place = (a.is_c_contiguous() && n > 0)
+            .then(|| a.as_slice().ok())
+            .flatten()
+            .map(|all| {
+                let row = |row: &[f64]| -> SharedSamples {
+                    Arc::new(NumpyRow {
+                        _array: array.clone().unbind(),
+                        start: row.as_ptr(),
+                        len: row.len(),
+                    })
+                };
+                all.chunks_exact(n).map(row).collect()
+            });
+        if let Some(rows) = in_place {
+            borrows.push(a);
+            return Ok(rows);
+        }
+        return Ok(owned(
+            a.as_array()
+                .rows()
+                .into_iter()
+                .map(|r| r.to_vec())
+                .collect(),
+        ));
     }
     if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
-        return Ok(a
-            .as_array()
-            .rows()
-            .into_iter()
-            .map(|r| r.iter().map(|&v| f64::from(v)).collect())
-            .collect());
+        if !aligned(&a) {
+            return Err(unaligned(a.strides()));
+        }
+        return Ok(owned(
+            a.as_array()
+                .rows()
+                .into_iter()
+                .map(|r| r.iter().map(|&v| f64::from(v)).collect())
+                .collect(),
+        ));
     }
     let shape = array
         .cast::<numpy::PyUntypedArray>()
@@ -68,52 +159,22 @@ fn rows(array: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<f64>>> {
     )))
 }
 
-/// `array` as a C-ordered float64 array with columns, if it is one.
-fn c_ordered<'py>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray2<'py, f64>> {
-    array
-        .extract::<PyReadonlyArray2<'py, f64>>()
-        .ok()
-        .filter(|a| a.is_c_contiguous() && a.shape()[1] > 0)
-}
-
-/// The rows of a C-ordered array, borrowed from its buffer.
-fn row_slices<'a>(array: &'a PyReadonlyArray2<'_, f64>) -> Vec<&'a [f64]> {
-    let n = array.shape()[1];
-    array
-        .as_slice()
-        .map_or_else(|_| Vec::new(), |all| all.chunks_exact(n).collect())
-}
-
-/// One record from Python: force and response arrays, sampling rate, label, response kinds.
-fn record(
-    force: &Bound<'_, PyAny>,
-    response: &Bound<'_, PyAny>,
-    fs: f64,
-    label: String,
-    kinds: Vec<String>,
+/// One record from Python: force and response arrays, sampling rate, label, response kinds;
+/// the borrows of the arrays it reads in place added to `borrows`.
+fn record<'py>(
+    (force, response, fs, label, kinds): &PyRecordIn<'py>,
+    borrows: &mut Borrows<'py>,
 ) -> PyResult<Record> {
-    let rows_differ = |f: usize, x: usize| {
-        invalid(format!(
-            "record `{label}`: force has {f} rows and response {x}: one of each per degree of freedom"
-        ))
-    };
-    // C-ordered float64 (the usual case): the crate copies each row from numpy's buffer and
-    // checks it in the same pass. Anything else is converted row by row first.
-    let r = if let (Some(f), Some(x)) = (c_ordered(force), c_ordered(response)) {
-        let (f, x) = (row_slices(&f), row_slices(&x));
-        if f.len() != x.len() {
-            return Err(rows_differ(f.len(), x.len()));
-        }
-        Record::from_slices(label, fs, &f, &x)
-    } else {
-        let forces = rows(force, "force")?;
-        let responses = rows(response, "response")?;
-        if forces.len() != responses.len() {
-            return Err(rows_differ(forces.len(), responses.len()));
-        }
-        Record::new(label, fs, forces, responses)
+    let forces = rows(force, "force", borrows)?;
+    let responses = rows(response, "response", borrows)?;
+    if forces.len() != responses.len() {
+        return Err(invalid(format!(
+            "record `{label}`: force has {} rows and response {}: one of each per degree of freedom",
+            forces.len(),
+            responses.len()
+        )));
     }
-    .map_err(|e| raise(&e))?;
+    let r = Record::from_shared(label.as_str(), *fs, forces, responses).map_err(|e| raise(&e))?;
     if kinds.is_empty() {
         return Ok(r);
     }
@@ -138,20 +199,22 @@ fn record_out(r: &Record) -> PyRecordOut {
     )
 }
 
-/// The records from Python and the job of the options given by long name.
-fn records_and_job(
-    records: &[PyRecordIn<'_>],
+/// The records from Python, the borrows of the arrays they read in place (to hold until the
+/// records are done with) and the job of the options given by long name.
+fn records_and_job<'py>(
+    records: &[PyRecordIn<'py>],
     options: &[(String, String)],
-) -> PyResult<(Vec<Record>, Job)> {
+) -> PyResult<(Vec<Record>, Borrows<'py>, Job)> {
+    let mut borrows = Vec::new();
     let records = records
         .iter()
-        .map(|(f, x, fs, label, kinds)| record(f, x, *fs, label.clone(), kinds.clone()))
+        .map(|r| record(r, &mut borrows))
         .collect::<PyResult<Vec<_>>>()?;
     let mut o = Options::new(f64::NAN, f64::NAN);
     for (name, value) in options {
         o.set(name, value).map_err(|e| raise(&e))?;
     }
-    Ok((records, Job::new(o, Channels::default())))
+    Ok((records, borrows, Job::new(o, Channels::default())))
 }
 
 /// A finished run: the crate's [`Outcome`] behind the package's `Identification`.
@@ -233,11 +296,13 @@ fn identify(
     options: Vec<(String, String)>,
     per_frequency: bool,
 ) -> PyResult<NativeResult> {
-    let (records, job) = records_and_job(&records, &options)?;
-    let outcome = py
-        .detach(|| {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job.run_records(records)))
-        })
+    let (records, borrows, job) = records_and_job(&records, &options)?;
+    let outcome = py.detach(|| {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job.run_records(records)))
+    });
+    // The records read the arrays in place until here.
+    drop(borrows);
+    let outcome = outcome
         .map_err(|_| NativeError::new_err(("internal", "the identification panicked")))?
         .map_err(|e| raise(&e))?;
     Ok(NativeResult {
@@ -445,7 +510,7 @@ fn _rust_reference_ms(
     options: Vec<(String, String)>,
     repeat: usize,
 ) -> PyResult<Vec<f64>> {
-    let (records, job) = records_and_job(&records, &options)?;
+    let (records, borrows, job) = records_and_job(&records, &options)?;
     let owned = |r: &Record| {
         let n = r.dofs();
         (
@@ -455,7 +520,7 @@ fn _rust_reference_ms(
                 .collect::<Vec<_>>(),
         )
     };
-    py.detach(|| {
+    let times = py.detach(|| {
         (0..repeat)
             .map(|_| {
                 let data: Vec<_> = records.iter().map(owned).collect();
@@ -472,8 +537,22 @@ fn _rust_reference_ms(
                 Ok(start.elapsed().as_secs_f64() * 1e3)
             })
             .collect::<bearing_ident::Result<Vec<f64>>>()
-    })
-    .map_err(|e| raise(&e))
+    });
+    drop(borrows);
+    times.map_err(|e| raise(&e))
+}
+
+/// The address of each channel's first sample in the crate's record built from `record`
+/// (as `identify` builds it): `(forces, responses)`, to show which arrays are read in place.
+#[pyfunction]
+fn _sample_addresses(record: PyRecordIn<'_>) -> PyResult<(Vec<usize>, Vec<usize>)> {
+    let r = self::record(&record, &mut Vec::new())?;
+    let first = |c: &[f64]| c.as_ptr() as usize;
+    let n = r.dofs();
+    Ok((
+        (0..n).map(|i| first(r.force(i))).collect(),
+        (0..n).map(|i| first(r.displacement(i))).collect(),
+    ))
 }
 
 /// Panics inside the crate's call, to show that a panic becomes an exception.
@@ -504,5 +583,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     m.add_function(wrap_pyfunction!(_rust_reference_ms, m)?)?;
+    m.add_function(wrap_pyfunction!(_sample_addresses, m)?)?;
     Ok(())
 }

@@ -141,6 +141,68 @@ def test_float32_and_strided_inputs_are_read_as_they_are():
     assert ints.force.dtype == np.float64
 
 
+def _row_addresses(a: np.ndarray) -> list[int]:
+    return [a.ctypes.data + i * a.strides[0] for i in range(a.shape[0])]
+
+
+def _within(a: np.ndarray, addresses: list[int]) -> bool:
+    """Whether any address lies in the memory `a` spans (non-negative strides)."""
+    low = a.ctypes.data
+    high = low + sum((n - 1) * s for n, s in zip(a.shape, a.strides)) + a.itemsize
+    return any(low <= p < high for p in addresses)
+
+
+def test_c_ordered_float64_rows_are_read_in_place():
+    r, other = bi.simulate("impact", impacts=1, noise=0.01)
+    force, response = np.ascontiguousarray(r.force), np.ascontiguousarray(r.response)
+    record = bi.Record(force, response, fs=r.fs)
+    assert record.force is force and record.response is response
+    # The crate's channels start where numpy holds each row: nothing copied.
+    f, x = bi._native._sample_addresses(record._native())
+    assert f == _row_addresses(force) and x == _row_addresses(response)
+    # Every other layout is converted once: the crate's channels live elsewhere.
+    odd = np.zeros(force.nbytes + 1, np.uint8)[1:].view(np.float64).reshape(force.shape)
+    odd[:] = force
+    assert not odd.flags.aligned
+    packed = np.zeros(force.shape, dtype=[("f", "<f8"), ("pad", "<i4")])
+    packed["f"] = force
+    others = {
+        "float32": force.astype(np.float32),
+        "strided": np.repeat(force, 2, axis=1)[:, ::2],
+        "fortran": np.asfortranarray(force),
+        "unaligned": odd,
+        "packed field": packed["f"],
+        "big-endian": force.astype(">f8"),
+    }
+    base = bi.identify([record, other], band=(8, 49), method="ls").K
+    for name, given in others.items():
+        converted = bi.Record(given, response, fs=r.fs)
+        f, x = bi._native._sample_addresses(converted._native())
+        assert not _within(given, f), name
+        assert x == _row_addresses(response), name
+        K = bi.identify([converted, other], band=(8, 49), method="ls").K
+        if name == "float32":
+            assert np.allclose(K, base, rtol=1e-4), name
+        else:
+            assert np.array_equal(K, base), name
+    # An unaligned array put in a record's place after it was built is refused, not misread.
+    record.force = packed["f"]
+    with pytest.raises(bi.InvalidArgumentError, match="unaligned"):
+        bi.identify([record, other], band=(8, 49))
+
+
+def test_arrays_read_in_place_are_released():
+    records = bi.simulate("impact", impacts=1)
+    before = [sys.getrefcount(r.force) for r in records]
+    for _ in range(3):
+        bi.identify(records, band=(8, 49), method="ls")
+    with pytest.raises(bi.NonFiniteError):
+        bad = records[0].response.copy()
+        bad[1, 5] = np.nan
+        bi.identify([records[0], bi.Record(records[1].force, bad, fs=records[1].fs)], band=(8, 49))
+    assert [sys.getrefcount(r.force) for r in records] == before
+
+
 def test_every_error_kind_has_its_class():
     for kind in bi._native.ERROR_KINDS:
         cls = getattr(bi, bi._class_name(kind))

@@ -345,9 +345,16 @@ impl Geometry {
                     two_plane_to_bearing(x1, x2, z1, z2, self.bearing)
                 })
                 .collect::<Result<Vec<_>>>()?;
-            let forces = (0..n).map(|d| record.force(d).to_vec()).collect();
-            return Record::new(record.label(), record.sample_rate(), forces, responses)?
-                .with_responses(kinds[..n].to_vec());
+            // The forces at the bearing plane: shared with the record read, not copied.
+            let forces = (0..n).map(|d| record.force_samples(d)).collect();
+            let responses = responses.into_iter().map(Into::into).collect();
+            return Record::from_samples(
+                record.label(),
+                record.sample_rate(),
+                forces,
+                responses,
+                kinds[..n].to_vec(),
+            );
         }
         let Mode::Conical { pivot, .. } = self.mode else {
             unreachable!("two planes returned above")
@@ -357,13 +364,30 @@ impl Geometry {
                 conical_to_bearing(record.displacement(i), self.probes[i], pivot, self.bearing)
             })
             .collect::<Result<Vec<_>>>()?;
+        // Forces measured at the bearing plane are shared, not copied.
+        let at_bearing = matches!(self.mode, Mode::Conical { forces: None, .. });
         let forces = (0..n)
             .map(|i| {
+                if at_bearing {
+                    return record.force_samples(i);
+                }
                 let k = self.force_factor(i);
-                record.force(i).iter().map(|f| f * k).collect()
+                record
+                    .force(i)
+                    .iter()
+                    .map(|f| f * k)
+                    .collect::<Vec<_>>()
+                    .into()
             })
             .collect();
-        Record::new(record.label(), record.sample_rate(), forces, responses)?.with_responses(kinds)
+        let responses = responses.into_iter().map(Into::into).collect();
+        Record::from_samples(
+            record.label(),
+            record.sample_rate(),
+            forces,
+            responses,
+            kinds,
+        )
     }
 }
 
