@@ -92,7 +92,11 @@ fn the_json_carries_terms_checks_and_velocity() {
     assert_eq!(v["n_records"], 2);
     // The one warning: the friction's predicted sign bias, carried in its error bar.
     let kinds = v["warning_kinds"].as_array().unwrap();
-    assert!(kinds.iter().all(|k| k == "friction_bias"), "{}", v["warnings"]);
+    assert!(
+        kinds.iter().all(|k| k == "friction_bias"),
+        "{}",
+        v["warnings"]
+    );
     for t in terms {
         let (model, std) = (t["model_std"].as_f64().unwrap(), t["std"].as_f64().unwrap());
         assert!(model > 0.0 && model < std, "{t}");
