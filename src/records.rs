@@ -131,7 +131,8 @@ impl Record {
 
     /// A record of channels some of which another record shares (their samples not copied),
     /// with `responses`: [`Record::new`]'s checks, for the crate's own records built from
-    /// records.
+    /// records (the geometry of feature `job`).
+    #[cfg(feature = "job")]
     pub(crate) fn from_samples(
         label: impl Into<String>,
         sample_rate: f64,
@@ -353,6 +354,7 @@ impl Record {
     ///
     /// # Panics
     /// If `i >= self.dofs()`.
+    #[cfg(feature = "job")]
     pub(crate) fn force_samples(&self, i: usize) -> Samples {
         self.forces[i].clone()
     }
