@@ -144,61 +144,6 @@ impl Record {
             .with_responses(responses)
     }
 
-    /// Builds a record by copying its channels from borrowed samples (numpy buffers, a
-    /// memory-mapped file): one pass per channel copies each block and checks it while it is
-    /// in cache, instead of a copy followed by [`Record::new`]'s check.
-    ///
-    /// # Errors
-    /// As [`Record::new`], the shapes checked before anything is copied.
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::Record;
-    /// let (fx, x) = ([0.0, 1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0; 8]);
-    /// let r = Record::from_slices("hit", 1000.0, &[&fx], &[&x])?;
-    /// assert_eq!(r, Record::new("hit", 1000.0, vec![fx.to_vec()], vec![x.to_vec()])?);
-    /// let bad = [0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    /// assert_eq!(Record::from_slices("hit", 1000.0, &[&fx], &[&bad]).unwrap_err().kind(), "non_finite");
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    pub fn from_slices(
-        label: impl Into<String>,
-        sample_rate: f64,
-        forces: &[&[f64]],
-        displacements: &[&[f64]],
-    ) -> Result<Self> {
-        let label = label.into();
-        let len = forces.first().map_or(0, |f| f.len());
-        let well_shaped = finite_positive(sample_rate)
-            && !forces.is_empty()
-            && forces.len() == displacements.len()
-            && forces.iter().chain(displacements).all(|c| c.len() == len)
-            && len >= MIN_SAMPLES;
-        if !well_shaped {
-            // Refused whatever the samples: `new` names the first fault as it always does.
-            let own = |c: &[&[f64]]| c.iter().map(|s| s.to_vec()).collect();
-            return Self::new(label, sample_rate, own(forces), own(displacements));
-        }
-        let copy = |channel: Channel, samples: &[f64]| -> Result<Samples> {
-            const BLOCK: usize = 1024;
-            let mut out = Vec::with_capacity(samples.len());
-            for (b, block) in samples.chunks(BLOCK).enumerate() {
-                out.extend_from_slice(block);
-                if !lanes::all_finite(block) {
-                    return Err(non_finite(&label, channel, block, b * BLOCK));
-                }
-            }
-            Ok(out.into())
-        };
-        let forces = (forces.iter().enumerate())
-            .map(|(i, c)| copy(Channel::Force(i), c))
-            .collect::<Result<Vec<_>>>()?;
-        let displacements = (displacements.iter().enumerate())
-            .map(|(i, c)| copy(Channel::Displacement(i), c))
-            .collect::<Result<Vec<_>>>()?;
-        Self::checked(label, sample_rate, forces, displacements, false)
-    }
-
     /// [`Record::new`], the samples' finiteness checked when `check_finite` (else checked
     /// already by the caller).
     fn checked(
@@ -631,36 +576,6 @@ mod tests {
         hit[3] = 1.0;
         let r = Record::new("a", 1.0, vec![offset, hit], vec![ok_channel(); 2]).unwrap();
         assert_eq!(r.dominant_force(), 1);
-    }
-
-    /// `from_slices` is `new` on copies: the same record, and the same error for every fault,
-    /// a non-finite sample named by its index past the first block too.
-    #[test]
-    fn from_slices_is_new_on_copies() {
-        let good: Vec<f64> = (0..3000).map(|m| (m as f64 * 0.1).sin()).collect();
-        let mut late_nan = good.clone();
-        late_nan[2500] = f64::INFINITY;
-        let short = vec![0.0; 4];
-        type Channels<'a> = Vec<&'a [f64]>;
-        let cases: Vec<(f64, Channels<'_>, Channels<'_>)> = vec![
-            (100.0, vec![&good, &good], vec![&good, &good]),
-            (100.0, vec![&good, &good], vec![&good, &late_nan]),
-            (0.0, vec![&good], vec![&good]),
-            (100.0, vec![&good], vec![&good, &good]),
-            (100.0, vec![&good], vec![&good[..10]]),
-            (100.0, vec![&short], vec![&short]),
-            (100.0, vec![], vec![]),
-        ];
-        for (rate, f, x) in cases {
-            let own = |c: &[&[f64]]| c.iter().map(|s| s.to_vec()).collect();
-            assert_eq!(
-                Record::from_slices("r", rate, &f, &x),
-                Record::new("r", rate, own(&f), own(&x)),
-                "{rate} {} {}",
-                f.len(),
-                x.len()
-            );
-        }
     }
 }
 

@@ -386,8 +386,9 @@ pub enum Warning {
         term: String,
         /// The predicted bias (N), carried as a standard uncertainty.
         predicted: f64,
-        /// The coefficient's random standard deviation (N).
-        random_std: f64,
+        /// The coefficient's random standard deviation (N), `None` when none could be
+        /// estimated.
+        random_std: Option<f64>,
     },
     // ---- end of predicted bias ----
     // ---- Periodic records (issue 25, item 5) ----

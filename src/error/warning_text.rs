@@ -296,9 +296,9 @@ impl fmt::Display for Warning {
             } => write!(
                 f,
                 "nonlinear term {term}: velocity noise flips the sign of slow velocities, a \
-                 predicted friction bias of up to {predicted:.3e} N ({:.1} σ), carried in its \
-                 error bar; a less noisy velocity (a velocity probe, `--vel-cutoff`) reduces it",
-                predicted / random_std
+                 predicted friction bias of up to {predicted:.3e} N{}, carried in its error bar; \
+                 a less noisy velocity (a velocity probe, `--vel-cutoff`) reduces it",
+                random_std.map_or(String::new(), |s| format!(" ({:.1} σ)", predicted / s))
             ),
             Warning::LeakageBias {
                 spacing_hz,

@@ -89,7 +89,7 @@ pub(crate) struct Gathered {
     /// How the velocities were derived.
     pub velocity: VelocityChoice,
     /// Per DOF, the relative bias a plain sign of its noisy velocity would give a friction
-    /// coefficient, averaged over the records ([`sign_flip_bias`]); 0 without a noise
+    /// coefficient, averaged over the records ([`sign_noise`]); 0 without a noise
     /// estimate.
     pub sign_flip: Vec<f64>,
 }
@@ -173,9 +173,9 @@ pub(crate) fn gather(
                     &mut x_hat[i],
                     &mut v_hat[i],
                 );
-                sharpness[i] = sign_sharpness(&v_hat[i], diff.velocity_noise_std());
-                sign_flip[i] +=
-                    sign_flip_bias(&v_hat[i], diff.velocity_noise_std()) / records.len() as f64;
+                let (a, b) = sign_noise(&v_hat[i], diff.velocity_noise_std());
+                sharpness[i] = a;
+                sign_flip[i] += b / records.len() as f64;
             }
         }
         if needs_kinematics {
@@ -243,57 +243,42 @@ pub(crate) fn gather(
     })
 }
 
-/// The factor `a` of the expected sign of a velocity given its estimate `v̂`,
-/// $E[\operatorname{sign} v \mid \hat v] = \operatorname{erf}(a\hat v)$, with
-/// $a = \sqrt{k}/(\sqrt2\,\sigma_n)$: the estimate is `v + n`, `n` Gaussian of standard
-/// deviation `noise_std` ([`Differentiator::velocity_noise_std`]), and with `v` Gaussian too,
-/// $v \mid \hat v \sim N(k\hat v,\, k\sigma_n^2)$, $k = 1 - \sigma_n^2/\overline{\hat v^2}$.
-/// 0 (the plain sign) when there is no noise estimate.
+/// What the noise of a velocity estimate `v̂ = v + n` does to the sign of a dry friction, `n`
+/// Gaussian of standard deviation `noise_std` ([`Differentiator::velocity_noise_std`]) and `v`
+/// Gaussian too, with $\sigma_v^2 = \overline{\hat v^2} - \sigma_n^2$: `(a, b)`, both 0 when
+/// there is no noise estimate.
 ///
-/// Why: near a zero crossing the noise flips the estimated sign, and a dry-friction
-/// regressor $\operatorname{sign}\hat v$ is then the true one plus an error that does not
-/// depend on the force: its coefficient comes out low by about $2\sigma_n/(\pi\sigma_v)$
-/// (errors in variables; 2–3 % at 2 % measurement noise). Regressing on the conditional
+/// `a` is the factor of the sign's expectation given the estimate,
+/// $E[\operatorname{sign} v \mid \hat v] = \operatorname{erf}(a\hat v)$ with
+/// $a = \sqrt{k}/(\sqrt2\,\sigma_n)$, since $v \mid \hat v \sim N(k\hat v,\, k\sigma_n^2)$,
+/// $k = \sigma_v^2/\overline{\hat v^2}$. Why: near a zero crossing the noise flips the estimated
+/// sign, and a regressor $\operatorname{sign}\hat v$ is then the true one plus an error that
+/// does not depend on the force (errors in variables). Regressing on the conditional
 /// expectation instead is unbiased (regression calibration): the force's own conditional mean
 /// is the friction times it.
-fn sign_sharpness(v_hat: &[f64], noise_std: f64) -> f64 {
-    let Some(power) = noisy_power(v_hat, noise_std) else {
-        return 0.0;
-    };
-    let k = (1.0 - noise_std * noise_std / power).max(0.0);
-    let a = k.sqrt() / (std::f64::consts::SQRT_2 * noise_std);
-    if a.is_finite() { a } else { 0.0 }
-}
-
-/// The relative bias of a friction coefficient regressed on the plain sign of a noisy
-/// velocity: $b = \frac{2}{\pi}\arctan(\sigma_n/\sigma_v)$, twice the probability that
-/// Gaussian noise of deviation $\sigma_n$ flips the sign of a Gaussian velocity of deviation
-/// $\sigma_v = \sqrt{\overline{\hat v^2} - \sigma_n^2}$ (about $2\sigma_n/(\pi\sigma_v)$).
-/// The expected-sign regressor ([`sign_sharpness`]) removes it when the velocity is
-/// Gaussian; how far it is removed depends on how long the velocity dwells near zero
-/// (sticking), which the records do not resolve below the noise, so `b` times the
-/// coefficient is what the reverse path carries as the friction's model uncertainty.
-/// 0 without a noise estimate.
-pub(crate) fn sign_flip_bias(v_hat: &[f64], noise_std: f64) -> f64 {
-    let Some(power) = noisy_power(v_hat, noise_std) else {
-        return 0.0;
-    };
-    let sigma_v = (power - noise_std * noise_std).max(0.0).sqrt();
-    let b = std::f64::consts::FRAC_2_PI * noise_std.atan2(sigma_v);
-    if b.is_finite() { b } else { 0.0 }
-}
-
-/// The mean square of `v_hat` when there is a positive noise estimate and a sample.
-fn noisy_power(v_hat: &[f64], noise_std: f64) -> Option<f64> {
+///
+/// `b` is the relative bias the plain sign would give the coefficient,
+/// $b = \frac{2}{\pi}\arctan(\sigma_n/\sigma_v)$ (twice the probability of a flip; about
+/// $2\sigma_n/(\pi\sigma_v)$, 2–3 % at 2 % measurement noise). The expected sign removes it
+/// when the velocity is Gaussian; how far it is removed depends on how long the velocity
+/// dwells near zero (sticking), which the records do not resolve below the noise, so `b`
+/// times the coefficient is what the reverse path carries as the friction's model
+/// uncertainty.
+fn sign_noise(v_hat: &[f64], noise_std: f64) -> (f64, f64) {
     if noise_std.is_nan() || noise_std <= 0.0 || v_hat.is_empty() {
-        return None;
+        return (0.0, 0.0);
     }
-    Some(v_hat.iter().map(|v| v * v).sum::<f64>() / v_hat.len() as f64)
+    let power = v_hat.iter().map(|v| v * v).sum::<f64>() / v_hat.len() as f64;
+    let variance_v = (power - noise_std * noise_std).max(0.0);
+    let a = (variance_v / power).sqrt() / (std::f64::consts::SQRT_2 * noise_std);
+    let b = std::f64::consts::FRAC_2_PI * noise_std.atan2(variance_v.sqrt());
+    let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
+    (finite(a), finite(b))
 }
 
 /// The regressor time series of `record` into `inputs`, one per input channel; a dry
 /// friction's sign taken as its expectation given the noisy velocity where `sharpness` (per
-/// DOF, [`sign_sharpness`]) is above 0.
+/// DOF, [`sign_noise`]) is above 0.
 fn regressors(
     record: &Record,
     (terms, channels, sharpness): (&[Term], &[InputChannel], &[f64]),

@@ -250,7 +250,7 @@ impl ReversePath {
                 warnings.push(Warning::FrictionBias {
                     term: term.label(),
                     predicted: model,
-                    random_std: random.unwrap_or(f64::NAN),
+                    random_std: *random,
                 });
             }
         }

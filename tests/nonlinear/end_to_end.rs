@@ -335,7 +335,7 @@ fn method_reference_case() {
 /// Dry friction's bias over 6 seeds, in its own standard deviations: the quick forcing with
 /// 2 % noise. Taking the sign of a noisy velocity flips it near zero crossings, which biased the
 /// friction low by 2.0–3.4 % (dof 0), −4.9 σ on average; the regressor is now the sign's
-/// expectation given the noisy velocity (`gather::sign_sharpness`), measured at −0.4 to −1.2 %,
+/// expectation given the noisy velocity (`gather::sign_noise`), measured at −0.4 to −1.2 %,
 /// −2.5 σ of the random error on average. What is left comes from the velocity dwelling near
 /// zero (sticking) more than a Gaussian velocity would, which the correction does not model:
 /// the predicted sign bias is carried as the term's `model_std` (in `std`) and named by
