@@ -33,6 +33,7 @@ pub use crate::tolerance::ALIKE;
 
 mod bias;
 mod causes;
+pub(crate) use bias::worst_in;
 pub use bias::{
     BiasSource, PredictedBias, leaked_flexibility, predicted_bias, truncated_flexibility,
 };

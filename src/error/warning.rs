@@ -1,6 +1,7 @@
 //! [`Warning`]: what a user should know about a run that did not stop it, with the numbers.
 
 use super::{Block, Channel};
+use crate::frf::Estimator;
 
 /// Something a user should know about an identification that did not stop it.
 ///
@@ -378,6 +379,24 @@ pub enum Warning {
         /// Its predicted bias in standard deviations.
         sigmas: f64,
     },
+    /// H1 and H2 on the same spectra give fits further apart than half a random standard
+    /// deviation on some coefficient: noise on the force channels biases H1's impedance up
+    /// by the forces' noise-to-signal ratio, noise on the responses biases H2's down, and the
+    /// truth lies between. The difference of the two fits is carried in the error bars.
+    NoiseBias {
+        /// The estimator the coefficients come from ([`Estimator::H1`] or [`Estimator::H2`]).
+        estimator: Estimator,
+        /// The coefficient whose difference is largest in standard deviations.
+        block: Block,
+        /// Row of that coefficient.
+        row: usize,
+        /// Column of that coefficient.
+        col: usize,
+        /// The other estimator's fit minus this one's, relative to this one's value.
+        relative: f64,
+        /// That difference in random standard deviations.
+        sigmas: f64,
+    },
     /// A dry-friction coefficient whose predicted sign bias (noise flipping the sign of the
     /// velocity near zero, [`TermEstimate::model_std`](crate::nonlinear::TermEstimate::model_std))
     /// is above half its random standard deviation: carried in its error bar.
@@ -516,6 +535,7 @@ impl Warning {
             Warning::ModelMisfit { .. } => "model_misfit",
             Warning::NotDecayed { .. } => "not_decayed",
             Warning::LeakageBias { .. } => "leakage_bias",
+            Warning::NoiseBias { .. } => "noise_bias",
             Warning::FrictionBias { .. } => "friction_bias",
             Warning::PeriodMismatch { .. } => "period_mismatch",
             Warning::StartTransient { .. } => "start_transient",

@@ -4,6 +4,7 @@ use std::fmt;
 
 use super::Warning;
 use crate::Choice;
+use crate::frf::Estimator;
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -300,6 +301,29 @@ impl fmt::Display for Warning {
                  a less noisy velocity (a velocity probe, `--vel-cutoff`) reduces it",
                 random_std.map_or(String::new(), |s| format!(" ({:.1} σ)", predicted / s))
             ),
+            Warning::NoiseBias {
+                estimator,
+                block,
+                row,
+                col,
+                relative,
+                sigmas,
+            } => {
+                let other = match estimator {
+                    Estimator::H2 => "H1",
+                    _ => "H2",
+                };
+                write!(
+                    f,
+                    "{} and {other} on the same spectra differ by {:+.3} % on \
+                     {block}[{row}][{col}] ({sigmas:.1} σ): noise on the force channels biases \
+                     H1, on the responses H2, and the truth lies between; the difference is \
+                     carried in the error bars (`--estimator hv` when both channels are about \
+                     equally noisy)",
+                    estimator.name().to_uppercase(),
+                    100.0 * relative
+                )
+            }
             Warning::LeakageBias {
                 spacing_hz,
                 block,

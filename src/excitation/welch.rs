@@ -39,7 +39,8 @@ pub struct WelchChoice {
     /// ([`leaked_flexibility`]); `None` when it could not be predicted.
     pub predicted_bias: Option<f64>,
     /// The largest predicted leakage bias of any coefficient at the chosen length, in the
-    /// first fit's standard deviations; `None` when it could not be predicted.
+    /// first fit's standard deviations of the random error (`budget.random`: its combined
+    /// ones carry its own leakage); `None` when it could not be predicted.
     pub predicted_sigmas: Option<f64>,
     /// Whether the records were too short for [`LINES_PER_BANDWIDTH`] lines, or for a
     /// predicted bias below [`BIAS_SIGMAS`] standard deviations, with [`MIN_AVERAGES`]
@@ -52,7 +53,8 @@ pub struct WelchChoice {
 /// deviations; the lightest mode in the band (half-power bandwidth `B = 2ζf_n`) sets the line
 /// spacing `Δf ≤ B /` [`LINES_PER_BANDWIDTH`]; the segment is then doubled while the leakage
 /// bias predicted from the model ([`leaked_flexibility`], [`predicted_bias`]) exceeds
-/// [`BIAS_SIGMAS`] standard deviations on some coefficient. Each length is the shortest power
+/// [`BIAS_SIGMAS`] standard deviations of the random error on some coefficient (the first
+/// fit's, which longer segments leave about the same: they trade averages for lines). Each length is the shortest power
 /// of two that meets these, never shorter than the default (shorter segments trade lines for
 /// averages at about the same information, and leak more), and halved back while the records
 /// give fewer than [`MIN_AVERAGES`] segments. Use it with [`Identifier::segmentation`]; an
@@ -119,7 +121,10 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
         let damping = (0..model.dofs())
             .map(|i| (bias.bias.damping()[(i, i)] / model.damping()[(i, i)]).abs())
             .fold(0.0, f64::max);
-        let sigmas = fit.std_dev().and_then(|s| bias.worst_in(s)).map(|w| w.3)?;
+        // Against the random error alone: the first fit's combined error bars already carry
+        // its own (shorter segments') leakage bias, and would hide the bias they are to judge.
+        let random = fit.budget().map(|b| &b.random).or(fit.std_dev());
+        let sigmas = random.and_then(|s| bias.worst_in(s)).map(|w| w.3)?;
         Some((damping, sigmas))
     };
     let (nperseg, record_limited) = match lightest {

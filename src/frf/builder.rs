@@ -556,4 +556,19 @@ impl FrfBuilder {
         frf.check_finite()?;
         Ok(frf)
     }
+
+    /// The FRF the other one-sided estimator gives on the same cross-spectral sums: H2 for
+    /// H1, H1 for H2 (`None` for paired sets and Hv, or before any record). Input noise
+    /// biases H1's flexibility low and output noise H2's high, so the truth lies between the
+    /// two: the pair brackets the bias of noise the estimator assumes away.
+    pub(crate) fn finish_bracket(&self) -> Option<Result<Frf>> {
+        let (plan, _) = self.plan.as_ref()?;
+        let other = match self.estimator {
+            Estimator::H1 => Estimator::H2,
+            Estimator::H2 => Estimator::H1,
+            Estimator::Hv | Estimator::PairedSets => return None,
+        };
+        let frf = self.finish_cross_as(plan, None, other);
+        Some(frf.check_finite().map(|()| frf))
+    }
 }

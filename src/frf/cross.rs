@@ -127,10 +127,20 @@ impl FrfBuilder {
 
     /// The cross-spectral estimate from the totals (or weighted partials), line by line.
     pub(super) fn finish_cross(&self, plan: &Plan, weights: Option<&[f64]>) -> Frf {
+        self.finish_cross_as(plan, weights, self.estimator)
+    }
+
+    /// [`FrfBuilder::finish_cross`] with another cross-spectral `estimator` on the same sums.
+    pub(super) fn finish_cross_as(
+        &self,
+        plan: &Plan,
+        weights: Option<&[f64]>,
+        estimator: Estimator,
+    ) -> Frf {
         let n = plan.n;
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
-        let mut frf = Frf::empty(n, self.estimator);
+        let mut frf = Frf::empty(n, estimator);
         frf.spacing_hz = Some(plan.resolution_hz);
         let (Cross { sff, sxf, sxx }, averages) = self.cross_totals(plan, weights);
         frf.averages = averages.round() as usize;
@@ -139,7 +149,7 @@ impl FrfBuilder {
         let strongest = (0..plan.lines.len()).map(power).fold(0.0, f64::max);
         let periodic = matches!(self.segmentation, Segmentation::Periods { .. });
         let with_variance = weights.is_none() && averages > n as f64;
-        let estimator = line_estimator(self.estimator);
+        let estimator = line_estimator(estimator);
         let mut work = LineWork::new(n);
         let (mut inv, mut conditioner) = (vec![zero; nn], linalg::Conditioner::new(n));
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);

@@ -65,29 +65,37 @@ impl PredictedBias {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn worst_in(&self, std: &Coefficients) -> Option<(Block, usize, usize, f64)> {
-        let n = self.bias.dofs();
-        let blocks = [
-            (Block::Mass, self.bias.mass(), std.mass()),
-            (Block::Damping, self.bias.damping(), std.damping()),
-            (Block::Stiffness, self.bias.stiffness(), std.stiffness()),
-        ];
-        let mut worst: Option<(Block, usize, usize, f64)> = None;
-        for (block, b, s) in blocks {
-            for i in 0..n {
-                for j in 0..n {
-                    let sigma = s[(i, j)];
-                    if !(sigma.is_finite() && sigma > 0.0) {
-                        continue;
-                    }
-                    let z = b[(i, j)].abs() / sigma;
-                    if z.is_finite() && worst.is_none_or(|w| z > w.3) {
-                        worst = Some((block, i, j, z));
-                    }
+        worst_in(&self.bias, std)
+    }
+}
+
+/// The element of `bias` largest in standard deviations `std` ([`PredictedBias::worst_in`]).
+pub(crate) fn worst_in(
+    bias: &Coefficients,
+    std: &Coefficients,
+) -> Option<(Block, usize, usize, f64)> {
+    let n = bias.dofs();
+    let blocks = [
+        (Block::Mass, bias.mass(), std.mass()),
+        (Block::Damping, bias.damping(), std.damping()),
+        (Block::Stiffness, bias.stiffness(), std.stiffness()),
+    ];
+    let mut worst: Option<(Block, usize, usize, f64)> = None;
+    for (block, b, s) in blocks {
+        for i in 0..n {
+            for j in 0..n {
+                let sigma = s[(i, j)];
+                if !(sigma.is_finite() && sigma > 0.0) {
+                    continue;
+                }
+                let z = b[(i, j)].abs() / sigma;
+                if z.is_finite() && worst.is_none_or(|w| z > w.3) {
+                    worst = Some((block, i, j, z));
                 }
             }
         }
-        worst
     }
+    worst
 }
 
 /// The bias the processing that turns the model's flexibility into `processed` (one matrix per

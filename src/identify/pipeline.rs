@@ -442,10 +442,15 @@ impl Settings {
             random.or(bars.std_dev.as_ref()),
             &mut warnings,
         );
+        let bracket = self.noise_bracket(&frf, builder, &fit, random, &mut warnings);
         // A bias past the threshold (warned above) is carried by the model component, so the
         // combined intervals cover it.
         if let (Some(bias), Some(budget)) = (&predicted_bias, bars.budget.as_mut()) {
             budget.carry_bias(&bias.bias)?;
+            bars.std_dev = Some(budget.combined()?);
+        }
+        if let (Some(bracket), Some(budget)) = (&bracket, bars.budget.as_mut()) {
+            budget.carry_bias(bracket)?;
             bars.std_dev = Some(budget.combined()?);
         }
         // The calibration's sources move every coefficient at once (a common gain scales

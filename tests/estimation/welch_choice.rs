@@ -206,3 +206,87 @@ fn leakage_bias_of_the_damping_is_predicted_and_the_choice_keeps_it_small() {
     }
     assert!(worst_chosen < 0.006, "{worst_chosen}");
 }
+
+/// Random records at the command line's default settings, as a user runs them: `simulate
+/// --kind random --noise 0.02` (the seed's rig, four records of 58.7 s at 6.7 kHz, 2 % noise on
+/// every channel) and `identify --band 8,49` with nothing else. Over 10 seeds the mean error of
+/// every coefficient is within one combined standard deviation (before: H1's force-noise bias
+/// +0.023 % on M_yy and K_yy, 1.6 σ, and leakage of the damping up to 1.7 σ, because the
+/// segment length was judged against error bars that carried the first fit's own leakage).
+#[cfg(feature = "cli")]
+#[test]
+#[ignore = "Monte-Carlo: 10 simulated random tests through the CLI; run in release by .ci/run"]
+fn default_random_records_are_unbiased_within_one_sigma() {
+    use serde_json::Value;
+    let rig = seed_rig();
+    let truth = [rig.mass(), rig.damping(), rig.stiffness()];
+    let dir = tempfile::tempdir().unwrap();
+    let seeds: u32 = 10;
+    // Per coefficient, "M[0][1]" …: the sums of the error and of the combined σ.
+    let mut sums: Vec<(String, f64, f64)> = Vec::new();
+    let mut no_leakage_warning = 0;
+    for seed in 1..=seeds {
+        let out = dir.path().join(format!("s{seed}"));
+        let sim = common::run(&[
+            "simulate",
+            "--kind",
+            "random",
+            "--noise",
+            "0.02",
+            "--seed",
+            &seed.to_string(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(sim.status.success(), "{sim:?}");
+        let mut files: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().path().display().to_string())
+            .filter(|p| p.ends_with(".csv"))
+            .collect();
+        files.sort();
+        let id = common::run(
+            &[
+                &["identify", "--json", "--band", "8,49"][..],
+                &files.iter().map(String::as_str).collect::<Vec<_>>(),
+            ]
+            .concat(),
+        );
+        assert!(id.status.success(), "{id:?}");
+        let v: Value = serde_json::from_slice(&id.stdout).unwrap();
+        println!("seed {seed}: {} {}", v["welch_choice"], v["warning_kinds"]);
+        let warned = |kind: &str| {
+            v["warning_kinds"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|k| k == kind)
+        };
+        no_leakage_warning += usize::from(!warned("leakage_bias"));
+        let mut k = 0;
+        for (b, key) in ["M", "C", "K"].iter().enumerate() {
+            for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let e = v[key][i][j].as_f64().unwrap() - truth[b][(i, j)];
+                let s = v[format!("{key}_std")][i][j].as_f64().unwrap();
+                if sums.len() == k {
+                    sums.push((format!("{key}[{i}][{j}]"), 0.0, 0.0));
+                }
+                sums[k].1 += e;
+                sums[k].2 += s;
+                k += 1;
+            }
+        }
+    }
+    for (name, e, s) in &sums {
+        let sigmas = e / s;
+        println!(
+            "{name}: mean error {:+.4e}, mean σ {:.4e}, {sigmas:+.2} σ",
+            e / f64::from(seeds),
+            s / f64::from(seeds)
+        );
+        assert!(sigmas.abs() <= 1.0, "{name}: {sigmas} σ");
+    }
+    // The segment length is judged against the random error, as the final result judges it:
+    // the leakage it leaves stays below the warning's threshold.
+    assert!(no_leakage_warning >= 9, "{no_leakage_warning} of {seeds}");
+}
