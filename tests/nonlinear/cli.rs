@@ -180,6 +180,9 @@ fn bad_terms_and_misuse_are_invalid_arguments() {
         &["--vel-cutoff", "50"][..],
         &["--nonlinear", "coulomb", "--vel-cutoff", "-3"][..],
         &["--nonlinear", "coulomb", "--excitation", "impact"][..],
+        &["--nonlinear", "coulomb", "--calibration", "force=1%"][..],
+        &["--nonlinear", "coulomb", "--delay", "x=0.25ms"][..],
+        &["--nonlinear", "coulomb", "--highpass", "x=3Hz"][..],
     ] {
         let mut args = vec!["identify", "--json", "--band", "10,60"];
         if !extra.contains(&"--excitation") {

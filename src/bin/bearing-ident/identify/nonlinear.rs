@@ -69,6 +69,15 @@ pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Resu
             "--baseline and --per-frequency do not apply to --nonlinear".to_string(),
         ));
     }
+    // The reverse path neither corrects channel transfers nor carries a calibration budget:
+    // refused rather than read and dropped.
+    if args.calibration.is_some() || !args.delay.is_empty() || !args.highpass.is_empty() {
+        return Err(invalid(
+            "--calibration, --delay and --highpass do not apply to --nonlinear (the reverse \
+             path corrects no channel transfer and carries no calibration budget)"
+                .to_string(),
+        ));
+    }
     let regressors = regressors(terms)?;
     let (lo, hi) = bearing_ident::job::parse_band(&args.band)?;
     let mut records = first;
