@@ -63,11 +63,7 @@ impl Settings {
         if sigmas <= BIAS_SIGMAS {
             return None;
         }
-        let value = |c: &Coefficients| match block {
-            crate::Block::Mass => c.mass()[(row, col)],
-            crate::Block::Damping => c.damping()[(row, col)],
-            crate::Block::Stiffness => c.stiffness()[(row, col)],
-        };
+        let value = |c: &Coefficients| element(c, block, row, col);
         let relative = value(&bias.bias) / value(model);
         warnings.push(match source {
             BiasSource::Leakage => Warning::LeakageBias {
@@ -136,11 +132,7 @@ impl Settings {
         if sigmas <= BIAS_SIGMAS {
             return None;
         }
-        let value = |c: &Coefficients| match block {
-            crate::Block::Mass => c.mass()[(row, col)],
-            crate::Block::Damping => c.damping()[(row, col)],
-            crate::Block::Stiffness => c.stiffness()[(row, col)],
-        };
+        let value = |c: &Coefficients| element(c, block, row, col);
         warnings.push(Warning::NoiseBias {
             estimator: self.estimator,
             block,
@@ -151,6 +143,15 @@ impl Settings {
             sigmas,
         });
         Some(bracket)
+    }
+}
+
+/// The element `[row][col]` of `block` of `c`.
+fn element(c: &Coefficients, block: crate::Block, row: usize, col: usize) -> f64 {
+    match block {
+        crate::Block::Mass => c.mass()[(row, col)],
+        crate::Block::Damping => c.damping()[(row, col)],
+        crate::Block::Stiffness => c.stiffness()[(row, col)],
     }
 }
 
