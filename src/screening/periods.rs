@@ -10,11 +10,19 @@
 //! start-up transient when it differs from the mean of the others by more than their own
 //! scatter predicts.
 
+use std::cell::RefCell;
+
 use realfft::RealFftPlanner;
 
 use crate::error::Warning;
 use crate::records::Record;
 use crate::tolerance::{PERIOD_MISMATCH, PERIODIC_CORRELATION, START_TRANSIENT, TRANSIENT_ENERGY};
+
+thread_local! {
+    /// The autocorrelation's FFT plans, kept per thread: records of one test share a length,
+    /// and planning a transform costs about as much as running it.
+    static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+}
 
 /// The period of `record` (s), if its dominant force repeats: the lag `L ≥ 8` samples, at
 /// most half the record, of the first autocorrelation peak within a few percent of the
@@ -40,9 +48,13 @@ pub fn find_period(record: &Record) -> Option<f64> {
         return None;
     }
     let mean = f.iter().sum::<f64>() / n as f64;
-    let len = (2 * n).next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let forward = planner.plan_fft_forward(len);
+    // Lags up to `n/2 + 1` are read: zero padding past `3n/2 + 1` keeps the circular
+    // correlation's wrapped terms off them (a third less than padding to `2n`).
+    let len = (3 * n / 2 + 2).next_power_of_two();
+    let (forward, inverse) = PLANNER.with(|planner| {
+        let mut planner = planner.borrow_mut();
+        (planner.plan_fft_forward(len), planner.plan_fft_inverse(len))
+    });
     let mut input = vec![0.0; len];
     for (t, v) in input.iter_mut().zip(f) {
         *t = v - mean;
@@ -52,7 +64,6 @@ pub fn find_period(record: &Record) -> Option<f64> {
     for z in spectrum.iter_mut() {
         *z = faer::c64::new(z.norm_sqr(), 0.0);
     }
-    let inverse = planner.plan_fft_inverse(len);
     let mut r = vec![0.0; len];
     inverse.process(&mut spectrum, &mut r).ok()?;
     if !(r[0] > 0.0 && r[0].is_finite()) {
