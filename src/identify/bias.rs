@@ -86,9 +86,7 @@ impl Settings {
         });
         Some(bias)
     }
-}
 
-impl Settings {
     /// The difference between the fit on H1 and the fit on H2 of the same spectra, when the
     /// estimator is one of the two, the method is not ML (whose noise model has both
     /// channels) and the difference passes [`BIAS_SIGMAS`] of the random standard deviation
@@ -112,6 +110,8 @@ impl Settings {
         random: Option<&Coefficients>,
         warnings: &mut Vec<Warning>,
     ) -> Option<Coefficients> {
+        // Without error bars nothing is judged or carried: no refit.
+        let random = random?;
         if self.method == Method::Ml {
             return None;
         }
@@ -128,7 +128,7 @@ impl Settings {
         let bracket =
             faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| (b[(i, j)] - a[(i, j)]).abs());
         let bracket = Coefficients::from_stacked(bracket.as_ref()).ok()?;
-        let (block, row, col, sigmas) = worst_in(&bracket, random?)?;
+        let (block, row, col, sigmas) = worst_in(&bracket, random)?;
         if sigmas <= BIAS_SIGMAS {
             return None;
         }

@@ -445,12 +445,15 @@ impl Settings {
         let bracket = self.noise_bracket(&frf, builder, &fit, random, &mut warnings);
         // A bias past the threshold (warned above) is carried by the model component, so the
         // combined intervals cover it.
-        if let (Some(bias), Some(budget)) = (&predicted_bias, bars.budget.as_mut()) {
-            budget.carry_bias(&bias.bias)?;
-            bars.std_dev = Some(budget.combined()?);
-        }
-        if let (Some(bracket), Some(budget)) = (&bracket, bars.budget.as_mut()) {
-            budget.carry_bias(bracket)?;
+        let carried = [predicted_bias.as_ref().map(|b| &b.bias), bracket.as_ref()];
+        if let Some(budget) = bars
+            .budget
+            .as_mut()
+            .filter(|_| carried.iter().any(Option::is_some))
+        {
+            for bias in carried.into_iter().flatten() {
+                budget.carry_bias(bias)?;
+            }
             bars.std_dev = Some(budget.combined()?);
         }
         // The calibration's sources move every coefficient at once (a common gain scales
