@@ -5,7 +5,7 @@
 //! seen against the rest. MB/s (10⁶ bytes of text per second) and the ratio are printed after
 //! the group.
 //!
-//! `cargo bench --bench csv_parse` (or `-- --quick`). With `CSV_PARSE_FILE=path` (a file of
+//! `cargo bench -p bearing-ident-benches --bench csv_parse` (or `-- --quick`). With `CSV_PARSE_FILE=path` (a file of
 //! the default two-degree-of-freedom layout, e.g. from `bearing-ident simulate --kind random
 //! --duration 600`) only that file is read, a few times, and its MB/s per core printed.
 

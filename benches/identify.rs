@@ -1,6 +1,7 @@
 //! Criterion benches of every stage, grouped over sizes, setup outside the timed closures.
 //!
-//! `cargo bench` runs every group; `cargo bench -- ivf_iteration` picks one. Groups:
+//! `cargo bench -p bearing-ident-benches --bench identify` runs every group; `… -- ivf_iteration`
+//! picks one. Groups:
 //! - `spectra`: one channel through the planned estimator, 2¹⁰ … 2²⁰ samples;
 //! - `frf`: impedance/flexibility assembly on the seed's rig (paired sets and H1), from
 //!   records (FFTs included) and from gathered spectra (`finish` only);

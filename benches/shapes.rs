@@ -3,7 +3,7 @@
 //! timings ([`Identification::timings`](bearing_ident::Identification::timings)) printed
 //! after each group.
 //!
-//! `cargo bench --bench shapes` runs all three; `cargo bench --bench shapes -- three_dof` one.
+//! `cargo bench -p bearing-ident-benches --bench shapes` runs all three; `… -- three_dof` one.
 //! - `seed_rig`: the seed's 16 impact records × 8040 samples, 2 DOF, 8–49 Hz, IVF, sandwich
 //!   error bars (the library's defaults), for the stage timings beside the other shapes;
 //! - `three_dof`: 18 impact records × 8192 samples at 4096 samples/s, 3 DOF (6 channels),

@@ -12,6 +12,7 @@
 
 use crate::common::{self, run};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use serde_json::Value;
 
@@ -122,15 +123,33 @@ const QUICK_ID: [&str; 6] = [
 fn case(name: &str, terms: &[&str], kinds: &str) -> (Value, Value) {
     let dir = tempfile::tempdir().unwrap();
     let files = simulate(&dir.path().join(name), &QUICK, terms);
-    let with = identify(&[&QUICK_ID[..], &["--nonlinear", kinds]].concat(), &files);
-    let without = identify(&QUICK_ID, &files);
+    both(&files, kinds)
+}
+
+/// `files` identified with and without `--nonlinear kinds`.
+fn both(files: &[String], kinds: &str) -> (Value, Value) {
+    let with = identify(&[&QUICK_ID[..], &["--nonlinear", kinds]].concat(), files);
+    let without = identify(&QUICK_ID, files);
     (with, without)
+}
+
+/// The dry-friction records (`--coulomb 20,15` under the quick forcing), simulated once for
+/// the two tests that read them: a friction simulation resolves every stick in substeps and
+/// is the slowest step of this suite.
+fn coulomb_files() -> &'static [String] {
+    static FILES: OnceLock<Vec<String>> = OnceLock::new();
+    FILES.get_or_init(|| {
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("nonlinear-coulomb");
+        // Records of an earlier run (perhaps of an earlier simulator) are not reused.
+        let _ = std::fs::remove_dir_all(&dir);
+        simulate(&dir, &QUICK, &["--coulomb", "20,15"])
+    })
 }
 
 #[test]
 fn dry_friction_is_recovered_and_removes_the_equivalent_damping() {
     let t = truth();
-    let (with, without) = case("coulomb", &["--coulomb", "20,15"], "coulomb");
+    let (with, without) = both(coulomb_files(), "coulomb");
     for (dof, f) in [(0, 20.0), (1, 15.0)] {
         let (value, std) = coefficient(&with, "coulomb", Some(dof));
         eprintln!("coulomb[{dof}] {value:.3} ± {std:.3} N (truth {f})");
@@ -218,7 +237,10 @@ fn warned(v: &Value, kind: &str) -> bool {
 #[test]
 fn a_wrong_regressor_is_flagged() {
     // Friction in the records, cubic stiffness in the model: Â is far from real and flat.
-    let (wrong, _) = case("wrong", &["--coulomb", "20,15"], "cubic");
+    let wrong = identify(
+        &[&QUICK_ID[..], &["--nonlinear", "cubic"]].concat(),
+        coulomb_files(),
+    );
     eprintln!("check: {}", wrong["nonlinear_check"]);
     assert!(warned_misfit(&wrong), "{}", wrong["warning_kinds"]);
     // Quadratic damping in the records, friction in the model: both are odd in the velocity,
