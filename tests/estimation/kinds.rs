@@ -2,6 +2,7 @@
 //! with its line spacing, overflowing spectra are `non_finite` naming the record and channel, a
 //! dead record is `dead_channel`, and sampling rates that the CSV reader accepts agree.
 
+#[cfg(feature = "csv")]
 use bearing_ident::io::{CsvLayout, read_record_from};
 use bearing_ident::simulate::{ImpactTest, seed_rig};
 use bearing_ident::{Channel, Error, Estimator, Identifier, Method, NonConvergence, Record};
@@ -161,6 +162,7 @@ fn a_dead_record_that_stops_the_run_is_named() {
 
 /// A CSV text of `len` samples at 100 Hz whose first and last time stamps sit `shift` steps
 /// off the grid in opposite directions.
+#[cfg(feature = "csv")]
 fn jittered_csv(len: usize, shift: f64) -> String {
     let mut text = String::from("t,fx,fy,x,y\n");
     for m in 0..len {
@@ -178,6 +180,7 @@ fn jittered_csv(len: usize, shift: f64) -> String {
 }
 
 #[test]
+#[cfg(feature = "csv")]
 fn rates_that_the_reader_accepts_agree() {
     let layout = CsvLayout::for_dofs(2);
     for len in [8, 12, 100, 1000] {

@@ -1,5 +1,6 @@
 //! The record readers under attack: the CSV reader against a reference, bounded byte-fuzzing of
-//! every reader, and the inputs fuzzing found. One test binary.
+//! every reader, and the inputs fuzzing found. One test binary, with the `csv` feature.
+#![cfg(feature = "csv")]
 
 #[path = "../common/mod.rs"]
 mod common;
