@@ -33,27 +33,27 @@ impl NonlinearSimulator {
     }
 
     /// `ds = ṡ(s)` under the held force `f`: the structure, then the response filters.
+    ///
+    /// The innermost work of a simulation (four calls per RK4 step, and a friction's stick
+    /// phases take thousands of substeps), written as indexed loops: at the test profile's
+    /// `opt-level = 1`, without cross-unit inlining, iterator adapters such as `zip` stay
+    /// calls and made this twice as slow.
     fn derivative(&self, f: &[f64], s: &[f64], ds: &mut [f64], shape: &mut [f64], r: &mut [f64]) {
         let n = self.n;
         let (x, v) = (&s[..n], &s[n..2 * n]);
         r.copy_from_slice(f);
         for (term, a) in &self.terms {
             term.force_shape(x, v, Some(self.smoothing), shape);
-            for (ri, yi) in r.iter_mut().zip(shape.iter()) {
-                *ri -= a * yi;
+            for i in 0..n {
+                r[i] -= a * shape[i];
             }
         }
         ds[..n].copy_from_slice(v);
         for i in 0..n {
-            let row = i * n..(i + 1) * n;
             let mut acc = 0.0;
-            for (j, ((minv, mc), mk)) in self.minv[row.clone()]
-                .iter()
-                .zip(&self.mc[row.clone()])
-                .zip(&self.mk[row])
-                .enumerate()
-            {
-                acc += minv * r[j] - mc * v[j] - mk * x[j];
+            for j in 0..n {
+                let k = i * n + j;
+                acc += self.minv[k] * r[j] - self.mc[k] * v[j] - self.mk[k] * x[j];
             }
             ds[n + i] = acc;
         }
@@ -67,10 +67,10 @@ impl NonlinearSimulator {
                 };
                 let base = 2 * n + c * o;
                 for i in 0..o {
-                    let row = &filter.a[i * o..(i + 1) * o];
                     let mut acc = filter.b[i] * input;
-                    for (aij, sj) in row.iter().zip(&s[base..base + o]) {
-                        acc += aij * sj;
+                    for e in filter.a_start[i]..filter.a_start[i + 1] {
+                        let (j, aij) = filter.a[e];
+                        acc += aij * s[base + j];
                     }
                     ds[base + i] = acc;
                 }
@@ -78,7 +78,8 @@ impl NonlinearSimulator {
         }
     }
 
-    /// One classical RK4 step of length `h` from `work.state` into `work.trial`.
+    /// One classical RK4 step of length `h` from `work.state` into `work.trial` (indexed
+    /// loops, as in [`Self::derivative`]).
     fn rk4(&self, f: &[f64], h: f64, work: &mut Work) {
         let Work {
             state: src,
@@ -89,21 +90,22 @@ impl NonlinearSimulator {
             residual,
         } = work;
         let [k1, k2, k3, k4] = k;
+        let len = src.len();
         self.derivative(f, src, k1, shape, residual);
-        for ((t, s), d) in tmp.iter_mut().zip(src.iter()).zip(k1.iter()) {
-            *t = s + 0.5 * h * d;
+        for i in 0..len {
+            tmp[i] = src[i] + 0.5 * h * k1[i];
         }
         self.derivative(f, tmp, k2, shape, residual);
-        for ((t, s), d) in tmp.iter_mut().zip(src.iter()).zip(k2.iter()) {
-            *t = s + 0.5 * h * d;
+        for i in 0..len {
+            tmp[i] = src[i] + 0.5 * h * k2[i];
         }
         self.derivative(f, tmp, k3, shape, residual);
-        for ((t, s), d) in tmp.iter_mut().zip(src.iter()).zip(k3.iter()) {
-            *t = s + h * d;
+        for i in 0..len {
+            tmp[i] = src[i] + h * k3[i];
         }
         self.derivative(f, tmp, k4, shape, residual);
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = src[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        for i in 0..len {
+            out[i] = src[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         }
     }
 

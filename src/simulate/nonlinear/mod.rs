@@ -100,8 +100,12 @@ pub struct NonlinearSimulator {
 #[derive(Debug, Clone)]
 struct Filter {
     order: usize,
-    /// `A`, row-major `order × order`.
-    a: Vec<f64>,
+    /// `A` by rows of its nonzero entries `(column, value)`, row `i` at
+    /// `a[a_start[i]..a_start[i + 1]]`: a cascade of second-order sections couples each state
+    /// to at most three others, and skipping the exact zeros leaves every sum as the dense row
+    /// computes it.
+    a: Vec<(usize, f64)>,
+    a_start: Vec<usize>,
     /// `b`.
     b: Vec<f64>,
     /// The state that is the filter's output.
@@ -127,13 +131,25 @@ impl Filter {
             _ => 0.0,
         });
         let e = expm(&aug);
+        let mut a_start = Vec::with_capacity(order + 1);
+        let mut rows = Vec::new();
+        for i in 0..order {
+            a_start.push(rows.len());
+            rows.extend(
+                (0..order)
+                    .map(|j| (j, a[i * order + j]))
+                    .filter(|&(_, value)| value != 0.0),
+            );
+        }
+        a_start.push(rows.len());
         Some(Filter {
             order,
+            a: rows,
+            a_start,
             phi: (0..order * order)
                 .map(|k| e[(k / order, k % order)])
                 .collect(),
             gamma: (0..order).map(|i| e[(i, order)]).collect(),
-            a,
             b,
             output,
             cutoff: 2.0 * std::f64::consts::PI * cutoff_ratio * sample_rate,
