@@ -29,6 +29,7 @@ const MAX_DOFS_STRIDE: u64 = 1 << 8;
 
 /// The simulator of one record length: the exact linear one, or the RK4 one when the system
 /// has nonlinear terms.
+#[derive(Clone)]
 enum Engine {
     Linear(Simulator),
     Nonlinear(Box<NonlinearSimulator>),
@@ -125,20 +126,19 @@ pub(super) fn random_records(
     let n = system.dofs();
     check_size(setup.records as f64, samples)?;
     let band = frequencies(setup)?;
-    let mut engine = Engine::new(setup, system, samples)?;
+    let engine = Engine::new(setup, system, samples)?;
     let mut rng = StdRng::seed_from_u64(setup.seed ^ NOISE_STREAM);
     let df = setup.rate / samples as f64;
     let (lo, hi) = match &band {
         Some(f) => (f[0], f[1]),
         None => (df, setup.rate / 2.0 - df),
     };
-    let mut records = Vec::with_capacity(setup.records);
-    for r in 0..setup.records {
+    let one = |engine: &mut Engine, r: usize| -> Result<Record> {
         let label = format!("random-{r}");
         let seed = setup.seed.wrapping_add(r as u64);
-        let clean = match (&mut engine, &band) {
+        match (engine, &band) {
             // The linear simulator's white staircase, as before band-limited forcing existed.
-            (Engine::Linear(sim), None) => sim.random_record(label, setup.force_rms, seed)?,
+            (Engine::Linear(sim), None) => sim.random_record(label, setup.force_rms, seed),
             (engine, _) => {
                 let forces = (0..n)
                     .map(|d| {
@@ -147,12 +147,44 @@ pub(super) fn random_records(
                         band_noise(lo, hi, setup.force_rms, setup.rate, samples, stream)
                     })
                     .collect::<Result<Vec<_>>>()?;
-                engine.held_record(label, &forces)?
+                engine.held_record(label, &forces)
             }
-        };
-        records.push(add_noise(&clean, setup.noise, &mut rng)?);
+        }
+    };
+    // The measurement noise is drawn from one stream, record after record, as it always was.
+    let mut records = Vec::with_capacity(setup.records);
+    for clean in each_record(setup.records, engine, one) {
+        records.push(add_noise(&clean?, setup.noise, &mut rng)?);
     }
     Ok(records)
+}
+
+/// `one(engine, r)` for the records `r = 0, 1, …, count − 1`, in that order, up to the first
+/// error. Each record is a function of its index alone, so with the `rayon` feature they are
+/// simulated on worker threads, each with its own copy of the engine, and come out bit for
+/// bit the same (all clean records are then held at once, before the noise is added).
+fn each_record<F>(count: usize, mut engine: Engine, one: F) -> Vec<Result<Record>>
+where
+    F: Fn(&mut Engine, usize) -> Result<Record> + Sync,
+{
+    #[cfg(feature = "rayon")]
+    if count > 1 {
+        use rayon::prelude::*;
+        return (0..count)
+            .into_par_iter()
+            .map_init(|| engine.clone(), |engine, r| one(engine, r))
+            .collect();
+    }
+    let mut out = Vec::with_capacity(count);
+    for r in 0..count {
+        let record = one(&mut engine, r);
+        let failed = record.is_err();
+        out.push(record);
+        if failed {
+            break;
+        }
+    }
+    out
 }
 
 /// Records of a shaker: multisine (one direction at a time, or every direction at once with
