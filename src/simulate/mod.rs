@@ -25,6 +25,7 @@ mod nonlinear;
 mod rig;
 mod setup;
 mod simulator;
+mod sparse_rows;
 mod waveforms;
 
 use crate::error::{Error, Result};

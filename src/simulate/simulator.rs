@@ -8,6 +8,7 @@ use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
 
 use super::expm::expm;
+use super::sparse_rows::SparseRows;
 use super::{
     AntiAlias, Impact, MAX_DOFS, MAX_SAMPLES, at_most, finite_positive, require_finite_positive,
 };
@@ -46,47 +47,8 @@ pub struct Simulator {
     /// Structure part of `A` without the pulse generators' frequency.
     base: Mat<f64>,
     dim: usize,
-    /// `(duration, Φ)` for the pulse durations seen so far.
-    cache: Vec<(f64, StepMatrix)>,
-}
-
-/// A transition matrix `Φ` stored by rows, each row its nonzero entries `(column, value)` in
-/// column order. The state couples only through the structure: each channel's filter reads the
-/// structure and its own sections, never another channel's, so most of `Φ` is exactly zero.
-/// Skipping exact zeros leaves every sum bit for bit as the dense product computes it (the
-/// same terms, in the same order), at a third of the work for two degrees of freedom.
-#[derive(Debug, Clone)]
-struct StepMatrix {
-    /// Where each row's entries start in `entries`; `row_start[dim]` is `entries.len()`.
-    row_start: Vec<usize>,
-    entries: Vec<(usize, f64)>,
-}
-
-impl StepMatrix {
-    fn new(phi: &Mat<f64>) -> Self {
-        let mut row_start = Vec::with_capacity(phi.nrows() + 1);
-        let mut entries = Vec::new();
-        for i in 0..phi.nrows() {
-            row_start.push(entries.len());
-            entries.extend(
-                (0..phi.ncols())
-                    .map(|j| (j, phi[(i, j)]))
-                    .filter(|&(_, value)| value != 0.0),
-            );
-        }
-        row_start.push(entries.len());
-        Self { row_start, entries }
-    }
-
-    /// `state ← Φ state`, through `next`.
-    fn propagate(&self, state: &mut Vec<f64>, next: &mut Vec<f64>) {
-        for (out, range) in next.iter_mut().zip(self.row_start.windows(2)) {
-            *out = self.entries[range[0]..range[1]]
-                .iter()
-                .fold(0.0, |s, &(j, value)| s + value * state[j]);
-        }
-        std::mem::swap(state, next);
-    }
+    /// `(duration, Φ)` for the pulse durations seen so far, `Φ` by rows of its nonzeros.
+    cache: Vec<(f64, SparseRows)>,
 }
 
 impl Simulator {
@@ -435,7 +397,7 @@ impl Simulator {
             while ev < events.len() && events[ev].0 < t1 {
                 let (te, k, start) = events[ev];
                 let a = self.system_matrix(impacts[k].duration_s);
-                StepMatrix::new(&expm(&(&a * (te - t)))).propagate(&mut state, &mut next);
+                SparseRows::new(&expm(&(&a * (te - t)))).propagate(&mut state, &mut next);
                 t = te;
                 let hit = &impacts[k];
                 for i in 0..self.n {
@@ -454,7 +416,7 @@ impl Simulator {
             let duration = current.map_or(idle, |k| impacts[k].duration_s);
             if t > t0 {
                 let a = self.system_matrix(duration);
-                StepMatrix::new(&expm(&(&a * (t1 - t)))).propagate(&mut state, &mut next);
+                SparseRows::new(&expm(&(&a * (t1 - t)))).propagate(&mut state, &mut next);
             } else {
                 self.step_matrix(duration).propagate(&mut state, &mut next);
             }
@@ -463,7 +425,7 @@ impl Simulator {
             .with_responses(self.responses.clone())
     }
 
-    fn step_matrix(&mut self, duration_s: f64) -> &StepMatrix {
+    fn step_matrix(&mut self, duration_s: f64) -> &SparseRows {
         #[allow(clippy::float_cmp)] // exact key lookup
         let pos = self.cache.iter().position(|(d, _)| *d == duration_s);
         let pos = match pos {
@@ -471,7 +433,7 @@ impl Simulator {
             None => {
                 let a = self.system_matrix(duration_s);
                 let phi = expm(&(&a * (1.0 / self.sample_rate)));
-                self.cache.push((duration_s, StepMatrix::new(&phi)));
+                self.cache.push((duration_s, SparseRows::new(&phi)));
                 self.cache.len() - 1
             }
         };

@@ -3,22 +3,12 @@
 #![cfg(feature = "cli")]
 
 use crate::common;
-use crate::common::{bin, run};
+use crate::common::{bin, csv_files, run};
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use serde_json::Value;
-
-fn csv_files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path().display().to_string())
-        .filter(|p| p.ends_with(".csv"))
-        .collect();
-    v.sort();
-    v
-}
 
 fn simulate(dir: &Path, extra: &[&str]) -> Vec<String> {
     let out = run(&[&["simulate", "--out", dir.to_str().unwrap()], extra].concat());

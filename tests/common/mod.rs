@@ -103,6 +103,17 @@ pub fn json_relative_error<R: AsRef<[f64]>>(got: &serde_json::Value, truth: &[R]
     )
 }
 
+/// The CSV files of `dir`, sorted by name, as the arguments a command line gives them.
+pub fn csv_files(dir: &std::path::Path) -> Vec<String> {
+    let mut files: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path().display().to_string())
+        .filter(|p| p.ends_with(".csv"))
+        .collect();
+    files.sort();
+    files
+}
+
 /// The `bearing-ident` binary of this build.
 #[cfg(feature = "cli")]
 pub fn bin() -> std::process::Command {

@@ -73,7 +73,7 @@ mod cli {
         "total",
     ];
 
-    use crate::common::bin;
+    use crate::common::{bin, csv_files};
     fn files() -> (tempfile::TempDir, Vec<String>) {
         let dir = tempfile::tempdir().unwrap();
         let out = bin()
@@ -81,12 +81,7 @@ mod cli {
             .output()
             .unwrap();
         assert!(out.status.success());
-        let mut files: Vec<String> = std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().path().display().to_string())
-            .filter(|p| p.ends_with(".csv"))
-            .collect();
-        files.sort();
+        let files = csv_files(dir.path());
         (dir, files)
     }
 

@@ -239,12 +239,7 @@ fn default_random_records_are_unbiased_within_one_sigma() {
             out.to_str().unwrap(),
         ]);
         assert!(sim.status.success(), "{sim:?}");
-        let mut files: Vec<String> = std::fs::read_dir(&out)
-            .unwrap()
-            .map(|e| e.unwrap().path().display().to_string())
-            .filter(|p| p.ends_with(".csv"))
-            .collect();
-        files.sort();
+        let files = common::csv_files(&out);
         let id = common::run(
             &[
                 &["identify", "--json", "--band", "8,49"][..],

@@ -3,8 +3,8 @@
 //! directions at once, and typed failures for bad flags.
 #![cfg(feature = "cli")]
 
-use crate::common::run;
-use std::path::{Path, PathBuf};
+use crate::common::{csv_files, run};
+use std::path::Path;
 
 use bearing_ident::Record;
 use bearing_ident::io::{CsvLayout, read_record};
@@ -23,12 +23,7 @@ fn simulate(dir: &Path, args: &[&str]) -> (Value, Vec<Record>) {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
-        .collect();
-    files.sort();
+    let files = csv_files(dir);
     let layout = CsvLayout::for_dofs(2);
     let records = files
         .iter()

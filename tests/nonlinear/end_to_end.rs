@@ -11,7 +11,7 @@
 #![cfg(feature = "cli")]
 
 use crate::common::{self, run};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
 
 use serde_json::Value;
@@ -29,13 +29,7 @@ fn simulate(dir: &Path, forcing: &[&str], extra: &[&str]) -> Vec<String> {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
-        .collect();
-    files.sort();
-    files.iter().map(|p| p.display().to_string()).collect()
+    common::csv_files(dir)
 }
 
 /// `identify --json ARGS FILES`, its JSON.

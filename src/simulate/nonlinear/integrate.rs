@@ -35,9 +35,9 @@ impl NonlinearSimulator {
     /// `ds = ṡ(s)` under the held force `f`: the structure, then the response filters.
     ///
     /// The innermost work of a simulation (four calls per RK4 step, and a friction's stick
-    /// phases take thousands of substeps), written as indexed loops: at the test profile's
-    /// `opt-level = 1`, without cross-unit inlining, iterator adapters such as `zip` stay
-    /// calls and made this twice as slow.
+    /// phases take thousands of substeps), written as indexed loops and plain slice loops: at
+    /// the test profile's `opt-level = 1`, without cross-unit inlining, iterator adapters such
+    /// as `zip` stay calls and made this twice as slow.
     fn derivative(&self, f: &[f64], s: &[f64], ds: &mut [f64], shape: &mut [f64], r: &mut [f64]) {
         let n = self.n;
         let (x, v) = (&s[..n], &s[n..2 * n]);
@@ -68,8 +68,7 @@ impl NonlinearSimulator {
                 let base = 2 * n + c * o;
                 for i in 0..o {
                     let mut acc = filter.b[i] * input;
-                    for e in filter.a_start[i]..filter.a_start[i + 1] {
-                        let (j, aij) = filter.a[e];
+                    for &(j, aij) in filter.a.row(i) {
                         acc += aij * s[base + j];
                     }
                     ds[base + i] = acc;

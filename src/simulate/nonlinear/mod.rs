@@ -5,6 +5,7 @@ mod integrate;
 use faer::Mat;
 
 use super::expm::expm;
+use super::sparse_rows::SparseRows;
 use super::{AntiAlias, MAX_DOFS, MAX_SAMPLES, MAX_TOTAL_SAMPLES, at_most};
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
@@ -100,12 +101,8 @@ pub struct NonlinearSimulator {
 #[derive(Debug, Clone)]
 struct Filter {
     order: usize,
-    /// `A` by rows of its nonzero entries `(column, value)`, row `i` at
-    /// `a[a_start[i]..a_start[i + 1]]`: a cascade of second-order sections couples each state
-    /// to at most three others, and skipping the exact zeros leaves every sum as the dense row
-    /// computes it.
-    a: Vec<(usize, f64)>,
-    a_start: Vec<usize>,
+    /// `A`, by rows of its nonzero entries.
+    a: SparseRows,
     /// `b`.
     b: Vec<f64>,
     /// The state that is the filter's output.
@@ -131,21 +128,9 @@ impl Filter {
             _ => 0.0,
         });
         let e = expm(&aug);
-        let mut a_start = Vec::with_capacity(order + 1);
-        let mut rows = Vec::new();
-        for i in 0..order {
-            a_start.push(rows.len());
-            rows.extend(
-                (0..order)
-                    .map(|j| (j, a[i * order + j]))
-                    .filter(|&(_, value)| value != 0.0),
-            );
-        }
-        a_start.push(rows.len());
         Some(Filter {
             order,
-            a: rows,
-            a_start,
+            a: SparseRows::new(&Mat::from_fn(order, order, |i, j| a[i * order + j])),
             phi: (0..order * order)
                 .map(|k| e[(k / order, k % order)])
                 .collect(),
