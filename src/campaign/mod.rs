@@ -29,23 +29,29 @@
 //! speed = 3000
 //! air_fraction = 0.0
 //! baseline = "dry"           # subtract that point's coefficients (variances add)
-//! identify = { reject_bad_records = true }   # this point's own options
+//! identify = { band = [9.0, 48.0] }   # this point's own options (the baseline's too)
 //! ```
 //!
 //! Each point is identified by [`Job`](crate::job::Job), the path `identify` takes, with the
 //! command's defaults, then the shared options, then its own: a point's JSON is that of
 //! `identify --json` on its files with those options (and `--baseline` the saved JSON of its
-//! baseline point). Points run in parallel ([`RunOptions::jobs`]); one that fails carries
-//! its [`Failure`] and the others complete. A reference `expect`ed is compared with the
+//! baseline point's files identified with those options too). A baseline is subtracted at the
+//! point's settings: the baseline point's own result when their settings are the same, else
+//! the baseline point's files identified again with the point's (cached as points are; its
+//! own row keeps its own settings); the point's `bearing` says which, `baseline_point` and
+//! `baseline_settings` (`own` or `point`). Points run in parallel ([`RunOptions::jobs`]); one
+//! that fails carries its [`Failure`] and the others complete. A reference `expect`ed is compared with the
 //! identified value, `z = (value − reference)/√(σ² + σ_ref²)`; |z| > 3 adds the warning
 //! `reference_mismatch`.
 //!
 //! | file | what lives there |
 //! |---|---|
-//! | `plan.rs` | [`Plan`] read from TOML, every fault named by line |
 //! | `point.rs` | what a plan names: [`Unit`], [`Condition`], [`Value`], [`Coefficient`], [`Point`] |
-//! | `run.rs` | [`Plan::run`]: files, jobs, parallel points, baselines, references |
+//! | `settings.rs` | a point's options, channels and files from the plan's settings and its own |
+//! | `plan.rs` | [`Plan`] read from TOML, every fault named by line |
+//! | `baseline.rs` | which result of its baseline point a point subtracts: that point's own, or its files identified again at the point's settings |
 //! | `cache.rs` | results kept by a digest of the files' bytes and the settings |
+//! | `run.rs` | [`Plan::run`]: files, jobs, parallel identifications, baselines, references |
 //! | `output.rs` | [`Campaign::to_json`], [`Campaign::to_csv`], [`Campaign::to_table`] |
 //! | `ross.rs` | [`SpeedTable`]: the bearing over rotor speed for ROSS 3.x |
 //!
@@ -72,12 +78,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod baseline;
 mod cache;
 mod output;
 mod plan;
 mod point;
 mod ross;
 mod run;
+mod settings;
 
 pub use output::json_file_name;
 pub use plan::Plan;

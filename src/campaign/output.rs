@@ -6,6 +6,7 @@ use std::path::Path;
 
 use serde_json::{Map, Value as Json, json};
 
+use super::baseline::Settings;
 use super::point::Value;
 use super::run::{Campaign, Fit, PointResult};
 use crate::error::{Error, Result};
@@ -33,7 +34,8 @@ fn value_json(v: &Option<Value>) -> Json {
 impl Campaign {
     /// The campaign as JSON: `conditions` (name → unit), `reused` (points from the cache)
     /// and `points`, each with `name`, `conditions`, `files`, `M`, `C`, `K` and their
-    /// `*_std` (the system's), `bearing` (when it has a baseline), `expect` (the references
+    /// `*_std` (the system's), `bearing` (when it has a baseline: its `M`, `C`, `K`, their
+    /// `*_std`, `baseline_point` and `baseline_settings`, `own` or `point`), `expect` (the references
     /// compared: `coefficient`, `reference`, `reference_std`, `value`, `std`, `z`),
     /// `warning_kinds`, `warnings`; or `error: {kind, message}`.
     pub fn to_json(&self) -> Json {
@@ -205,8 +207,10 @@ impl Campaign {
         Ok(())
     }
 
-    /// The text table: one row per point with its conditions, the diagonal coefficients
-    /// `± σ` (the bearing's own when it has a baseline) and its warning kinds or error.
+    /// The text table: one row per point with its conditions, its baseline point when a plan
+    /// has baselines (`dry*`: that point's files identified again at this point's settings),
+    /// the diagonal coefficients `± σ` (the bearing's own when it has a baseline) and its
+    /// warning kinds or error.
     pub fn to_table(&self) -> String {
         let mut header: Vec<String> = vec!["point".into()];
         header.extend(
@@ -215,6 +219,11 @@ impl Campaign {
                 .iter()
                 .map(|c| format!("{} [{}]", c.name, c.unit.name())),
         );
+        let baselines = self.plan.points.iter().any(|p| p.baseline.is_some());
+        if baselines {
+            header.push("baseline".into());
+        }
+        let mut again = false;
         let n = self
             .points
             .iter()
@@ -228,13 +237,28 @@ impl Campaign {
         }
         header.push("warnings".into());
         let mut rows_out = vec![header];
-        for p in &self.points {
+        for (p, planned) in self.points.iter().zip(&self.plan.points) {
             let mut row = vec![p.name.clone()];
             row.extend(
                 p.values
                     .iter()
                     .map(|v| v.as_ref().map_or("-".into(), Value::to_string)),
             );
+            if baselines {
+                row.push(match planned.baseline {
+                    None => "-".into(),
+                    Some(j) => {
+                        let name = &self.plan.points[j].name;
+                        let settings = p.result.as_ref().ok().and_then(|f| Settings::of(&f.json));
+                        if settings == Some(Settings::Point) {
+                            again = true;
+                            format!("{name}*")
+                        } else {
+                            name.clone()
+                        }
+                    }
+                });
+            }
             match &p.result {
                 Ok(fit) => {
                     row.extend(diagonal(fit, n));
@@ -268,6 +292,12 @@ impl Campaign {
                 .map(|(cell, w)| format!("{cell:<w$}"))
                 .collect();
             let _ = writeln!(s, "{}", cells.join("  ").trim_end());
+        }
+        if again {
+            let _ = writeln!(
+                s,
+                "* the baseline point's files identified again at this point's settings"
+            );
         }
         if self.reused > 0 {
             let _ = writeln!(

@@ -7,8 +7,9 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use super::point::{Coefficient, Condition, Expectation, Point, Setting, Unit, Value};
+use super::settings;
 use crate::error::{Error, Result, excerpt};
-use crate::job::Geometry;
+use crate::job::{Channels, Geometry, Options};
 
 /// A campaign plan: the shared `identify` options, the conditions, the geometry and the
 /// points (see the [module docs](super)).
@@ -118,13 +119,13 @@ impl<'t> Reader<'t> {
         let mut out = Vec::with_capacity(table.len());
         for (key, value) in table {
             let name = key.get_ref().replace('_', "-");
-            if !super::run::is_setting(&name) {
+            if !settings::is_setting(&name) {
                 return Err(self.error(
                     key.span(),
                     format!(
                         "unknown option `{}` in an identify table: expected one of {}",
                         excerpt(key.get_ref()),
-                        super::run::setting_names()
+                        settings::setting_names()
                     ),
                 ));
             }
@@ -523,6 +524,53 @@ impl Plan {
             }
         }
         Ok(plan)
+    }
+
+    /// The options of `point`: the command's defaults, then the shared settings, then the
+    /// point's own, in order; and its channel settings (name, text).
+    ///
+    /// # Errors
+    /// [`Options::set`]'s, named with the plan's line; [`Error::Plan`] when no band is given.
+    pub(super) fn options_of(&self, point: &Point) -> Result<(Options, Vec<Setting>)> {
+        settings::options(&self.source, &self.shared, point)
+    }
+
+    /// The channels of a point from its channel settings and the plan's geometry, for
+    /// `files`.
+    ///
+    /// # Errors
+    /// A response kind that does not parse; [`Channels::named`]'s.
+    pub(super) fn channels(&self, given: &[Setting], files: &[PathBuf]) -> Result<Channels> {
+        settings::channels(given, self.geometry.as_ref(), files)
+    }
+
+    /// The files of `point`: each pattern matched (relative to the plan's folder), in
+    /// sorted order within a pattern, patterns in the order given.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] (`files`) for a pattern that does not parse or matches no
+    /// file.
+    pub(super) fn files(&self, point: &Point) -> Result<Vec<PathBuf>> {
+        settings::files(&self.base, point)
+    }
+
+    /// The channels the point named `name` reads its files by (its channel settings and the
+    /// plan's geometry).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a name that is no point; the channel settings' errors.
+    pub fn channels_of(&self, name: &str) -> Result<Channels> {
+        let point =
+            self.points
+                .iter()
+                .find(|p| p.name == name)
+                .ok_or_else(|| Error::InvalidOption {
+                    option: "point",
+                    message: format!("no point `{}` in the plan", excerpt(name)),
+                })?;
+        let (_, given) = self.options_of(point)?;
+        let files = self.files(point).unwrap_or_default();
+        self.channels(&given, &files)
     }
 
     /// The geometry section of a `--geometry FILE.toml` for `identify`: the keys of a plan's

@@ -1,40 +1,22 @@
 //! Running a plan: each point's files found, its [`Job`] built from the shared options and its
-//! own, the points identified in parallel (or taken from the cache), then baselines
-//! subtracted and references checked.
+//! own, the points (and the baselines to identify again at a point's settings) identified in
+//! parallel or taken from the cache, then baselines subtracted and references checked.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use faer::Mat;
 use serde_json::Value as Json;
 
-use super::cache::Cache;
+use super::baseline::{self, Again, Settings, Use};
+use super::cache::{self, Cache};
 use super::plan::Plan;
-use super::point::{Coefficient, Point, Setting, Value};
+use super::point::{Coefficient, Point, Value};
 use crate::error::{Error, Result, excerpt};
 use crate::identify::Baseline;
-use crate::job::{Channels, Job, Options, Outcome};
+use crate::job::{Job, Outcome};
 use crate::model::Coefficients;
-use crate::records::Response;
-
-/// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 5] = ["force", "disp", "resp", "response", "time"];
-
-/// Whether `name` (with `-` between words) is an option a plan can set.
-pub(super) fn is_setting(name: &str) -> bool {
-    Options::NAMES.contains(&name) || CHANNEL_NAMES.contains(&name)
-}
-
-/// Every option a plan can set, for messages.
-pub(super) fn setting_names() -> String {
-    Options::NAMES
-        .iter()
-        .chain(&CHANNEL_NAMES)
-        .copied()
-        .collect::<Vec<_>>()
-        .join(", ")
-}
 
 /// How a campaign runs (not what it identifies: that is the plan's).
 #[derive(Debug, Clone)]
@@ -116,7 +98,8 @@ pub struct Fit {
     pub coefficients: Coefficients,
     /// Their standard deviations, if any.
     pub std_dev: Option<Coefficients>,
-    /// The bearing's own (system less the baseline point) and their standard deviations.
+    /// The bearing's own (the system less its baseline point's, identified at this point's
+    /// settings) and their standard deviations.
     pub bearing: Option<(Coefficients, Option<Coefficients>)>,
     /// The kinds of the identification's warnings, then `reference_mismatch` for each
     /// failed check.
@@ -182,122 +165,19 @@ struct Prepared {
     files: Vec<PathBuf>,
 }
 
+/// One identification of a run: a point's, or a baseline point's files at another point's
+/// settings (an index into the baselines identified again).
+#[derive(Debug, Clone, Copy)]
+enum Work {
+    Point(usize),
+    Again(usize),
+}
+
+/// Outcomes of a run's identifications, at the index of what they identified (`None`: not
+/// identified now).
+type Outcomes = Vec<Option<std::result::Result<Outcome, Failure>>>;
+
 impl Plan {
-    /// The options of `point`: the command's defaults, then the shared settings, then the
-    /// point's own, in order; and its channel settings (name, text).
-    ///
-    /// # Errors
-    /// [`Options::set`]'s, named with the plan's line; [`Error::Plan`] when no band is given.
-    pub(super) fn options_of(&self, point: &Point) -> Result<(Options, Vec<Setting>)> {
-        let mut o = Options::new(f64::NAN, f64::NAN);
-        let mut channels = Vec::new();
-        let mut band = false;
-        for s in self.shared.iter().chain(&point.overrides) {
-            if CHANNEL_NAMES.contains(&s.name.as_str()) {
-                channels.push(s.clone());
-                continue;
-            }
-            band |= s.name == "band";
-            o.set(&s.name, &s.text).map_err(|e| Error::Plan {
-                file: self.source.clone(),
-                line: s.line,
-                message: e.to_string(),
-            })?;
-        }
-        if !band {
-            return Err(Error::Plan {
-                file: self.source.clone(),
-                line: point.line,
-                message: format!(
-                    "point `{}` has no band: give `band = [LO, HI]` in [identify] or its own \
-                     identify table",
-                    excerpt(&point.name)
-                ),
-            });
-        }
-        Ok((o, channels))
-    }
-
-    /// The channels the point named `name` reads its files by (its channel settings and the
-    /// plan's geometry).
-    ///
-    /// # Errors
-    /// [`Error::InvalidOption`] for a name that is no point; the channel settings' errors.
-    pub fn channels_of(&self, name: &str) -> Result<Channels> {
-        let point =
-            self.points
-                .iter()
-                .find(|p| p.name == name)
-                .ok_or_else(|| Error::InvalidOption {
-                    option: "point",
-                    message: format!("no point `{}` in the plan", excerpt(name)),
-                })?;
-        let (_, settings) = self.options_of(point)?;
-        let files = self.files(point).unwrap_or_default();
-        self.channels(&settings, &files)
-    }
-
-    /// The channels of a point from its channel settings, for `files`.
-    pub(super) fn channels(&self, settings: &[Setting], files: &[PathBuf]) -> Result<Channels> {
-        let list = |names: &[&str]| -> Vec<String> {
-            settings
-                .iter()
-                .rev()
-                .find(|s| names.contains(&s.name.as_str()))
-                .map(|s| s.text.split(',').map(|c| c.trim().to_owned()).collect())
-                .unwrap_or_default()
-        };
-        let responses = list(&["response"])
-            .iter()
-            .map(|r| r.parse::<Response>())
-            .collect::<Result<Vec<_>>>()?;
-        let time = list(&["time"]).pop().unwrap_or_else(|| "t".to_owned());
-        let mut channels = Channels::named(
-            &list(&["force"]),
-            &list(&["disp", "resp"]),
-            &responses,
-            &time,
-            files,
-        )?;
-        channels.geometry.clone_from(&self.geometry);
-        Ok(channels)
-    }
-
-    /// The files of `point`: each pattern matched (relative to the plan's folder), in
-    /// sorted order within a pattern, patterns in the order given.
-    ///
-    /// # Errors
-    /// [`Error::InvalidOption`] (`files`) for a pattern that does not parse or matches no
-    /// file.
-    fn files(&self, point: &Point) -> Result<Vec<PathBuf>> {
-        let mut out = Vec::new();
-        for pattern in &point.files {
-            let full = if Path::new(pattern).is_absolute() {
-                PathBuf::from(pattern)
-            } else {
-                self.base.join(pattern)
-            };
-            let text = full.to_string_lossy();
-            let bad = |message: String| Error::InvalidOption {
-                option: "files",
-                message,
-            };
-            let matches =
-                glob::glob(&text).map_err(|e| bad(format!("files `{}`: {e}", excerpt(pattern))))?;
-            let mut found: Vec<PathBuf> = matches.filter_map(std::result::Result::ok).collect();
-            found.sort();
-            if found.is_empty() {
-                return Err(bad(format!(
-                    "point `{}`: no file matches `{}`",
-                    excerpt(&point.name),
-                    excerpt(&text)
-                )));
-            }
-            out.extend(found);
-        }
-        Ok(out)
-    }
-
     /// The job of `point` and its files.
     fn prepare(&self, point: &Point) -> Result<Prepared> {
         let (options, channel_settings) = self.options_of(point)?;
@@ -313,32 +193,66 @@ impl Plan {
     /// done (its index, and how many are done).
     ///
     /// A point that fails carries its [`Failure`]; the others complete. A point with a
-    /// baseline fails when its baseline point does.
+    /// baseline fails when its baseline point does, or when the baseline point's files, at
+    /// this point's settings, do.
     ///
     /// # Errors
     /// Only the cache's: a folder that cannot be made or written ([`Error::Io`]).
     pub fn run(&self, run: &RunOptions, observe: impl Fn(usize, usize) + Sync) -> Result<Campaign> {
+        let pf = run.per_frequency;
         let prepared: Vec<std::result::Result<Prepared, Failure>> = self
             .points
             .iter()
             .map(|p| self.prepare(p).map_err(Failure::from))
             .collect();
-        let cache = run.cache.as_deref().map(Cache::open).transpose()?;
-        // Each point's key: its settings, its files' bytes and its baseline's key.
-        let keys: Vec<Option<String>> = match &cache {
-            None => vec![None; self.points.len()],
-            Some(_) => self.keys(&prepared, run.per_frequency),
-        };
-        let cached: Vec<Option<Json>> = keys
+        let baselines: Vec<Option<usize>> = self.points.iter().map(|p| p.baseline).collect();
+        let work_of: Vec<Option<(&Job, &[PathBuf])>> = prepared
             .iter()
-            .map(|k| k.as_ref().and_then(|k| cache.as_ref()?.load(k)))
+            .map(|p| p.as_ref().ok().map(|p| (&p.job, p.files.as_slice())))
             .collect();
+        let (uses, again) = baseline::uses(&baselines, &work_of);
+        let cache = run.cache.as_deref().map(Cache::open).transpose()?;
+        // Each point's key: its settings, its files' bytes and its baseline's key; each
+        // baseline identified again, its own.
+        let (keys, again_keys) = match &cache {
+            None => (vec![None; self.points.len()], vec![None; again.len()]),
+            Some(_) => keys(&work_of, &uses, &again, pf),
+        };
+        let load = |key: &Option<String>| key.as_ref().and_then(|k| cache.as_ref()?.load(k));
+        let cached: Vec<Option<Json>> = keys.iter().map(load).collect();
         let reused = cached.iter().filter(|c| c.is_some()).count();
-        let mut outcomes = self.identify(&prepared, &cached, run.jobs.max(1), &observe);
+        // A baseline identified again is wanted while a point using it is not in the cache.
+        let wanted: Vec<bool> = (0..again.len())
+            .map(|k| {
+                uses.iter()
+                    .zip(&cached)
+                    .any(|(u, c)| c.is_none() && u.is_some_and(|u| u.again == Some(k)))
+            })
+            .collect();
+        let again_cached: Vec<Option<Json>> = again_keys
+            .iter()
+            .zip(&wanted)
+            .map(|(key, &w)| if w { load(key) } else { None })
+            .collect();
+        let work: Vec<Work> = (0..again.len())
+            .filter(|&k| wanted[k] && again_cached[k].is_none())
+            .map(Work::Again)
+            .chain(
+                (0..self.points.len())
+                    .filter(|&i| cached[i].is_none())
+                    .map(Work::Point),
+            )
+            .collect();
+        let (mut outcomes, again_outcomes) =
+            identify(&prepared, &again, &work, reused, run.jobs.max(1), &observe);
         // The systems' JSON (a point with a baseline gets its own below, once, unless another
-        // point subtracts it), then the bearings of the points with baselines.
+        // point subtracts its own result), then the bearings of the points with baselines.
         let subtracted: Vec<bool> = (0..self.points.len())
-            .map(|i| self.points.iter().any(|p| p.baseline == Some(i)))
+            .map(|j| {
+                uses.iter()
+                    .flatten()
+                    .any(|u| u.point == j && u.again.is_none())
+            })
             .collect();
         let mut json: Vec<std::result::Result<Json, Failure>> = outcomes
             .iter()
@@ -346,43 +260,53 @@ impl Plan {
             .enumerate()
             .map(|(i, (o, c))| match (c, o) {
                 (Some(c), _) => Ok(c.clone()),
-                (None, Some(Ok(_))) if self.points[i].baseline.is_some() && !subtracted[i] => {
-                    Ok(Json::Null)
-                }
-                (None, Some(Ok(o))) => o.to_json(run.per_frequency).map_err(Failure::from),
+                (None, Some(Ok(_))) if uses[i].is_some() && !subtracted[i] => Ok(Json::Null),
+                (None, Some(Ok(o))) => o.to_json(pf).map_err(Failure::from),
                 (None, Some(Err(e))) => Err(e.clone()),
                 (None, None) => unreachable!("every point not in the cache is identified"),
             })
             .collect();
+        let again_fresh: Vec<bool> = again_cached.iter().map(Option::is_none).collect();
+        let again_json: Vec<Option<std::result::Result<Json, Failure>>> = again_cached
+            .into_iter()
+            .zip(again_outcomes)
+            .map(|(c, o)| match (c, o) {
+                (Some(c), _) => Some(Ok(c)),
+                (None, Some(o)) => Some(o.and_then(|o| o.to_json(pf).map_err(Failure::from))),
+                (None, None) => None,
+            })
+            .collect();
         for (i, point) in self.points.iter().enumerate() {
-            let (Some(j), None) = (point.baseline, &cached[i]) else {
+            let (Some(u), None) = (uses[i], &cached[i]) else {
                 continue;
             };
             // The outcome is taken out, given its bearing and put back: never copied.
             let Some(Ok(mut outcome)) = outcomes[i].take() else {
                 continue;
             };
-            json[i] = match &json[j] {
-                Err(e) => Err(Failure {
-                    kind: e.kind.clone(),
-                    message: format!(
-                        "baseline point `{}` failed: {}",
-                        excerpt(&self.points[j].name),
-                        e.message
-                    ),
-                }),
-                Ok(dry) => Baseline::from_json(&dry.to_string())
-                    .and_then(|b| {
-                        outcome.subtract_baseline(b, &format!("point {}", self.points[j].name))
-                    })
-                    .and_then(|()| outcome.to_json(run.per_frequency))
-                    .map_err(Failure::from),
+            let dry = match u.again {
+                None => &json[u.point],
+                Some(k) => again_json[k]
+                    .as_ref()
+                    .unwrap_or_else(|| unreachable!("a point not in the cache wants its baseline")),
             };
+            let names = (point.name.as_str(), self.points[u.point].name.as_str());
+            let bearing = subtract(&mut outcome, dry, names, u.settings(), pf);
+            json[i] = bearing;
             outcomes[i] = Some(Ok(outcome));
         }
         if let Some(cache) = &cache {
-            for ((key, c), j) in keys.iter().zip(&cached).zip(&json) {
-                if let (Some(key), None, Ok(j)) = (key, c, j) {
+            // What was identified now and did not fail, under its key.
+            let points = keys
+                .iter()
+                .zip(cached.iter().map(Option::is_none))
+                .zip(json.iter().map(|j| j.as_ref().ok()));
+            let baselines = again_keys
+                .iter()
+                .zip(again_fresh)
+                .zip(again_json.iter().map(|j| j.as_ref()?.as_ref().ok()));
+            for ((key, fresh), j) in points.chain(baselines) {
+                if let (Some(key), true, Some(j)) = (key, fresh, j) {
                     cache.store(key, j)?;
                 }
             }
@@ -416,75 +340,130 @@ impl Plan {
             plan: self.clone(),
             points,
             reused,
-            per_frequency: run.per_frequency,
+            per_frequency: pf,
         })
     }
+}
 
-    /// The points not in the cache identified on `jobs` threads, each point's outcome at its
-    /// index (`None` for the cached).
-    fn identify(
-        &self,
-        prepared: &[std::result::Result<Prepared, Failure>],
-        cached: &[Option<Json>],
-        jobs: usize,
-        observe: &(impl Fn(usize, usize) + Sync),
-    ) -> Vec<Option<std::result::Result<Outcome, Failure>>> {
-        let todo: Vec<usize> = (0..prepared.len())
-            .filter(|&i| cached[i].is_none())
-            .collect();
-        let slots: Vec<Mutex<Option<std::result::Result<Outcome, Failure>>>> =
-            (0..prepared.len()).map(|_| Mutex::new(None)).collect();
-        let next = AtomicUsize::new(0);
-        let done = AtomicUsize::new(prepared.len() - todo.len());
-        std::thread::scope(|scope| {
-            for _ in 0..jobs.min(todo.len()) {
-                scope.spawn(|| {
-                    while let Some(&i) = todo.get(next.fetch_add(1, Ordering::Relaxed)) {
-                        let outcome = match &prepared[i] {
+/// The JSON of `outcome` (point `names.0`'s) less `dry`, the JSON of its baseline point
+/// `names.1`'s files at `settings`, with per-line coefficients if `per_frequency`; or the
+/// failure of either.
+fn subtract(
+    outcome: &mut Outcome,
+    dry: &std::result::Result<Json, Failure>,
+    names: (&str, &str),
+    settings: Settings,
+    per_frequency: bool,
+) -> std::result::Result<Json, Failure> {
+    let (point, baseline_point) = names;
+    let dry = match dry {
+        Ok(dry) => dry,
+        Err(e) => {
+            let at = match settings {
+                Settings::Own => String::new(),
+                Settings::Point => format!(" at point `{}`'s settings", excerpt(point)),
+            };
+            return Err(Failure {
+                kind: e.kind.clone(),
+                message: format!(
+                    "baseline point `{}`{at} failed: {}",
+                    excerpt(baseline_point),
+                    e.message
+                ),
+            });
+        }
+    };
+    Baseline::from_json(&dry.to_string())
+        .and_then(|b| outcome.subtract_baseline(b, &format!("point {baseline_point}")))
+        .and_then(|()| outcome.to_json(per_frequency))
+        .map(|mut json| {
+            baseline::annotate(&mut json, baseline_point, settings);
+            json
+        })
+        .map_err(Failure::from)
+}
+
+/// The identifications of `work` made on `jobs` threads, telling `observe` of each point done
+/// (`done` points were before, from the cache): the points' outcomes at their indices, and the
+/// baselines' identified again at theirs (`None` for what was not identified now).
+fn identify(
+    prepared: &[std::result::Result<Prepared, Failure>],
+    again: &[Again],
+    work: &[Work],
+    done: usize,
+    jobs: usize,
+    observe: &(impl Fn(usize, usize) + Sync),
+) -> (Outcomes, Outcomes) {
+    let slots: Vec<Mutex<Option<std::result::Result<Outcome, Failure>>>> =
+        work.iter().map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(done);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.min(work.len()) {
+            scope.spawn(|| {
+                loop {
+                    let at = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&w) = work.get(at) else {
+                        break;
+                    };
+                    let outcome = match w {
+                        Work::Point(i) => match &prepared[i] {
                             Ok(p) => p.job.run_files(&p.files).map_err(Failure::from),
                             Err(e) => Err(e.clone()),
-                        };
-                        *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+                        },
+                        Work::Again(k) => {
+                            let (job, files) = again[k].work();
+                            job.run_files(files).map_err(Failure::from)
+                        }
+                    };
+                    *slots[at].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+                    if let Work::Point(i) = w {
                         observe(i, done.fetch_add(1, Ordering::Relaxed) + 1);
                     }
-                });
-            }
-        });
-        slots
-            .into_iter()
-            .map(|s| s.into_inner().unwrap_or_else(|e| e.into_inner()))
-            .collect()
-    }
-
-    /// Each point's cache key (`None` for a point that cannot run), its baseline's chained
-    /// in.
-    fn keys(
-        &self,
-        prepared: &[std::result::Result<Prepared, Failure>],
-        per_frequency: bool,
-    ) -> Vec<Option<String>> {
-        let own: Vec<Option<String>> = prepared
-            .iter()
-            .map(|p| {
-                let p = p.as_ref().ok()?;
-                super::cache::key(&p.job, &p.files, per_frequency).ok()
-            })
-            .collect();
-        self.points
-            .iter()
-            .enumerate()
-            .map(|(i, point)| {
-                let mut key = own[i].clone()?;
-                let mut at = point.baseline;
-                // Plans refuse cycles, so the chain ends.
-                while let Some(j) = at {
-                    key = super::cache::chain(&key, own[j].as_deref()?);
-                    at = self.points[j].baseline;
                 }
-                Some(key)
-            })
-            .collect()
+            });
+        }
+    });
+    let mut points: Outcomes = (0..prepared.len()).map(|_| None).collect();
+    let mut baselines: Outcomes = (0..again.len()).map(|_| None).collect();
+    for (w, slot) in work.iter().zip(slots) {
+        let outcome = slot.into_inner().unwrap_or_else(|e| e.into_inner());
+        match *w {
+            Work::Point(i) => points[i] = outcome,
+            Work::Again(k) => baselines[k] = outcome,
+        }
     }
+    (points, baselines)
+}
+
+/// The cache keys of the points (`None` for a point that cannot run) and of the baselines
+/// identified `again`: a point's own chained with that of the baseline it subtracts (its
+/// baseline point's own result, or its files at this point's settings).
+fn keys(
+    work_of: &[Option<(&Job, &[PathBuf])>],
+    uses: &[Option<Use>],
+    again: &[Again],
+    per_frequency: bool,
+) -> (Vec<Option<String>>, Vec<Option<String>>) {
+    let key = |(job, files): (&Job, &[PathBuf])| cache::key(job, files, per_frequency).ok();
+    let own: Vec<Option<String>> = work_of.iter().map(|w| key((*w)?)).collect();
+    let again_keys: Vec<Option<String>> = again.iter().map(|a| key(a.work())).collect();
+    let keys = own
+        .iter()
+        .zip(uses)
+        .map(|(own_key, u)| {
+            let own_key = own_key.as_deref()?;
+            let Some(u) = u else {
+                return Some(own_key.to_owned());
+            };
+            let baseline = match u.again {
+                None => own[u.point].as_deref()?,
+                Some(k) => again_keys[k].as_deref()?,
+            };
+            Some(cache::chain(own_key, baseline))
+        })
+        .collect();
+    (keys, again_keys)
 }
 
 /// The fit of `point` from its JSON (`reused`: from the cache): coefficients, bearing,
@@ -588,4 +567,57 @@ fn block_set(json: &Json, suffix: &str) -> Option<Coefficients> {
         Some(Mat::from_fn(n, n, |i, j| rows[i][j]))
     };
     Coefficients::new(matrix("M")?, matrix("C")?, matrix("K")?).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::job::{Channels, Options};
+    use crate::simulate::{ImpactTest, seed_rig};
+
+    /// A baseline's result is subtracted and named in the bearing; a baseline that failed
+    /// fails the point with its kind, naming the baseline point and, for its files identified
+    /// again, the point whose settings they were identified at.
+    #[test]
+    fn a_baseline_is_subtracted_or_its_failure_named() {
+        let records = ImpactTest {
+            per_direction: 2,
+            ..ImpactTest::seed_rig()
+        }
+        .run(&seed_rig())
+        .unwrap();
+        let mut outcome = Job::new(Options::new(8.0, 49.0), Channels::default())
+            .run_records(records)
+            .unwrap();
+        let itself = Ok(outcome.to_json(false).unwrap());
+        let json = subtract(&mut outcome, &itself, ("oil", "dry"), Settings::Own, false).unwrap();
+        assert_eq!(json["bearing"]["K"][0][0], 0.0);
+        assert_eq!(json["bearing"]["baseline"], "point dry");
+        assert_eq!(json["bearing"]["baseline_point"], "dry");
+        assert_eq!(json["bearing"]["baseline_settings"], "own");
+        let failed = Err(Failure {
+            kind: "dead_channel".into(),
+            message: "dry/hit-0.csv: force `fx` is flat".into(),
+        });
+        let e = subtract(
+            &mut outcome,
+            &failed,
+            ("oil", "dry"),
+            Settings::Point,
+            false,
+        )
+        .unwrap_err();
+        assert_eq!(e.kind, "dead_channel");
+        assert_eq!(
+            e.message,
+            "baseline point `dry` at point `oil`'s settings failed: dry/hit-0.csv: force `fx` \
+             is flat"
+        );
+        let e = subtract(&mut outcome, &failed, ("oil", "dry"), Settings::Own, false).unwrap_err();
+        assert!(
+            e.message.starts_with("baseline point `dry` failed: "),
+            "{}",
+            e.message
+        );
+    }
 }

@@ -197,10 +197,14 @@ fn points_are_identify_bit_for_bit() {
     args.extend(oil_files.iter().map(String::as_str));
     let mut oil = timeless(json_of(&run(&args)));
     let mut point = timeless(read_json(&out_dir.join("oil.json")));
-    // The baseline is named by its source: a path there, a point here.
+    // The baseline is named by its source: a path there, a point here, with which of its
+    // results: the dry files again with the oil point's settings (`reject_bad_records`, which
+    // rejects none of them, so the saved dry result is the same).
     assert_eq!(point["bearing"]["baseline"], "point dry");
     oil["bearing"]["baseline"] = "point dry".into();
-    point["bearing"]["baseline"] = "point dry".into();
+    let bearing = point["bearing"].as_object_mut().unwrap();
+    assert_eq!(bearing.remove("baseline_point").unwrap(), "dry");
+    assert_eq!(bearing.remove("baseline_settings").unwrap(), "point");
     assert_eq!(point, oil);
 
     // The geometry: the lever arms undone, the coefficients are the bearing plane's.
@@ -359,6 +363,164 @@ fn the_cache_recomputes_what_changed() {
     ]));
     assert_eq!(strip(&third), strip(&fresh));
     assert_ne!(first["points"][0]["K"], third["points"][0]["K"]);
+}
+
+/// The plan of issue 40: a dry point at the shared band and a point of its own band
+/// (`identify = { band = [9.0, 48.0] }`) with `baseline = "dry"`. The dry files are identified
+/// again at 9–48 Hz and that subtracted: the bearing equals, bit for bit, `identify --band 9,48`
+/// on the oil files less `identify --band 9,48` on the dry files (variances added), while the
+/// dry row keeps its own 8–49 Hz result and a point at the shared band subtracts that. Each
+/// result names the baseline result used, the table marks it; on a rerun everything comes from
+/// the cache, the baseline identified again included (a point recomputed takes it from there).
+#[test]
+fn a_baseline_is_identified_again_at_the_points_settings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    write_hits(&dir.join("dry"), &system(40.0), 21, [1.0, 1.0]);
+    write_hits(&dir.join("oil"), &system(140.0), 22, [1.0, 1.0]);
+    let plan = dir.join("plan.toml");
+    std::fs::write(
+        &plan,
+        "[identify]\nband = [8.0, 49.0]\n\
+         [[point]]\nname = \"dry\"\nfiles = \"dry/*.csv\"\n\
+         [[point]]\nname = \"oil\"\nfiles = \"oil/*.csv\"\nbaseline = \"dry\"\n\
+         identify = { band = [9.0, 48.0] }\n\
+         [[point]]\nname = \"oil-wide\"\nfiles = \"oil/*.csv\"\nbaseline = \"dry\"\n",
+    )
+    .unwrap();
+    let cache = dir.join("cache");
+    let campaign = |json: bool| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "campaign".as_ref(),
+            plan.as_os_str(),
+            "--cache".as_ref(),
+            cache.as_os_str(),
+        ];
+        if json {
+            args.push("--json".as_ref());
+        }
+        run(&args)
+    };
+    let out = campaign(true);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let first = json_of(&out);
+    assert_eq!(first["reused"], 0);
+    let identify = |band: &str, folder: &str| {
+        let mut args = vec!["identify", "--json", "--band", band];
+        let files = files(&dir.join(folder));
+        args.extend(files.iter().map(String::as_str));
+        json_of(&run(&args))
+    };
+    let (dry_9_48, oil_9_48) = (identify("9,48", "dry"), identify("9,48", "oil"));
+    let (dry, oil, wide) = (
+        &first["points"][0],
+        &first["points"][1],
+        &first["points"][2],
+    );
+    let entries = |v: &Value, key: &str| -> Vec<f64> {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|row| row.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .collect()
+    };
+    // The dry row is the dry files at the shared band, not at the oil point's.
+    assert_eq!(dry["K"], identify("8,49", "dry")["K"]);
+    assert_ne!(entries(dry, "K"), entries(&dry_9_48, "K"));
+    assert_eq!(oil["K"], oil_9_48["K"]);
+    for key in ["M", "C", "K"] {
+        let std = format!("{key}_std");
+        let by_hand: Vec<f64> = entries(&oil_9_48, key)
+            .iter()
+            .zip(entries(&dry_9_48, key))
+            .map(|(s, d)| s - d)
+            .collect();
+        assert_eq!(entries(&oil["bearing"], key), by_hand, "{key}");
+        let std_by_hand: Vec<f64> = entries(&oil_9_48, &std)
+            .iter()
+            .zip(entries(&dry_9_48, &std))
+            .map(|(s, d)| s.hypot(d))
+            .collect();
+        assert_eq!(entries(&oil["bearing"], &std), std_by_hand, "{std}");
+        // The point at the shared band subtracts the dry row itself.
+        let own: Vec<f64> = entries(wide, key)
+            .iter()
+            .zip(entries(dry, key))
+            .map(|(s, d)| s - d)
+            .collect();
+        assert_eq!(entries(&wide["bearing"], key), own, "{key}");
+    }
+    let c_xx = entries(&oil["bearing"], "C")[0];
+    assert!((c_xx / 100.0 - 1.0).abs() < 5e-3, "C_xx {c_xx}");
+    assert_eq!(oil["bearing"]["baseline_point"], "dry");
+    assert_eq!(oil["bearing"]["baseline_settings"], "point");
+    assert_eq!(wide["bearing"]["baseline_settings"], "own");
+
+    // A rerun: every point from the cache, the same results; the table marks the baseline
+    // identified again.
+    let out = campaign(true);
+    let second = json_of(&out);
+    assert_eq!(second["reused"], 3);
+    let strip = |v: &Value| {
+        let mut v = v.clone();
+        for p in v["points"].as_array_mut().unwrap() {
+            p.as_object_mut().unwrap().remove("reused");
+        }
+        v.as_object_mut().unwrap().remove("reused");
+        v
+    };
+    assert_eq!(strip(&first), strip(&second));
+    let out = campaign(false);
+    let table = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = table.lines().collect();
+    assert!(lines[0].starts_with("point     baseline"), "{table}");
+    assert!(lines[2].starts_with("oil       dry* "), "{table}");
+    assert!(lines[3].starts_with("oil-wide  dry "), "{table}");
+    assert!(
+        lines[4].starts_with("* the baseline point's files identified again"),
+        "{table}"
+    );
+
+    // The cache holds the dry files at 9–48 Hz beside the three points. With the oil point's
+    // entry gone and that baseline's K_xx altered, the oil point is identified again and
+    // subtracts the altered baseline: it came from the cache.
+    let entries_of = |band: f64, folder: &str| -> Vec<PathBuf> {
+        files(&cache)
+            .into_iter()
+            .map(PathBuf::from)
+            .filter(|path| {
+                let v = read_json(path);
+                let first = Path::new(v["files"][0].as_str().unwrap());
+                v["band_hz"][0] == band
+                    && first.parent().and_then(Path::file_name) == Some(folder.as_ref())
+            })
+            .collect()
+    };
+    assert_eq!(files(&cache).len(), 4);
+    let [baseline] = &entries_of(9.0, "dry")[..] else {
+        panic!("one cache entry of the dry files at 9-48 Hz");
+    };
+    let [oil_entry] = &entries_of(9.0, "oil")[..] else {
+        panic!("one cache entry of the oil point");
+    };
+    std::fs::remove_file(oil_entry).unwrap();
+    let mut altered = read_json(baseline);
+    let k_xx = altered["K"][0][0].as_f64().unwrap() + 1000.0;
+    altered["K"][0][0] = k_xx.into();
+    std::fs::write(baseline, altered.to_string()).unwrap();
+    let third = json_of(&campaign(true));
+    assert_eq!(third["reused"], 2);
+    let oil = &third["points"][1];
+    assert_eq!(oil["reused"], false);
+    assert_eq!(
+        oil["bearing"]["K"][0][0].as_f64().unwrap(),
+        oil["K"][0][0].as_f64().unwrap() - k_xx
+    );
 }
 
 /// A plan's faults are `invalid_input` naming the plan's line.
