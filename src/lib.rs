@@ -58,9 +58,10 @@
 //!
 //! [`screening`] screens records of every excitation for dead and flat channels, identical
 //! records, clipping, level outliers and paired sets far from the others (with [`quality`]'s
-//! double-hit and clipping checks), before and after they reach the spectra. Two homes serve
-//! every stage: [`error`] (the one [`Error`], the [`Warning`]s, the quoting rule) and
-//! [`tolerance`] (every numerical tolerance with its reason). [`simulate`] produces exact time
+//! double-hit and clipping checks), before and after they reach the spectra. Beneath every
+//! stage sit [`error`] (the one [`Error`], the [`Warning`]s, the quoting rule),
+//! [`tolerance`] (every numerical tolerance with its reason) and [`text`] (numbers as every
+//! table and report prints them). [`simulate`] produces exact time
 //! records of a known system, linear or nonlinear, for learning and testing. `ARCHITECTURE.md` in the repository
 //! maps every concept to its file and gives the recipes for adding an estimator, a window, a
 //! solver or a file reader.
@@ -146,7 +147,7 @@ pub mod solve;
 pub mod spectra;
 pub mod statistics;
 pub mod stepped;
-mod text;
+pub mod text;
 pub mod tolerance;
 #[cfg(feature = "uff")]
 pub mod uff;

@@ -5,7 +5,7 @@
 ///
 /// # Examples
 /// ```
-/// use bearing_ident::plot::significant;
+/// use bearing_ident::text::significant;
 /// assert_eq!(significant(146_312.345, 7), "146312.3");
 /// assert_eq!(significant(0.000_123_4, 3), "1.23e-4");
 /// assert_eq!(significant(4.7, 3), "4.70");

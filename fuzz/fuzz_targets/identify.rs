@@ -283,7 +283,7 @@ fuzz_target!(|input: Input| {
     }
     let _ = id.modes();
     let _ = id.per_frequency();
-    let _ = id.coherence_min();
+    let _ = id.min_coherence();
     for w in id.warnings() {
         let _ = (w.kind(), w.to_string());
     }

@@ -642,7 +642,7 @@ mod tests {
     #[cfg(feature = "plot")]
     fn plot_errors_name_the_figure() {
         let e = Error::Plot {
-            figure: crate::plot::Figure::Impedance,
+            figure: "impedance",
             message: "disk full".into(),
         };
         assert_eq!(e.kind(), "plot_error");

@@ -12,6 +12,12 @@
 //! errors, `warning.rs` and `warning_text.rs` the [`Warning`]s and their sentences, `subject.rs`
 //! what errors and warnings name ([`Channel`], [`Block`], …), `quote.rs` the bound on quoted
 //! input ([`excerpt`]).
+//!
+//! The error is the floor every stage stands on, so it imports no stage: a figure or a
+//! response kind appears by its name (`figure: "impedance"`, `response: "velocity"`), as
+//! [`Choice::name`](crate::Choice::name) spells it. The exceptions are the two choices of a fit
+//! a caller matches on, [`Method`](crate::Method) and [`Estimator`](crate::Estimator), plain
+//! enums that hold no logic.
 
 mod convert;
 mod field;
@@ -295,8 +301,9 @@ pub enum Error {
         record: String,
         /// The response channel.
         channel: Channel,
-        /// What it measures.
-        response: crate::records::Response,
+        /// What it measures: the response kind's name
+        /// ([`Response::name`](crate::records::Response), `"velocity"` or `"acceleration"`).
+        response: &'static str,
         /// The line's frequency (Hz).
         freq_hz: f64,
     },
@@ -571,8 +578,9 @@ pub enum Error {
     /// A figure could not be drawn (feature `plot`).
     #[cfg(feature = "plot")]
     Plot {
-        /// The figure.
-        figure: crate::plot::Figure,
+        /// The figure's name (as [`Figure`](crate::plot::Figure) spells it, e.g.
+        /// `"impedance"`).
+        figure: &'static str,
         /// What the drawing library said.
         message: String,
     },

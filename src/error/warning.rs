@@ -442,8 +442,9 @@ pub enum Warning {
     /// divided by `iω` or `−ω²` fits with every diagonal positive: the channels likely measure
     /// velocity or acceleration.
     ResponseKind {
-        /// The kind the data look like.
-        suggested: crate::records::Response,
+        /// The response kind the data look like, by name
+        /// ([`Response::name`](crate::records::Response): `"velocity"` or `"acceleration"`).
+        suggested: &'static str,
         /// Relative residual of the fit read as that kind.
         residual: f64,
         /// Relative residual of the fit read as displacement.

@@ -385,11 +385,9 @@ impl fmt::Display for Warning {
                 original,
             } => write!(
                 f,
-                "a negative diagonal mass from channels read as displacement; read as {} they \
+                "a negative diagonal mass from channels read as displacement; read as {suggested} they \
                  fit with every diagonal positive (relative residual {residual:.2e} against \
-                 {original:.2e}): try `--response {}`",
-                suggested.name(),
-                suggested.name()
+                 {original:.2e}): try `--response {suggested}`"
             ),
             Warning::HighNoiseGain {
                 bearing,

@@ -33,7 +33,7 @@ pub(super) fn response_at_dc(record: &Record, plan: &Plan, c: usize, l: usize) -
     Error::ResponseAtZeroFrequency {
         record: record.label().to_owned(),
         channel: Channel::Displacement(c),
-        response: record.response(c),
+        response: record.response(c).name(),
         freq_hz: plan.lines[l] as f64 * plan.resolution_hz,
     }
 }
@@ -101,7 +101,7 @@ mod tests {
             Error::ResponseAtZeroFrequency {
                 record: "v".into(),
                 channel: Channel::Displacement(0),
-                response: Response::Velocity,
+                response: "velocity",
                 freq_hz: 0.0
             }
         );

@@ -323,12 +323,6 @@ impl Frf {
         self.freqs_hz.len()
     }
 
-    /// Number of usable lines: the same as [`Frf::line_count`], the clearer name (a band's
-    /// [`Band::lines`] are indices).
-    pub fn lines(&self) -> usize {
-        self.line_count()
-    }
-
     /// Frequencies of the usable lines (Hz).
     pub fn freqs_hz(&self) -> &[f64] {
         &self.freqs_hz

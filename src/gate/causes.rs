@@ -5,6 +5,7 @@
 
 use faer::{Mat, c64};
 
+use crate::Choice;
 use crate::error::Warning;
 use crate::frf::Frf;
 use crate::model::Coefficients;
@@ -133,7 +134,7 @@ pub fn negative_diagonal_causes(
     }
     if let Some((suggested, residual)) = best {
         out.push(Warning::ResponseKind {
-            suggested,
+            suggested: suggested.name(),
             residual,
             original,
         });
@@ -152,13 +153,17 @@ mod tests {
         Frf::from_flexibility(freqs, &gs).unwrap()
     }
 
-    fn kinds(frf: &Frf, displacement: bool) -> Vec<&'static str> {
+    fn causes(frf: &Frf, displacement: bool) -> Vec<Warning> {
         let options = IvfOptions::default();
         let model = crate::solve::fit(frf, Method::Ivf, &options)
             .unwrap()
             .coefficients()
             .clone();
         negative_diagonal_causes(frf, &model, Method::Ivf, &options, displacement)
+    }
+
+    fn kinds(frf: &Frf, displacement: bool) -> Vec<&'static str> {
+        causes(frf, displacement)
             .iter()
             .map(Warning::kind)
             .collect()
@@ -179,6 +184,24 @@ mod tests {
             }
         };
         assert!(kinds(&frf_of(scaled(2)), true).contains(&"response_kind"));
+        // The warning names the kind by its `--response` spelling.
+        let hint = causes(&frf_of(scaled(2)), true)
+            .into_iter()
+            .find(|w| w.kind() == "response_kind")
+            .unwrap();
+        assert!(matches!(
+            hint,
+            Warning::ResponseKind {
+                suggested: "acceleration",
+                ..
+            }
+        ));
+        assert!(
+            hint.to_string()
+                .contains("read as acceleration they fit with every diagonal positive")
+                && hint.to_string().ends_with("try `--response acceleration`"),
+            "{hint}"
+        );
         assert!(kinds(&frf_of(scaled(0)), true).is_empty());
         assert!(!kinds(&frf_of(scaled(2)), false).contains(&"response_kind"));
         // A sign-reversed diagonal (the response measured away from the force, in antiphase)

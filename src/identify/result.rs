@@ -284,13 +284,6 @@ impl Identification {
             .reduce(f64::min)
     }
 
-    /// The old name of [`Identification::min_coherence`], kept for existing callers (to be
-    /// marked `#[deprecated]` once the crate's own callers have moved).
-    #[doc(hidden)]
-    pub fn coherence_min(&self) -> Option<f64> {
-        self.min_coherence()
-    }
-
     /// Stiffness and damping line by line, `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω`, with the
     /// fitted `M` (and the exponential window's exact correction), error bars from the FRF's
     /// variance when it has one; see [`PerFrequency`].

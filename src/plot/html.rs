@@ -342,7 +342,7 @@ fn page(
         sig(limits.refuse, 3),
         cond.lines_above_warning()
     );
-    if let Some(c) = id.coherence_min() {
+    if let Some(c) = id.min_coherence() {
         let _ = writeln!(
             h,
             "<li>multiple coherence: min {c:.4} over the lines used</li>"

@@ -32,6 +32,7 @@ use std::f64::consts::PI;
 
 use faer::c64;
 
+use crate::Choice;
 use crate::error::{Channel, Error, Result};
 use crate::frf::{Assignment, Estimator, Frf, PairedKernel, Share};
 use crate::records::Record;
@@ -139,7 +140,7 @@ pub fn stepped_sine(
                             Error::ResponseAtZeroFrequency {
                                 record: r.label().to_owned(),
                                 channel: Channel::Displacement(c),
-                                response,
+                                response: response.name(),
                                 freq_hz,
                             }
                         })

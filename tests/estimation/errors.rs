@@ -189,10 +189,10 @@ fn unequal_directions_leave_records_unpaired_with_a_warning() {
 fn low_coherence_lines_are_dropped_and_reported() {
     let recs = records(4, 0.05, 0.5);
     let all = Identifier::new(8.0, 49.0).identify(&recs).unwrap();
-    let c_min = all.coherence_min().unwrap();
+    let c_min = all.min_coherence().unwrap();
     assert!(c_min < 1.0);
     // A threshold between the smallest and the median coherence drops some lines, not all.
-    let mut per_line: Vec<f64> = (0..all.frf().lines())
+    let mut per_line: Vec<f64> = (0..all.frf().line_count())
         .map(|k| {
             all.frf()
                 .multiple_coherence(k)
@@ -208,7 +208,7 @@ fn low_coherence_lines_are_dropped_and_reported() {
         .min_coherence(threshold)
         .identify(&recs)
         .unwrap();
-    let dropped = (0..all.frf().lines()).filter(|&k| {
+    let dropped = (0..all.frf().line_count()).filter(|&k| {
         all.frf()
             .multiple_coherence(k)
             .unwrap()
@@ -217,8 +217,8 @@ fn low_coherence_lines_are_dropped_and_reported() {
     });
     let dropped = dropped.count();
     assert!(dropped > 0);
-    assert_eq!(some.frf().lines(), all.frf().lines() - dropped);
-    assert!(some.coherence_min().unwrap() >= threshold);
+    assert_eq!(some.frf().line_count(), all.frf().line_count() - dropped);
+    assert!(some.min_coherence().unwrap() >= threshold);
     assert!(matches!(some.warnings()[0], Warning::LowCoherence { lines, .. } if lines == dropped));
     assert!(matches!(
         Identifier::new(8.0, 49.0)

@@ -261,7 +261,7 @@ fn force_gate_removes_the_quiet_force_noise() {
     let rms_error = |id: &bearing_ident::Identification| {
         let frf = id.frf();
         let mut e = 0.0;
-        for k in 0..frf.lines() {
+        for k in 0..frf.line_count() {
             let (h, m) = (truth.impedance_at(frf.freqs_hz()[k]), frf.impedance(k));
             for i in 0..2 {
                 for j in 0..2 {
@@ -269,7 +269,7 @@ fn force_gate_removes_the_quiet_force_noise() {
                 }
             }
         }
-        (e / (4 * frf.lines()) as f64).sqrt()
+        (e / (4 * frf.line_count()) as f64).sqrt()
     };
     let gate = ForceGate::new(0.03, 0.005).unwrap();
     let plain = Identifier::new(8.0, 49.0).identify(&records).unwrap();

@@ -86,7 +86,7 @@ fn stepped_sine_recovers_the_seed_rig() {
     let truth = seed_rig();
     let clean = stepped_records();
     let frf = stepped_sine(&clean, &Assignment::DominantForce, None, 0.05).unwrap();
-    assert_eq!(frf.lines(), 15);
+    assert_eq!(frf.line_count(), 15);
     assert!((frf.freqs_hz()[0] - 10.0).abs() < 1e-9 && (frf.freqs_hz()[14] - 48.0).abs() < 1e-9);
     // One direction per record: X is diagonal-dominant, cond(X) modest.
     assert!(frf.condition_numbers().iter().all(|&c| c < 10.0));
@@ -105,7 +105,7 @@ fn stepped_sine_recovers_the_seed_rig() {
         0.05,
     )
     .unwrap();
-    assert_eq!(frf.lines(), 15);
+    assert_eq!(frf.line_count(), 15);
     let fit = solve::fit(&frf, Method::Ivf, &IvfOptions::default()).unwrap();
     let err = common::block_errors(fit.coefficients(), &truth);
     let sigmas = worst_in_sigmas(fit.coefficients(), &truth, fit.std_dev().unwrap());

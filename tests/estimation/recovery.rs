@@ -96,7 +96,7 @@ fn measured_flexibility_of_simulated_records_matches_the_model() {
         .identify(&records)
         .unwrap();
     let frf = id.frf();
-    for k in 0..frf.lines() {
+    for k in 0..frf.line_count() {
         let model = truth.flexibility_at(frf.freqs_hz()[k]).unwrap();
         let scale = model.norm_l2();
         for i in 0..2 {

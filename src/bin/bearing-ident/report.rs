@@ -261,7 +261,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
                 .map_or(String::new(), |r| format!("; kept IVF: {r}"))
         );
     }
-    if let Some(c) = id.coherence_min() {
+    if let Some(c) = id.min_coherence() {
         let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
     }
     model_check_lines(&mut out, id);

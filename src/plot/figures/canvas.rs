@@ -4,6 +4,7 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::Choice;
 use crate::error::{Error, Result};
 
 /// The drawing area of an SVG held in a string.
@@ -38,7 +39,7 @@ pub(crate) fn render(
     {
         let root = SVGBackend::with_string(&mut buf, size).into_drawing_area();
         let plot_error = |e: &dyn std::fmt::Display| Error::Plot {
-            figure,
+            figure: figure.name(),
             message: e.to_string(),
         };
         root.fill(&WHITE).map_err(|e| plot_error(&e))?;
