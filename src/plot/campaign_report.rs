@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, page_head, page_tail, write_file};
+use super::html::{create_dir, esc, figure_html, page_head, page_tail, write_file};
 use super::{ReportOptions, significant as sig};
 use crate::Choice;
 use crate::campaign::{Campaign, Value};
@@ -13,8 +13,9 @@ use crate::error::{Error, Result, excerpt};
 /// Writes `stiffness.svg`, `damping.svg`, `mass.svg` (the figure
 /// [`campaign`](super::campaign) of each block against condition `x`, by name; the first
 /// condition when `None`) and an `index.html` into `dir` (created if needed): the figures
-/// inline, then per point its conditions, the diagonal coefficients `± σ`, the references
-/// checked with their z-scores, its warnings or error, and a link to its own report: each
+/// (shown from their files, each stored once), then per point its conditions, the diagonal
+/// coefficients `± σ` (`K_xx`, …), the references checked with their z-scores, its warnings
+/// or error, and a link to its own report: each
 /// point identified in this run gets one under `points/NAME/` ([`report`](super::report),
 /// its records read again); a point taken from a cache links its JSON (`NAME.json`, as
 /// `campaign --out` writes it). Returns the files written, `index.html` last.
@@ -55,15 +56,9 @@ pub fn campaign_report(
     };
     create_dir(dir)?;
     let mut written = Vec::new();
-    let mut svgs = Vec::new();
-    for (block, file) in [
-        ('K', "stiffness.svg"),
-        ('C', "damping.svg"),
-        ('M', "mass.svg"),
-    ] {
+    for (block, file, _) in BLOCKS {
         let svg = super::campaign(campaign, block, x, &options.figure)?;
         written.push(write_file(&dir.join(file), &svg)?);
-        svgs.push(svg);
     }
     // Each point identified in this run (not taken from a cache) gets its own report.
     for p in &campaign.points {
@@ -100,7 +95,7 @@ pub fn campaign_report(
     }
     written.push(write_file(
         &dir.join("index.html"),
-        &page(campaign, x, options, &svgs),
+        &page(campaign, x, options),
     )?);
     Ok(written)
 }
@@ -115,7 +110,14 @@ fn point_folder(name: &str) -> String {
         .to_owned()
 }
 
-fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String]) -> String {
+/// The blocks drawn, their files and their captions' names.
+const BLOCKS: [(char, &str, &str); 3] = [
+    ('K', "stiffness.svg", "Stiffness K"),
+    ('C', "damping.svg", "Damping C"),
+    ('M', "mass.svg", "Added mass M"),
+];
+
+fn page(campaign: &Campaign, x: usize, options: &ReportOptions) -> String {
     let mut h = String::new();
     page_head(&mut h, options);
     let conditions = &campaign.plan.conditions;
@@ -127,16 +129,13 @@ fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String])
         esc(&conditions[x].name),
         esc(conditions[x].unit.name())
     );
-    for (svg, caption) in svgs
-        .iter()
-        .zip(["Stiffness K", "Damping C", "Added mass M"])
-    {
-        let _ = writeln!(
-            h,
-            "<figure>\n{svg}\n<figcaption>{caption} per element against {} (± σ); crosses: \
-             independent references ± σ.</figcaption>\n</figure>",
+    for (_, file, name) in BLOCKS {
+        let caption = format!(
+            "{name} per element against {} (± σ of each point's identification); crosses: \
+             independent references ± σ.",
             esc(&conditions[x].name)
         );
+        figure_html(&mut h, file.trim_end_matches(".svg"), None, file, &caption);
     }
     let _ = write!(h, "<h2>Points</h2>\n<table>\n<tr><th>point</th>");
     for c in conditions {
@@ -176,6 +175,7 @@ fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String])
             }
             Ok(fit) => {
                 let (c, s) = fit.reported();
+                let axes = crate::campaign::axis_names(c.dofs());
                 let mut cells = Vec::new();
                 for (letter, block) in [
                     (
@@ -186,15 +186,15 @@ fn page(campaign: &Campaign, x: usize, options: &ReportOptions, svgs: &[String])
                     ('C', crate::Coefficients::damping),
                     ('M', crate::Coefficients::mass),
                 ] {
-                    for i in 0..c.dofs() {
+                    for (i, a) in axes.iter().enumerate() {
                         let v = block(c)[(i, i)];
                         cells.push(match s {
                             Some(s) => format!(
-                                "{letter}{i}{i} {} ± {}",
+                                "{letter}_{a}{a} {} ± {}",
                                 sig(v, 4),
                                 sig(block(s)[(i, i)], 2)
                             ),
-                            None => format!("{letter}{i}{i} {}", sig(v, 4)),
+                            None => format!("{letter}_{a}{a} {}", sig(v, 4)),
                         });
                     }
                 }

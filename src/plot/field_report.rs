@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, page_head, page_tail, warnings_list, write_file};
+use super::html::{create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file};
 use super::{ReportOptions, significant as sig};
 use crate::error::Result;
 use crate::field::{FieldIdentification, SpeedCoefficients};
@@ -45,7 +45,7 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// Writes `field.svg` (the figure [`field`](super::field)) and an `index.html` into `dir`
 /// (created if needed): per bearing a table of `K(Ω)`, `C(Ω)` with `±σ`, the condition number
 /// and the noise gain per speed, the model residual, the pinned critical speeds, the warnings,
-/// the figure inline and `options.text` folded at the end. Returns the files written, `index.html` last.
+/// the figure (shown from its file) and `options.text` folded at the end. Returns the files written, `index.html` last.
 ///
 /// # Errors
 /// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if the figure
@@ -71,7 +71,7 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// let written = bearing_ident::plot::field_report(&id, &dir, &Default::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-/// assert!(html.contains("brg1") && html.contains("<svg"));
+/// assert!(html.contains("brg1") && html.contains("<img src=\"field.svg\""));
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn field_report(
@@ -82,14 +82,11 @@ pub fn field_report(
     create_dir(dir)?;
     let svg = super::field(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("field.svg"), &svg)?];
-    written.push(write_file(
-        &dir.join("index.html"),
-        &page(id, options, &svg),
-    )?);
+    written.push(write_file(&dir.join("index.html"), &page(id, options))?);
     Ok(written)
 }
 
-fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String {
+fn page(id: &FieldIdentification, options: &ReportOptions) -> String {
     let mut h = String::new();
     page_head(&mut h, options);
     let probes: Vec<String> = id
@@ -116,10 +113,10 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
             b.node
         );
         for e in elements {
-            let _ = write!(h, "<th>K{e} (N/m)</th>");
+            let _ = write!(h, "<th>K_{e} (N/m)</th>");
         }
         for e in elements {
-            let _ = write!(h, "<th>C{e} (N·s/m)</th>");
+            let _ = write!(h, "<th>C_{e} (N·s/m)</th>");
         }
         let _ = writeln!(h, "</tr>");
         for (s, &w) in id.speeds_rad_s().iter().enumerate() {
@@ -171,11 +168,13 @@ fn page(id: &FieldIdentification, options: &ReportOptions, svg: &str) -> String 
         critical.join(", ")
     );
     warnings_list(&mut h, id.warnings());
-    let _ = writeln!(
-        h,
-        "<figure id=\"fig-field\">\n{svg}\n<figcaption>Per bearing: K(Ω) and C(Ω) per element \
-         (±σ where known) and the condition number of the response pair, with the warning \
-         threshold.</figcaption>\n</figure>"
+    figure_html(
+        &mut h,
+        "field",
+        None,
+        "field.svg",
+        "Per bearing: K(Ω) and C(Ω) per element (±σ where known) and the condition number of \
+         the response pair, with the warning threshold.",
     );
     page_tail(&mut h, options);
     h

@@ -47,13 +47,16 @@ impl Default for ReportOptions {
 }
 
 /// Writes every figure of `id` as an SVG file into `dir` (created if missing) and an
-/// `index.html` that shows them inline with the coefficient table, the diagnostics and the
-/// warnings; returns the paths written, `index.html` last.
+/// `index.html` that shows them with the coefficient table, the diagnostics and the warnings;
+/// returns the paths written, `index.html` last.
 ///
-/// The page is static: no scripts, no style sheets or fonts from elsewhere; each figure's SVG
-/// is embedded (and linked to its file). The files are `flexibility.svg`, `impedance.svg`,
-/// `coherence.svg`, `per_frequency.svg`, `records.svg` (only with `records`) and
-/// `convergence.svg`.
+/// The page is static: no scripts, no style sheets or fonts from elsewhere. Each figure is
+/// stored once, as its file beside the page: the page shows it as an image and links to it
+/// (opened alone, a figure names each series on hover). The folder is the report. The files
+/// are `flexibility.svg`, `impedance.svg`, `coherence.svg`, `per_frequency.svg`,
+/// `records.svg` (only with `records`), `convergence.svg` and `residual.svg`. Their size does
+/// not grow with the records' length or the number of lines: a series denser than the
+/// plot's pixels is drawn by its extremes per pixel column, its error bars as a band.
 ///
 /// The record figure draws at most [`ReportOptions::max_records`] of `records`: the first two
 /// of each excitation direction (by [`Record::dominant_force`]), then those with an issue under
@@ -73,7 +76,7 @@ impl Default for ReportOptions {
 /// let written = plot::report(&id, &records, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 8);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-/// assert!(html.contains("href=\"impedance.svg\"") && html.contains("<svg"));
+/// assert!(html.contains("<img src=\"impedance.svg\"") && !html.contains("<svg"));
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn report(
@@ -88,17 +91,15 @@ pub fn report(
         .into_iter()
         .map(|r| records[r].clone())
         .collect();
-    let mut svgs: Vec<(Figure, String)> = Vec::with_capacity(Figure::REPORT.len());
+    let mut written = Vec::with_capacity(Figure::REPORT.len() + 1);
+    let mut figures = Vec::with_capacity(Figure::REPORT.len());
     for &figure in Figure::REPORT {
         if let Some(svg) = figure.of_report(id, &chosen, options.checks.as_ref(), fig)? {
-            svgs.push((figure, svg));
+            written.push(write_file(&dir.join(format!("{figure}.svg")), &svg)?);
+            figures.push(figure);
         }
     }
-    let mut written = Vec::with_capacity(svgs.len() + 1);
-    for (figure, svg) in &svgs {
-        written.push(write_file(&dir.join(format!("{figure}.svg")), svg)?);
-    }
-    let html = page(id, options, &svgs, records.len(), chosen.len());
+    let html = page(id, options, &figures, records.len(), chosen.len());
     written.push(write_file(&dir.join("index.html"), &html)?);
     Ok(written)
 }
@@ -137,7 +138,26 @@ fn pick_records(records: &[Record], checks: Option<&ImpactChecks>, max: usize) -
     chosen
 }
 
-/// Writes `contents` to `path`, mapping failures to [`Error::Io`].
+/// A figure of a report's page, stored once as `file` beside the page: an image of it that
+/// links to it, under `heading` (if any), with `caption` (HTML, escaped by the caller) and the
+/// file's name. The anchor is `fig-STEM`.
+pub(super) fn figure_html(
+    h: &mut String,
+    stem: &str,
+    heading: Option<&str>,
+    file: &str,
+    caption: &str,
+) {
+    let (stem, file, alt) = (esc(stem), esc(file), esc(heading.unwrap_or(stem)));
+    let heading = heading.map_or(String::new(), |t| format!("<h2>{}</h2>\n", esc(t)));
+    let _ = writeln!(
+        h,
+        "<figure id=\"fig-{stem}\">\n{heading}<a href=\"{file}\"><img src=\"{file}\" \
+         alt=\"{alt}\"></a>\n<figcaption>{caption} (<a href=\"{file}\">{file}</a>)\
+         </figcaption>\n</figure>"
+    );
+}
+
 /// Every report's page up to its first section: the document head with the style, the title,
 /// and the context lines.
 pub(super) fn page_head(h: &mut String, options: &ReportOptions) {
@@ -193,6 +213,7 @@ pub(super) fn warnings_list(h: &mut String, warnings: &[crate::Warning]) {
     }
 }
 
+/// Writes `contents` to `path`, mapping failures to [`Error::Io`].
 pub(super) fn write_file(path: &Path, contents: &str) -> Result<PathBuf> {
     std::fs::write(path, contents).map_err(|e| Error::Io {
         path: path.display().to_string(),
@@ -219,14 +240,14 @@ pub(super) fn esc(s: &str) -> String {
 pub(super) const STYLE: &str = "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;\
 color:#222}table{border-collapse:collapse;margin:.5em 0}td,th{padding:.2em .7em;\
 border-bottom:1px solid #ddd;text-align:right}th{background:#f3f3f3}td:first-child,\
-th:first-child{text-align:left}figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}\
+th:first-child{text-align:left}figure{margin:1.5em 0}figure img{max-width:100%;height:auto}\
 figcaption{color:#555;max-width:60em}.warn{color:#a00}pre{background:#f6f6f6;padding:1em;\
 overflow-x:auto}";
 
 fn page(
     id: &Identification,
     options: &ReportOptions,
-    svgs: &[(Figure, String)],
+    figures: &[Figure],
     total_records: usize,
     drawn_records: usize,
 ) -> String {
@@ -241,10 +262,8 @@ fn page(
         "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#model-check\">Model check</a> \
          · <a href=\"#diagnostics\">Diagnostics</a>"
     );
-    for (figure, _) in svgs {
-        {
-            let _ = write!(h, " · <a href=\"#fig-{figure}\">{}</a>", figure.heading());
-        }
+    for figure in figures {
+        let _ = write!(h, " · <a href=\"#fig-{figure}\">{}</a>", figure.heading());
     }
     let _ = writeln!(h, "</p>");
     // Coefficients.
@@ -372,13 +391,27 @@ fn page(
     let _ = writeln!(h, "</ul>");
     warnings_list(&mut h, id.warnings());
     // Figures.
-    for (figure, svg) in svgs {
-        let (stem, heading, caption) = (figure.name(), figure.heading(), figure.caption());
-        let _ = writeln!(
-            h,
-            "<figure id=\"fig-{stem}\">\n<h2>{heading}</h2>\n{svg}\n<figcaption>{} \
-             (<a href=\"{stem}.svg\">{stem}.svg</a>)</figcaption>\n</figure>",
-            esc(caption)
+    let averages = id.frf().averages();
+    let bars = (0..freqs.len()).all(|k| id.frf().impedance_variance(k).is_some());
+    for &figure in figures {
+        let mut caption = esc(figure.caption());
+        if bars && matches!(figure, Figure::Impedance | Figure::PerFrequency) {
+            let _ = write!(
+                caption,
+                " Each error bar is {}.",
+                if id.estimator() == crate::Estimator::PairedSets {
+                    format!("the scatter of the {averages} paired sets at its line")
+                } else {
+                    format!("the random error of {averages} averages (records × segments)")
+                }
+            );
+        }
+        figure_html(
+            &mut h,
+            figure.name(),
+            Some(figure.heading()),
+            &format!("{figure}.svg"),
+            &caption,
         );
     }
     page_tail(&mut h, options);

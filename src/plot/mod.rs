@@ -20,8 +20,13 @@
 //!
 //! [`report`] writes all of them as `.svg` files into a directory together with an `index.html`
 //! that holds the coefficient table (with standard deviations and 95 % intervals), the
-//! diagnostics, the warnings and every figure inline: one file to open or mail, no scripts, no
-//! external assets.
+//! diagnostics, the warnings and every figure, shown from its file (each figure stored once):
+//! the folder is the report, with no scripts and no external assets.
+//!
+//! A figure's size does not grow with the data: a time trace is drawn by its minimum and
+//! maximum per pixel column, and a per-line series with more than one line per four pixel
+//! columns by its extremes per pixel column (a line instead of markers), its error bars merged
+//! into a band. Only the drawing is thinned; tables and JSON keep every number.
 //!
 //! [`coefficient_rows`] formats the cells of that table (value, `±1σ`, 95 % interval, truth and
 //! error per element), once for the page and the command-line tool's text table.

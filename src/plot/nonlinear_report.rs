@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, page_head, page_tail, warnings_list, write_file};
+use super::html::{create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file};
 use super::{ReportOptions, coefficient_rows, significant as sig};
 use crate::Choice;
 use crate::error::Result;
@@ -12,7 +12,8 @@ use crate::nonlinear::NonlinearIdentification;
 /// Writes `nonlinear.svg` (the figure [`nonlinear`](super::nonlinear)) and an `index.html`
 /// into `dir` (created if needed): the linear coefficients with their standard deviations,
 /// the nonlinear terms with theirs and their model check, the velocity choice, the warnings,
-/// the figure inline and `options.text` folded at the end. Returns the files written.
+/// the figure (shown from its file) and `options.text` folded at the end. Returns the files
+/// written.
 ///
 /// # Errors
 /// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if a figure
@@ -35,7 +36,7 @@ use crate::nonlinear::NonlinearIdentification;
 /// let written = nonlinear_report(&id, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-/// assert!(html.contains("cubic[0]") && html.contains("<svg"));
+/// assert!(html.contains("cubic[0]") && html.contains("<img src=\"nonlinear.svg\""));
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn nonlinear_report(
@@ -46,12 +47,12 @@ pub fn nonlinear_report(
     create_dir(dir)?;
     let svg = super::nonlinear(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("nonlinear.svg"), &svg)?];
-    let html = page(id, options, &svg);
+    let html = page(id, options);
     written.push(write_file(&dir.join("index.html"), &html)?);
     Ok(written)
 }
 
-fn page(id: &NonlinearIdentification, options: &ReportOptions, svg: &str) -> String {
+fn page(id: &NonlinearIdentification, options: &ReportOptions) -> String {
     let mut h = String::new();
     let n = id.coefficients().dofs();
     let names = options.figure.axis_names(n);
@@ -129,12 +130,13 @@ fn page(id: &NonlinearIdentification, options: &ReportOptions, svg: &str) -> Str
         id.min_output_coherence()
     );
     warnings_list(&mut h, id.warnings());
-    let _ = writeln!(
-        h,
-        "<figure id=\"fig-nonlinear\">\n{svg}\n<figcaption>Coefficient spectra Âⱼ(ω) per term: \
-         a regressor that describes the element gives a flat real part on the fitted constant \
-         and an imaginary part about zero.</figcaption>\n</figure>"
+    let caption = format!(
+        "Coefficient spectra Âⱼ(ω) per term, ± σ from {} Welch averages: a regressor that \
+         describes the element gives a flat real part on the fitted constant and an imaginary \
+         part about zero.",
+        id.averages()
     );
+    figure_html(&mut h, "nonlinear", None, "nonlinear.svg", &caption);
     page_tail(&mut h, options);
     h
 }

@@ -10,7 +10,7 @@ use crate::model::Coefficients;
 /// both show, each laying them out its own way.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoefficientRow {
-    /// Block, element and unit, e.g. `K xy (N/m)`: `M` in kg, `C` in N·s/m, `K` in N/m.
+    /// Block, element and unit, e.g. `K_xy (N/m)`: `M` in kg, `C` in N·s/m, `K` in N/m.
     pub label: String,
     /// The value to 7 significant digits ([`significant`]).
     pub value: String,
@@ -47,7 +47,7 @@ type Block = fn(&Coefficients) -> MatRef<'_, f64>;
 /// let axes = ["x".to_string(), "y".to_string()];
 /// let rows = coefficient_rows(&truth, None, None, Some(&truth), &axes);
 /// assert_eq!(rows.len(), 3 * 4);
-/// assert_eq!(rows[8].label, "K xx (N/m)");
+/// assert_eq!(rows[8].label, "K_xx (N/m)");
 /// assert_eq!(rows[8].value, "146300.0");
 /// assert_eq!(rows[8].std_dev, "—");
 /// assert_eq!(rows[8].error.as_deref(), Some("+0.000 %"));
@@ -74,7 +74,7 @@ pub fn coefficient_rows(
                 let v = value[(i, j)];
                 let t = truth.map(|t| get(t)[(i, j)]);
                 rows.push(CoefficientRow {
-                    label: format!("{name} {ai}{aj} ({unit})"),
+                    label: format!("{name}_{ai}{aj} ({unit})"),
                     value: significant(v, 7),
                     std_dev: std_dev.map_or("—".to_string(), |s| significant(get(s)[(i, j)], 3)),
                     interval: interval.map_or("—".to_string(), |s| {
@@ -106,7 +106,7 @@ mod tests {
         let rig = seed_rig();
         let axes = ["1".to_string(), "2".to_string()];
         let rows = coefficient_rows(&rig, Some(&rig), Some(&rig), None, &axes);
-        assert_eq!(rows[4].label, "C 11 (N·s/m)");
+        assert_eq!(rows[4].label, "C_11 (N·s/m)");
         assert_eq!(rows[4].value, "131.9800");
         assert_eq!(rows[4].std_dev, "132");
         assert_eq!(rows[4].interval, "0 … 263.96");

@@ -110,6 +110,14 @@ impl Summary {
                 })
     }
 
+    /// The sum of the channels' peaks. A copy's ([`Summary::copies`]) differs from the
+    /// earlier record's by at most [`NEAR_DUPLICATE`] of it (each channel's extremes, hence
+    /// its peak, move by at most that much of the channel's peak): copies need only be looked
+    /// for among records of about the same sum.
+    pub(super) fn peak_sum(&self) -> f64 {
+        self.peaks.iter().sum()
+    }
+
     /// How the record was excited: the dominant force channel when its RMS is at least
     /// [`DOMINANCE`] times every other force channel's (one direction at a time: impacts, a
     /// shaker per direction), else `n` (all inputs alike: multi-input random).

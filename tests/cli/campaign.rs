@@ -145,17 +145,18 @@ fn points_are_identify_bit_for_bit() {
         String::from_utf8_lossy(&out.stderr)
     );
     let campaign = json_of(&out);
-    // The report: three figures, and each point's own report linked from the index.
+    // The report: three figures, and each point's own report linked from the index; every
+    // figure stored once, as its file, the pages showing it from there; the coefficients
+    // named as the table on stdout names them.
     let index = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(index.contains("<img src=\"damping.svg\"") && !index.contains("<svg"));
+    assert!(index.contains("K_xx ") && !index.contains("K00"));
     for point in ["dry", "oil"] {
         assert!(index.contains(&format!("href=\"points/{point}/index.html\"")));
-        assert!(
-            report
-                .join("points")
-                .join(point)
-                .join("impedance.svg")
-                .exists()
-        );
+        let folder = report.join("points").join(point);
+        assert!(folder.join("impedance.svg").exists());
+        let page = std::fs::read_to_string(folder.join("index.html")).unwrap();
+        assert!(page.contains("<img src=\"impedance.svg\"") && !page.contains("<svg"));
     }
     let svg = std::fs::read_to_string(report.join("damping.svg")).unwrap();
     assert!(

@@ -372,7 +372,7 @@ fn demo_runs() {
     let out = run(&["demo", "--noise", "0.0"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("K xx (N/m)") && text.contains("natural frequency"));
+    assert!(text.contains("K_xx (N/m)") && text.contains("natural frequency"));
 }
 
 /// The seed rig's matrices, rows as in the JSON.
@@ -804,7 +804,7 @@ fn identify_plot_writes_figures_and_a_static_report() {
         assert!(html.contains(&format!("href=\"{stem}.svg\"")), "{stem}");
     }
     // The axis names come from --disp; the text table is folded in.
-    assert!(html.contains("<td>K xy (N/m)</td>") && html.contains("<summary>Text report"));
+    assert!(html.contains("<td>K_xy (N/m)</td>") && html.contains("<summary>Text report"));
     assert!(!html.contains("<script"));
     // The plain-text table still goes to stdout.
     assert!(String::from_utf8_lossy(&out.stdout).contains("Coefficients"));

@@ -192,7 +192,7 @@ fn noisy_responses_carry_error_bars_and_the_table_and_report_are_written() {
         "{table}"
     );
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert!(html.contains("<svg") && html.contains("Bearing brg0"));
+    assert!(html.contains("<img src=\"field.svg\"") && html.contains("Bearing brg0"));
     let svg = std::fs::read_to_string(report.join("field.svg")).unwrap();
     assert_eq!(svg.matches("class=\"series\"").count(), 2 * 9);
 }
@@ -308,7 +308,7 @@ fn table_columns_sit_under_their_headers_on_the_example_rotor() {
     let mut headers = vec!["Ω rad/s".to_owned(), "cond".into(), "gain".into()];
     for block in ["K", "C"] {
         let unit = if block == "K" { "N/m" } else { "N·s/m" };
-        headers.extend(["xx", "xy", "yx", "yy"].map(|n| format!("{block}{n} {unit}")));
+        headers.extend(["xx", "xy", "yx", "yy"].map(|n| format!("{block}_{n} {unit}")));
     }
     let lines: Vec<&str> = text.lines().collect();
     let mut rows_seen = 0;

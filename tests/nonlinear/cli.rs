@@ -166,7 +166,7 @@ fn the_table_and_the_report_show_the_terms() {
         "{table}"
     );
     let html = std::fs::read_to_string(plot.join("index.html")).unwrap();
-    assert!(html.contains("coulomb[1]") && html.contains("<svg"));
+    assert!(html.contains("coulomb[1]") && html.contains("<img src=\"nonlinear.svg\""));
     let svg = std::fs::read_to_string(plot.join("nonlinear.svg")).unwrap();
     assert_eq!(svg.matches("class=\"series\"").count(), 2 * 4);
 }

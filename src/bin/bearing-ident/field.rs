@@ -95,10 +95,10 @@ pub fn table(id: &FieldIdentification) -> String {
         let _ = writeln!(out, "\nbearing {} (node {})", b.tag, b.node);
         let _ = write!(out, "{:>10} {:>9} {:>9}", "Ω rad/s", "cond", "gain");
         for n in names {
-            let _ = write!(out, " {:>20}", format!("K{n} N/m"));
+            let _ = write!(out, " {:>20}", format!("K_{n} N/m"));
         }
         for n in names {
-            let _ = write!(out, " {:>20}", format!("C{n} N·s/m"));
+            let _ = write!(out, " {:>20}", format!("C_{n} N·s/m"));
         }
         out.push('\n');
         for (s, &w) in id.speeds_rad_s().iter().enumerate() {

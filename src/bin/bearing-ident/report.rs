@@ -306,8 +306,8 @@ fn per_frequency_lines(out: &mut String, axes: &[String], pf: &PerFrequency) {
         let _ = write!(
             out,
             " {:>24} {:>22}",
-            format!("K {a}{a} (N/m)"),
-            format!("C {a}{a} (N·s/m)")
+            format!("K_{a}{a} (N/m)"),
+            format!("C_{a}{a} (N·s/m)")
         );
     }
     let _ = writeln!(out);

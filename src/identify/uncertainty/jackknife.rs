@@ -13,15 +13,15 @@ impl Settings {
     /// Jackknife standard deviations over the leave-one-out refits of `shared`, each on the
     /// full data's lines (after any coherence selection), and the number of distinct refits
     /// ([`gate::distinct_fits`]).
+    /// Each refit's data are the sums over every replicate less the one left out
+    /// ([`Replicates::without`]), so that the `R` refits cost one pass over the replicates, not
+    /// `R`.
     pub(super) fn jackknife(&self, shared: &Replicates<'_>) -> Result<(Coefficients, usize)> {
         let replicates = shared.count();
-        let mut weights = vec![1.0; replicates];
-        let mut thetas = Vec::with_capacity(replicates);
-        for r in 0..replicates {
-            weights[r] = 0.0;
-            thetas.push(self.refit(shared, &weights)?);
-            weights[r] = 1.0;
-        }
+        let totals = shared.totals();
+        let thetas = (0..replicates)
+            .map(|r| self.fit_replicate(&shared.without(&totals, r)))
+            .collect::<Result<Vec<_>>>()?;
         let r = replicates as f64;
         Ok((spread(&thetas, r - 1.0)?, gate::distinct_fits(&thetas)))
     }

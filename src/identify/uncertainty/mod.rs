@@ -233,8 +233,12 @@ impl Settings {
     /// `weights`, on the lines of the full data's `Frf` (after any coherence selection); no
     /// covariance is computed for a refit.
     fn refit(&self, shared: &Replicates<'_>, weights: &[f64]) -> Result<Mat<f64>> {
-        let frf = shared.frf(weights);
-        let fit = self.corrected(solve::fit_point(&frf, self.method, &self.ivf)?)?;
+        self.fit_replicate(&shared.frf(weights))
+    }
+
+    /// The corrected, stacked coefficients fitted to a replicate's `frf`.
+    fn fit_replicate(&self, frf: &Frf) -> Result<Mat<f64>> {
+        let fit = self.corrected(solve::fit_point(frf, self.method, &self.ivf)?)?;
         Ok(fit.coefficients().stacked())
     }
 }

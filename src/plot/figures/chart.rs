@@ -19,7 +19,8 @@ pub(crate) const MODEL_POINTS: usize = 400;
 pub(crate) type Chart<'a, 'b, X, Y> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>;
 
 /// A chart of linear `x` and `y` on `area`, its mesh drawn, x described only when `x_desc`
-/// is given (stacked plots share it).
+/// is given (stacked plots share it). The fine mesh is left out: white on the white
+/// background, it would be a hundred invisible lines a plot.
 pub(crate) fn linear_chart<'a, 'b>(
     area: &'a Area<'b>,
     x: std::ops::Range<f64>,
@@ -46,7 +47,7 @@ pub(crate) fn linear_chart<'a, 'b>(
         .y_desc(y_desc)
         .label_style(("sans-serif", font::TICK))
         .axis_desc_style(("sans-serif", font::DESC))
-        .light_line_style(WHITE)
+        .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(225, 225, 225))
         .draw()?;
     Ok(chart)
@@ -79,7 +80,7 @@ pub(crate) fn log_chart<'a, 'b>(
         .y_desc(y_desc)
         .label_style(("sans-serif", font::TICK))
         .axis_desc_style(("sans-serif", font::DESC))
-        .light_line_style(WHITE)
+        .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(225, 225, 225))
         .draw()?;
     for v in log_ticks(&y) {
@@ -151,7 +152,148 @@ pub(crate) fn grid_size(options: &FigureOptions, n: usize) -> (u32, u32) {
     (w * n as u32 + 10, h * n as u32 + 80)
 }
 
-/// Points with symmetric error bars `±σ` (clamped to `y`), or plain points without `σ`.
+/// A series is drawn point by point (a marker, an error bar each) while it has at most one
+/// point per this many pixel columns of its plot; a denser one is drawn as its extremes per
+/// pixel column ([`column_extremes`]) and its error bars as one band ([`column_band`]), so
+/// that a figure's size does not grow with the lines it shows.
+pub(crate) const PIXELS_PER_MARKER: usize = 4;
+
+/// The width in pixels of `chart`'s plot.
+pub(crate) fn columns<X: Ranged, Y: Ranged>(chart: &Chart<'_, '_, X, Y>) -> usize {
+    chart.plotting_area().dim_in_pixel().0 as usize
+}
+
+/// Radius of a measured point's marker, in pixels.
+pub(crate) const MARKER_RADIUS: u32 = 3;
+
+/// Whether `count` points on a plot `columns` pixels wide are drawn one by one (see
+/// [`PIXELS_PER_MARKER`]).
+pub(crate) fn one_by_one(count: usize, columns: usize) -> bool {
+    count.saturating_mul(PIXELS_PER_MARKER) <= columns
+}
+
+/// The pixel column, of `columns` over `x`, that `v` falls in (the edges clamped).
+fn column(v: f64, x: &std::ops::Range<f64>, columns: usize) -> usize {
+    let at = (v - x.start) / (x.end - x.start) * columns as f64;
+    // `as` saturates: below the range (and NaN) column 0.
+    (at as usize).min(columns.saturating_sub(1))
+}
+
+/// The finite `points` (in `x` order) reduced to the lowest and the highest of each pixel
+/// column of a plot `columns` wide over `x`, in `x` order: a line through them draws every
+/// excursion of a series of any length with at most two points per column.
+pub(crate) fn column_extremes(
+    points: impl IntoIterator<Item = (f64, f64)>,
+    x: &std::ops::Range<f64>,
+    columns: usize,
+) -> Vec<(f64, f64)> {
+    /// A pixel column being gathered: its index, its lowest and its highest point.
+    type Gathered = (usize, (f64, f64), (f64, f64));
+    let mut out = Vec::new();
+    let mut open: Option<Gathered> = None;
+    let flush = |out: &mut Vec<(f64, f64)>, (_, lo, hi): Gathered| {
+        let (first, second) = if lo.0 <= hi.0 { (lo, hi) } else { (hi, lo) };
+        out.push(first);
+        if second != first {
+            out.push(second);
+        }
+    };
+    for p in points
+        .into_iter()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+    {
+        let c = column(p.0, x, columns);
+        match &mut open {
+            Some((at, lo, hi)) if *at == c => {
+                if p.1 < lo.1 {
+                    *lo = p;
+                }
+                if p.1 > hi.1 {
+                    *hi = p;
+                }
+            }
+            _ => {
+                if let Some(done) = open.take() {
+                    flush(&mut out, done);
+                }
+                open = Some((c, p, p));
+            }
+        }
+    }
+    if let Some(done) = open {
+        flush(&mut out, done);
+    }
+    out
+}
+
+/// The error bars `v ± σ` of `points` (in `x` order) merged per pixel column of a plot
+/// `columns` wide over `x`: per column that holds a bar, `(mean x, lowest v − σ, highest
+/// v + σ)`, the outline of every bar of the column.
+pub(crate) fn column_band(
+    points: &[(f64, f64, Option<f64>)],
+    x: &std::ops::Range<f64>,
+    columns: usize,
+) -> Vec<(f64, f64, f64)> {
+    // Per column: its index, the sum of x and the count, the lowest and highest bar end.
+    let mut sums: Vec<(usize, f64, f64, f64, f64)> = Vec::new();
+    for &(f, v, s) in points {
+        let Some(s) = s.filter(|s| s.is_finite() && f.is_finite() && v.is_finite()) else {
+            continue;
+        };
+        let c = column(f, x, columns);
+        match sums.last_mut() {
+            Some(last) if last.0 == c => {
+                last.1 += f;
+                last.2 += 1.0;
+                last.3 = last.3.min(v - s);
+                last.4 = last.4.max(v + s);
+            }
+            _ => sums.push((c, f, 1.0, v - s, v + s)),
+        }
+    }
+    sums.into_iter()
+        .map(|(_, x, count, lo, hi)| (x / count, lo, hi))
+        .collect()
+}
+
+/// `points` (in `x` order) as filled markers of `radius`, or, denser than
+/// [`PIXELS_PER_MARKER`], as a line as wide as a marker (less a pixel) through their extremes
+/// per pixel column; a `wrapped` series (a phase in degrees) is broken where it jumps by more
+/// than 180°.
+pub(crate) fn draw_markers<Y>(
+    chart: &mut Chart<'_, '_, plotters::coord::types::RangedCoordf64, Y>,
+    points: &[(f64, f64)],
+    radius: u32,
+    color: RGBColor,
+    wrapped: bool,
+) -> Drawn
+where
+    Y: Ranged<ValueType = f64>,
+{
+    let columns = columns(chart);
+    if one_by_one(points.len(), columns) {
+        chart.draw_series(
+            points
+                .iter()
+                .map(|&p| Circle::new(p, radius, color.filled())),
+        )?;
+        return Ok(());
+    }
+    let line = column_extremes(points.iter().copied(), &chart.x_range(), columns);
+    let style = color.stroke_width((2 * radius).saturating_sub(1).max(1));
+    if wrapped {
+        for segment in phase_segments(&line) {
+            chart.draw_series(LineSeries::new(segment, style))?;
+        }
+    } else {
+        chart.draw_series(LineSeries::new(line, style))?;
+    }
+    Ok(())
+}
+
+/// Points with symmetric error bars `±σ` (clamped to `y`), or plain points without `σ`; a
+/// series denser than [`PIXELS_PER_MARKER`] drawn as a line through its extremes per pixel
+/// column over the band of its error bars.
 pub(crate) fn draw_points_with_bars<Y>(
     chart: &mut Chart<'_, '_, plotters::coord::types::RangedCoordf64, Y>,
     points: &[(f64, f64, Option<f64>)],
@@ -162,6 +304,28 @@ where
     Y: Ranged<ValueType = f64>,
 {
     let clamp = |v: f64| v.clamp(y.start, y.end);
+    let columns = columns(chart);
+    let count = points.iter().filter(|p| p.1.is_finite()).count();
+    if !one_by_one(count, columns) {
+        let x = chart.x_range();
+        let band = column_band(points, &x, columns);
+        if !band.is_empty() {
+            let outline: Vec<(f64, f64)> = band
+                .iter()
+                .map(|b| (b.0, clamp(b.2)))
+                .chain(band.iter().rev().map(|b| (b.0, clamp(b.1))))
+                .collect();
+            chart.draw_series([Polygon::new(outline, color.mix(0.3).filled())])?;
+        }
+        // As wide as the markers (less a pixel), so that the fit drawn over it shows the
+        // measured line on both sides.
+        let line = column_extremes(points.iter().map(|p| (p.0, p.1)), &x, columns);
+        chart.draw_series(LineSeries::new(
+            line.into_iter().map(|(f, v)| (f, clamp(v))),
+            color.stroke_width(2 * MARKER_RADIUS - 1),
+        ))?;
+        return Ok(());
+    }
     chart.draw_series(
         points
             .iter()
@@ -181,7 +345,7 @@ where
         points
             .iter()
             .filter(|p| p.1.is_finite())
-            .map(|&(f, v, _)| Circle::new((f, clamp(v)), 3, color.filled())),
+            .map(|&(f, v, _)| Circle::new((f, clamp(v)), MARKER_RADIUS, color.filled())),
     )?;
     Ok(())
 }
@@ -370,6 +534,44 @@ pub(crate) fn model_freqs(range: &std::ops::Range<f64>, count: usize) -> Vec<f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn extremes_per_column_keep_every_excursion_in_order() {
+        // Ten columns over 0..10; three points in column 0, one in column 5, two in 9.
+        let points = [
+            (0.1, 2.0),
+            (0.5, -1.0),
+            (0.9, 5.0),
+            (5.5, 0.0),
+            (9.2, f64::NAN),
+            (9.3, 3.0),
+            (9.9, 1.0),
+        ];
+        let out = column_extremes(points, &(0.0..10.0), 10);
+        assert_eq!(
+            out,
+            [(0.5, -1.0), (0.9, 5.0), (5.5, 0.0), (9.3, 3.0), (9.9, 1.0)]
+        );
+        // The highest point before the lowest: still in x order.
+        let out = column_extremes([(0.2, 9.0), (0.4, 1.0), (0.6, 4.0)], &(0.0..10.0), 10);
+        assert_eq!(out, [(0.2, 9.0), (0.4, 1.0)]);
+        // A million points on 300 columns: at most 600 drawn.
+        let many = (0..1_000_000).map(|k| (k as f64 * 1e-5, (k as f64).sin()));
+        assert!(column_extremes(many, &(0.0..10.0), 300).len() <= 600);
+    }
+
+    #[test]
+    fn bands_outline_the_bars_of_a_column() {
+        let points = [
+            (0.2, 1.0, Some(0.5)),
+            (0.6, 2.0, Some(0.1)),
+            (0.8, 0.0, None),
+            (3.5, 0.0, Some(1.0)),
+        ];
+        let band = column_band(&points, &(0.0..10.0), 10);
+        assert_eq!(band, [(0.4, 0.5, 2.1), (3.5, -1.0, 1.0)]);
+        assert!(one_by_one(100, 400) && !one_by_one(101, 400));
+    }
 
     #[test]
     fn si_units_pick_a_prefix() {

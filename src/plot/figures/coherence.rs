@@ -4,7 +4,7 @@
 use plotters::prelude::*;
 
 use super::canvas::{ALERT, DARK, GREY, Key, colour, header, message, render, series};
-use super::chart::{linear_chart, log_chart, log_span, tick};
+use super::chart::{column_extremes, columns, linear_chart, log_chart, log_span, one_by_one, tick};
 use crate::error::Result;
 use crate::identify::Identification;
 use crate::plot::FigureOptions;
@@ -17,7 +17,8 @@ use crate::plot::FigureOptions;
 /// series `condition number`) with the warning and refusal thresholds of the identification's
 /// [`ConditionLimits`](crate::ConditionLimits) (series `warn limit`, `refuse limit`). On both,
 /// the band asked for is shaded (series `band`) and lines dropped for low coherence are
-/// marked (series `lines dropped`, only when there are some).
+/// marked (series `lines dropped`, only when there are some). Lines denser than one per four
+/// pixel columns are drawn without markers, through their extremes per pixel column.
 ///
 /// # Errors
 /// [`Error::Plot`](crate::Error::Plot) if plotters fails to draw.
@@ -93,17 +94,19 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
             Ok(())
         })?;
         if has_coherence {
+            let columns = columns(&chart);
             for (i, c) in coherence.iter().enumerate() {
                 series(&top, &format!("coherence {}", names[i]), || {
                     chart.draw_series(LineSeries::new(
-                        c.iter().copied(),
+                        column_extremes(c.iter().copied(), &x, columns),
                         // Earlier outputs drawn wider, so coinciding curves all show.
                         colour(i).stroke_width(2 + 2 * (n - 1 - i) as u32),
                     ))?;
-                    chart
-                        .draw_series(c.iter().map(|&p| {
+                    if one_by_one(c.len(), columns) {
+                        chart.draw_series(c.iter().map(|&p| {
                             Circle::new(p, 2 + (n - 1 - i) as u32, colour(i).filled())
                         }))?;
+                    }
                     Ok(())
                 })?;
             }
@@ -146,12 +149,15 @@ pub fn coherence(id: &Identification, options: &FigureOptions) -> Result<String>
             Ok(())
         })?;
         let points: Vec<(f64, f64)> = freqs.iter().copied().zip(cond.iter().copied()).collect();
+        let columns = columns(&chart);
         series(&bottom, "condition number", || {
             chart.draw_series(LineSeries::new(
-                points.iter().copied(),
+                column_extremes(points.iter().copied(), &x, columns),
                 DARK.stroke_width(2),
             ))?;
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, DARK.filled())))?;
+            if one_by_one(points.len(), columns) {
+                chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, DARK.filled())))?;
+            }
             Ok(())
         })?;
         for (name, level, c) in [

@@ -6,8 +6,8 @@ use plotters::prelude::*;
 
 use super::canvas::{Key, MEASURED, MODEL, font, header, render, series};
 use super::chart::{
-    MODEL_POINTS, X_LABELS, Y_LABELS, freq_range, grid_size, log_chart, log_span, model_freqs,
-    phase_segments, stacked, tick, titled, y_tick,
+    MARKER_RADIUS, MODEL_POINTS, X_LABELS, Y_LABELS, draw_markers, freq_range, grid_size,
+    log_chart, log_span, model_freqs, phase_segments, stacked, tick, titled, y_tick,
 };
 use crate::error::Result;
 use crate::identify::Identification;
@@ -17,7 +17,9 @@ use crate::plot::FigureOptions;
 ///
 /// The figure is an `n × n` grid, element `ij` in row `i`, column `j`; each panel holds
 /// `|G_ij|` (m/N, logarithmic) above `∠G_ij` (degrees), the measured lines as points and the
-/// fitted model `G(ω) = (K − ω²M + iωC)⁻¹` as a line. Series, per element:
+/// fitted model `G(ω) = (K − ω²M + iωC)⁻¹` as a line; lines denser than one per four pixel
+/// columns are drawn as a line through their extremes per pixel column, as wide as a point.
+/// Series, per element:
 /// `|G ij| measured`, `|G ij| model`, `∠G ij measured`, `∠G ij model`.
 ///
 /// # Errors
@@ -91,10 +93,7 @@ pub fn flexibility(id: &Identification, options: &FigureOptions) -> Result<Strin
                 let y = log_span(m_meas.iter().chain(&m_fit).map(|p| p.1));
                 let mut chart = log_chart(&top, x.clone(), y, None, "|G| (m/N)")?;
                 series(&top, &format!("|G {el}| measured"), || {
-                    chart.draw_series(
-                        m_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())),
-                    )?;
-                    Ok(())
+                    draw_markers(&mut chart, &m_meas, MARKER_RADIUS, MEASURED, false)
                 })?;
                 series(&top, &format!("|G {el}| model"), || {
                     chart.draw_series(LineSeries::new(
@@ -119,7 +118,7 @@ pub fn flexibility(id: &Identification, options: &FigureOptions) -> Result<Strin
                     .y_desc("∠G (°)")
                     .label_style(("sans-serif", font::TICK))
                     .axis_desc_style(("sans-serif", font::DESC))
-                    .light_line_style(WHITE)
+                    .light_line_style(TRANSPARENT)
                     .bold_line_style(RGBColor(225, 225, 225))
                     .draw()?;
                 // Phase ticks at multiples of 90°, which plotters' automatic ticks do not hit.
@@ -128,10 +127,7 @@ pub fn flexibility(id: &Identification, options: &FigureOptions) -> Result<Strin
                 }
                 let (p_meas, p_fit) = (phase(&measured), phase(&fitted));
                 series(&bottom, &format!("∠G {el} measured"), || {
-                    chart.draw_series(
-                        p_meas.iter().map(|&p| Circle::new(p, 3, MEASURED.filled())),
-                    )?;
-                    Ok(())
+                    draw_markers(&mut chart, &p_meas, MARKER_RADIUS, MEASURED, true)
                 })?;
                 series(&bottom, &format!("∠G {el} model"), || {
                     for segment in phase_segments(&p_fit) {

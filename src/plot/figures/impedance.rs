@@ -19,6 +19,8 @@ use crate::plot::FigureOptions;
 /// Units are N/m with an SI prefix chosen per plot. When the FRF carries a variance
 /// ([`Frf::impedance_variance`](crate::Frf::impedance_variance)), every measured point has an
 /// error bar of `±σ`, `σ² = E|δH_ij|²/2` (the real and imaginary parts each carry half).
+/// Lines denser than one per four pixel columns are drawn as a line through their extremes
+/// per pixel column, over the band their error bars cover.
 /// Series, per element: `Re H ij measured`, `Re H ij model K − ω²M`, `Im H ij measured`,
 /// `Im H ij model ωC`.
 ///

@@ -13,8 +13,10 @@ use crate::plot::FigureOptions;
 
 /// Per nonlinear term, `Re Âⱼ(ω)` with its fitted constant above `Im Âⱼ(ω)` with zero,
 /// line by line with error bars `±σ` (`σ² = E|δÂⱼ|²/2` per part), terms in a grid of two
-/// columns. A regressor that describes the element gives a flat real part on its constant and
-/// an imaginary part about zero ([`TermCheck`](crate::nonlinear::TermCheck)).
+/// columns (lines denser than one per four pixel columns drawn as a line through their
+/// extremes per pixel column, over the band of their error bars). A regressor that describes
+/// the element gives a flat real part on its constant and an imaginary part about zero
+/// ([`TermCheck`](crate::nonlinear::TermCheck)).
 ///
 /// Series, per term `t` (its [`Term::label`](crate::nonlinear::Term::label)): `Re t`,
 /// `t fit`, `Im t`, `Im t zero`.

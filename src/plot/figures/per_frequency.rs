@@ -15,7 +15,8 @@ use crate::plot::FigureOptions;
 ///
 /// From [`Identification::per_frequency`]: `K(ω) = Re H + ω²M`, `C(ω) = Im H/ω` with the
 /// fitted `M` (and the exponential window's correction). Error bars `±σ` when the FRF
-/// carries a variance. Series, per element: `K ij(ω)`, `K ij fit`, `C ij(ω)`, `C ij fit`.
+/// carries a variance. Lines denser than one per four pixel columns are drawn as a line
+/// through their extremes per pixel column, over the band their error bars cover. Series, per element: `K ij(ω)`, `K ij fit`, `C ij(ω)`, `C ij fit`.
 ///
 /// # Errors
 /// As [`Identification::per_frequency`]; [`Error::Plot`](crate::Error::Plot) if plotters fails

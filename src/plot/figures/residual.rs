@@ -3,7 +3,7 @@
 use plotters::prelude::*;
 
 use super::canvas::{ALERT, DARK, Key, MEASURED, header, message, render, series};
-use super::chart::{freq_range, log_chart, log_span};
+use super::chart::{column_extremes, columns, freq_range, log_chart, log_span, one_by_one};
 use crate::error::Result;
 use crate::identify::{Identification, Verdict};
 use crate::plot::FigureOptions;
@@ -13,7 +13,9 @@ use crate::statistics::chi2_upper_point;
 /// model ([`ModelCheck::line_ratios`](crate::identify::ModelCheck::line_ratios), about 1 where
 /// the model fits) on a log scale, against the band a right model stays within at 95 %
 /// (2.5 % and 97.5 % points of `χ²₂ₙ²/2n²`, series `pure-error band`). Lines far above the
-/// band show where the model misses; a run of lines above it, what it misses. Untested
+/// band show where the model misses (marked in red; of lines denser than one per four pixel
+/// columns, drawn as a line through their extremes per pixel column, only those are marked);
+/// a run of lines above it, what it misses. Untested
 /// checks (no replicates, or maximum likelihood's cost test) say so and hold no series.
 ///
 /// # Errors
@@ -99,15 +101,23 @@ pub fn residual(id: &Identification, options: &FigureOptions) -> Result<String> 
             ))?;
             Ok(())
         })?;
+        let columns = columns(&chart);
         series(&body, "residual", || {
             chart.draw_series(LineSeries::new(
-                points.iter().copied(),
+                column_extremes(points.iter().copied(), &x, columns),
                 MEASURED.stroke_width(2),
             ))?;
-            chart.draw_series(points.iter().map(|&p| {
-                let colour = if p.1 > band.1 { ALERT } else { MEASURED };
-                Circle::new(p, 3, colour.filled())
-            }))?;
+            if one_by_one(points.len(), columns) {
+                chart.draw_series(points.iter().map(|&p| {
+                    let colour = if p.1 > band.1 { ALERT } else { MEASURED };
+                    Circle::new(p, 3, colour.filled())
+                }))?;
+            } else {
+                // Dense lines: only those above the band marked, the highest per column.
+                let above = points.iter().copied().filter(|p| p.1 > band.1);
+                let marked = column_extremes(above, &x, columns);
+                chart.draw_series(marked.iter().map(|&p| Circle::new(p, 3, ALERT.filled())))?;
+            }
             Ok(())
         })?;
         Ok(())
