@@ -48,8 +48,9 @@
 //!    coefficients;
 //! 7. [`identify`] — the [`Identifier`] façade, its checked settings ([`Settings`]), the error
 //!    bars ([`Uncertainty`]) and its [`Identification`] result;
-//! 8. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' crest
-//!    factor, and the estimator, segmentation and window each kind calls for.
+//! 8. [`excitation`] — the kind of test ([`Excitation`]): detected from the records' force
+//!    (crest factor, tone, sweep, period), and the estimator, segmentation and window each
+//!    kind calls for.
 //!
 //! Beside the linear pipeline, [`nonlinear`] identifies M, C, K together with dry friction,
 //! cubic stiffness or quadratic damping by the reverse path (the nonlinear forces as extra

@@ -379,3 +379,53 @@ pub const START_TRANSIENT: f64 = 3.0;
 /// mean period's energy is steady whatever their scatter (noise-free records): its amplitude
 /// is a thousandth of the signal's, below any bias worth a warning.
 pub const TRANSIENT_ENERGY: f64 = 1e-6;
+
+// ---- Excitation detection (issue 40, item 2) ----
+
+/// Fraction of a record's force power in one spectral peak ([`crate::excitation::Evidence`]'s
+/// `tone`) at and above which a steady force is a stepped sine's pure tone: a sine holds over
+/// 0.9999 of its Hann-windowed power within three lines of its peak, and noise at a fraction
+/// `ε` of the RMS takes `ε²/(1 + ε²)` of it (0.0025 at 5 %), so only noise at half the tone's
+/// RMS comes down to 0.8; a multisine of `K` equal lines holds about `1/K` there (0.024 for
+/// 42 lines), a sweep the few lines near its top frequency (0.2 for 5–60 Hz in 1 s).
+pub const TONE_FRACTION: f64 = 0.8;
+
+/// Below [`TONE_FRACTION`] and at or above this, a steady force may or may not be a tone (two
+/// tones, strong harmonics or noise as strong as the tone): detection says it cannot tell.
+pub const TONE_FRACTION_DOUBT: f64 = 0.5;
+
+/// A force is steady when the mean power of its weaker half is at least this fraction of its
+/// stronger half's: a sine with at least three quarters of a cycle in each half gives 0.4 or
+/// more, a ring-down that decays within the record or a sweep followed by free decay almost 0.
+/// A tone that is not steady is not a stepped sine (a lightly damped response to a hit, read
+/// with the columns exchanged, holds half its power in one peak).
+pub const STEADY_POWER: f64 = 0.25;
+
+/// Rank correlation between frequency and the force's group delay (`sweep` of
+/// [`crate::excitation::Evidence`]) at and above which the force is a sweep: its frequencies
+/// arrive one after another. Simulated sweeps (5–60 Hz or 20–30 Hz in 1 s, 5–60 Hz in 4 s,
+/// 5 % noise) give 0.97 to 1.0; random forcing 0.01; a 42-line random-phase multisine up to
+/// 0.37 (the rank correlation of `n` unrelated values has a standard deviation
+/// `1/√(n − 1)`, 0.16 here, so 0.9 is 5.5 of them); a hammer hit 0.07.
+pub const SWEEP_MONOTONY: f64 = 0.9;
+
+/// Below [`SWEEP_MONOTONY`] and at or above this, the force may or may not be a sweep:
+/// detection says it cannot tell.
+pub const SWEEP_MONOTONY_DOUBT: f64 = 0.7;
+
+/// Fraction of a record's force energy between the harmonic lines of the period found (its
+/// scatter from period to period) at and below which the force repeats: a steady periodic
+/// force at the [`PERIODIC_CORRELATION`] threshold (6 dB) scatters 0.2, a sine whose period is
+/// not a whole number of samples drifts by up to 0.15 over 48 periods; narrow-band random
+/// forcing, which resembles itself one cycle later (autocorrelation 0.95 for a 5 Hz band) but
+/// not over many, scatters 0.98.
+pub const PERIOD_REPEATS: f64 = 0.5;
+
+/// Above [`PERIOD_REPEATS`] and at or below this, or with an autocorrelation from
+/// [`PERIODIC_CORRELATION_DOUBT`] up to [`PERIODIC_CORRELATION`], the force may or may not be
+/// periodic: detection says it cannot tell.
+pub const PERIOD_REPEATS_DOUBT: f64 = 0.8;
+
+/// Normalised autocorrelation from which, below [`PERIODIC_CORRELATION`], a force that
+/// repeats may be periodic at a poor signal to noise ratio (0.6 is 1.8 dB).
+pub const PERIODIC_CORRELATION_DOUBT: f64 = 0.6;

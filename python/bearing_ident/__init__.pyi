@@ -38,6 +38,7 @@ class InvalidInputError(BearingIdentError): ...  # kind 'invalid_input'
 class MissingResponseError(BearingIdentError): ...  # kind 'missing_response'
 class UnderdeterminedError(BearingIdentError): ...  # kind 'underdetermined'
 class BadRecordError(BearingIdentError): ...  # kind "bad_record"
+class UnclearExcitationError(BearingIdentError): ...  # kind 'unclear_excitation'
 class InternalError(BearingIdentError): ...  # kind 'internal'
 
 class Record:

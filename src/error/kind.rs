@@ -67,6 +67,8 @@ named_table! {
         Underdetermined => "underdetermined",
         /// The fit failed and the screening had found one record far out of scale with its siblings.
         BadRecord => "bad_record",
+        /// The force reads as more than one kind of test: the excitation must be given.
+        UnclearExcitation => "unclear_excitation",
     }
 }
 
@@ -157,6 +159,7 @@ impl Error {
             Error::TooLarge { .. } => ErrorKind::TooLarge,
             Error::FileLimit { .. } => ErrorKind::TooLarge,
             Error::BadRecord { .. } => ErrorKind::BadRecord,
+            Error::UnclearExcitation { .. } => ErrorKind::UnclearExcitation,
             Error::BaselineMismatch { .. } => ErrorKind::BaselineMismatch,
             #[cfg(feature = "json")]
             Error::BadBaseline { .. } => ErrorKind::BadBaseline,

@@ -9,6 +9,15 @@ use crate::Method;
 
 use super::{Channel, Error, excerpt};
 
+/// `names` as a list: `a`, `a or b`, `a, b or c`.
+fn either(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_owned(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
 /// Why a field identification's response pairs are singular everywhere, and what to change.
 pub(super) fn rank_deficient_advice(dependent_tests: bool) -> &'static str {
     if dependent_tests {
@@ -278,6 +287,30 @@ impl fmt::Display for Error {
                 "stepped sine at {freq_hz} Hz: no record drives direction {direction} of {dofs}; \
          every frequency step needs one record per direction"
             ),
+            Error::UnclearExcitation {
+                record,
+                kinds,
+                evidence: e,
+            } => {
+                let names: Vec<&str> = kinds.iter().map(|k| crate::Choice::name(*k)).collect();
+                write!(
+                    f,
+                    "record `{record}`: cannot tell the excitation from the force, which reads as \
+                     {} (crest factor {:.1}; {:.2} of its power in one peak at {:.2} Hz, \
+                     steadiness {:.2}; sweep {:.2} over {} lines; period correlation {:.2}, \
+                     scatter {:.2}): say which with --excitation {}",
+                    either(&names),
+                    e.crest_factor,
+                    e.tone,
+                    e.tone_hz,
+                    e.steadiness,
+                    e.sweep,
+                    e.sweep_lines,
+                    e.period_correlation,
+                    e.period_scatter,
+                    names.join("|"),
+                )
+            }
             Error::InvalidBand { low_hz, high_hz } => write!(
                 f,
                 "band {low_hz}–{high_hz} Hz is not a valid band (need finite 0 ≤ low < high)"

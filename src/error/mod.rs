@@ -267,6 +267,18 @@ pub enum Error {
         /// Number of degrees of freedom.
         dofs: usize,
     },
+    /// The force of the record that decides the excitation reads as more than one kind of test
+    /// ([`Evidence::readings`](crate::excitation::Evidence::readings)): a feature near its
+    /// threshold gives a different kind read either way. The user says which.
+    UnclearExcitation {
+        /// Label of the record.
+        record: String,
+        /// The kinds it reads as, in the order of [`Excitation`](crate::Excitation)'s
+        /// variants.
+        kinds: Vec<crate::Excitation>,
+        /// What its force said.
+        evidence: Box<crate::excitation::Evidence>,
+    },
     // ---- Band, spectra and FRF (`crate::frf`, `crate::spectra`) ----
     // Overflow is named where it starts, not where a later stage would only see its effect.
     /// The frequency band is empty, inverted, negative or not finite.

@@ -11,128 +11,39 @@
 //! | [`SteppedSine`](Excitation::SteppedSine) | paired sets | whole record | rectangular | no |
 //! | [`Sweep`](Excitation::Sweep) | paired sets | whole record | rectangular | no |
 //!
-//! Detection ([`Excitation::detect`]) tells impacts from random forcing by the crest factor of
-//! the force ([`crest_factor`], [`IMPACT_CREST_FACTOR`]), and periodic forcing (a multisine or
-//! a stepped drive repeated) from random by the force's autocorrelation ([`find_period`]),
-//! which also gives the period; stepped sines and sweeps are the user's to say. This module sits after [`identify`](crate::identify): it configures an
-//! [`Identifier`] and no stage imports it.
+//! Detection ([`Excitation::detect`], in `detect.rs`) reads the strongest force of the first
+//! record with a force ([`Evidence`]): a steady pure tone is a stepped sine, frequencies that
+//! arrive in order a sweep, a hammer's crest factor ([`crest_factor`], [`IMPACT_CREST_FACTOR`])
+//! impacts, a force that repeats ([`find_period`], which also gives the period) periodic
+//! forcing, and anything else random forcing; when a feature near its threshold leaves two
+//! kinds, it names them and asks ([`Error::UnclearExcitation`]). This module sits after
+//! [`identify`](crate::identify): it configures an [`Identifier`] and no stage imports it.
+//!
+//! | file | what lives there |
+//! |---|---|
+//! | `mod.rs` | [`Excitation`] and each kind's processing |
+//! | `detect.rs` | [`Evidence`], [`Excitation::detect`], [`crest_factor`], [`deciding_record`] |
+//! | `welch.rs` | [`choose_welch`]: the Welch length from a first fit |
 
-use crate::error::{Channel, Error, Result};
+use crate::error::{Error, Result};
 use crate::frf::Estimator;
 use crate::identify::{Identifier, Screening};
 use crate::records::Record;
 use crate::screening::{Checks, find_period};
 use crate::spectra::{Segmentation, Window};
 
+mod detect;
 mod welch;
 
+pub use detect::{
+    Evidence, crest_factor, deciding_crest_factor, deciding_record, response_crest_factor,
+};
 pub use welch::{LINES_PER_BANDWIDTH, MIN_AVERAGES, WelchChoice, choose_welch};
 
 pub use crate::quality::IMPACT_CREST_FACTOR;
 
 /// Fewest samples of a Welch segment or a period (as [`Segmentation::segment_len`] requires).
 const MIN_SEGMENT: usize = 8;
-
-/// Crest factor of a record's strongest force channel ([`Record::dominant_force`]): peak over
-/// RMS about the mean,
-///
-/// $$ \mathrm{CF} = \frac{\max_m |f_m - \bar f|}{\sqrt{\tfrac1N \sum_m (f_m - \bar f)^2}}. $$
-///
-/// The force is scaled by its largest magnitude first, so huge forces do not overflow; a flat
-/// (or non-finite) force has crest factor 0.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::Record;
-/// use bearing_ident::excitation::crest_factor;
-/// // One hit in 100 samples: peak 0.99, RMS about the mean 0.0995.
-/// let mut f = vec![0.0; 100];
-/// f[10] = 1.0;
-/// let r = Record::new("hit", 100.0, vec![f], vec![vec![0.0; 100]])?;
-/// assert!((crest_factor(&r) - 0.99 / 0.0099f64.sqrt()).abs() < 1e-9);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn crest_factor(record: &Record) -> f64 {
-    crest(record.force(record.dominant_force()))
-}
-
-/// The largest crest factor of a record's response channels (as [`crest_factor`] of a
-/// force): about 4 to 5 for responses to random or swept forcing, up to about 8 for a lightly
-/// damped response to a hit, 30 and more for a hammer's force. Read only to name a likely
-/// cause when a run fails (force and response columns exchanged).
-///
-/// # Examples
-/// ```
-/// use bearing_ident::Record;
-/// use bearing_ident::excitation::response_crest_factor;
-/// let mut hit = vec![0.0; 100];
-/// hit[10] = 1.0;
-/// let r = Record::new("swapped", 100.0, vec![vec![1.0; 100]], vec![hit])?;
-/// assert!((response_crest_factor(&r) - 0.99 / 0.0099f64.sqrt()).abs() < 1e-9);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn response_crest_factor(record: &Record) -> f64 {
-    (0..record.dofs())
-        .map(|c| crest(record.displacement(c)))
-        .fold(0.0, f64::max)
-}
-
-/// Peak over RMS about the mean of `f`, scaled by its largest magnitude first; 0 when flat
-/// or not finite.
-fn crest(f: &[f64]) -> f64 {
-    let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-    if scale <= 0.0 || !scale.is_finite() {
-        return 0.0;
-    }
-    let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
-    let centred = |v: &f64| v / scale - mean;
-    let rms = (f.iter().map(|v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
-    let peak = f.iter().map(|v| centred(v).abs()).fold(0.0, f64::max);
-    if rms > 0.0 { peak / rms } else { 0.0 }
-}
-
-/// The crest factor that decides the excitation ([`Excitation::detect`]): that of the first
-/// record whose force is not flat, reading `records` only as far as needed, so records that
-/// arrive one at a time (files read in turn) are read no further than the first with a force.
-///
-/// # Errors
-/// The first error of `records`; [`Error::NoRecords`] for none; [`Error::DeadChannel`] naming
-/// the first record's force 0 when every record's force is flat.
-///
-/// # Examples
-/// ```
-/// use bearing_ident::excitation::{IMPACT_CREST_FACTOR, deciding_crest_factor};
-/// use bearing_ident::simulate::{ImpactTest, seed_rig};
-/// let records = ImpactTest::seed_rig().run(&seed_rig())?;
-/// let crest = deciding_crest_factor(records.iter().map(Ok::<_, bearing_ident::Error>))?;
-/// assert!(crest > IMPACT_CREST_FACTOR);
-/// # Ok::<(), bearing_ident::Error>(())
-/// ```
-pub fn deciding_crest_factor<R, E>(
-    records: impl IntoIterator<Item = std::result::Result<R, E>>,
-) -> std::result::Result<f64, E>
-where
-    R: std::borrow::Borrow<Record>,
-    E: From<Error>,
-{
-    let mut first: Option<(String, f64)> = None;
-    for record in records {
-        let record = record?;
-        let record = record.borrow();
-        let crest = crest_factor(record);
-        if crest > 0.0 {
-            return Ok(crest);
-        }
-        first.get_or_insert_with(|| (record.label().to_owned(), record.force(0)[0]));
-    }
-    let (record, value) = first.ok_or(Error::NoRecords)?;
-    Err(Error::DeadChannel {
-        record,
-        channel: Channel::Force(0),
-        value,
-    }
-    .into())
-}
 
 /// Welch segment length for random excitation: the largest power of two not above an eighth
 /// of the record, and at least 8 samples,
@@ -190,60 +101,6 @@ pub enum Excitation {
 }
 
 impl Excitation {
-    /// The kind a crest factor says: [`Impact`](Excitation::Impact) at and above
-    /// [`IMPACT_CREST_FACTOR`], else [`Random`](Excitation::Random).
-    pub fn from_crest_factor(crest: f64) -> Excitation {
-        if crest >= IMPACT_CREST_FACTOR {
-            Excitation::Impact
-        } else {
-            Excitation::Random
-        }
-    }
-
-    /// The kind a crest factor and a record say: [`Impact`](Excitation::Impact) at and above
-    /// [`IMPACT_CREST_FACTOR`]; else [`Periodic`](Excitation::Periodic) when the record's
-    /// force repeats ([`find_period`]: a multisine or a stepped drive repeated), else
-    /// [`Random`](Excitation::Random).
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::Record;
-    /// use bearing_ident::excitation::{Excitation, crest_factor};
-    /// use bearing_ident::simulate::multisine;
-    /// let f = multisine(250, 3..=40, 1.0, 2000, 3)?;
-    /// let r = Record::new("ms", 1000.0, vec![f], vec![vec![0.0; 2000]])?;
-    /// assert_eq!(Excitation::from_record(crest_factor(&r), &r), Excitation::Periodic);
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    pub fn from_record(crest: f64, record: &Record) -> Excitation {
-        match Excitation::from_crest_factor(crest) {
-            Excitation::Random if find_period(record).is_some() => Excitation::Periodic,
-            kind => kind,
-        }
-    }
-
-    /// Detects impacts, periodic or random forcing from the [`crest_factor`] of the first
-    /// record whose force is not flat (a hammer hit that did not register says nothing of the
-    /// excitation) and, below the impact level, whether the first record's force repeats
-    /// ([`Excitation::from_record`]).
-    ///
-    /// # Errors
-    /// [`Error::NoRecords`] for no records; [`Error::DeadChannel`] naming the first record's
-    /// force 0 when every record's force is flat.
-    ///
-    /// # Examples
-    /// ```
-    /// use bearing_ident::excitation::Excitation;
-    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
-    /// let records = ImpactTest::seed_rig().run(&seed_rig())?;
-    /// assert_eq!(Excitation::detect(&records)?, Excitation::Impact);
-    /// # Ok::<(), bearing_ident::Error>(())
-    /// ```
-    pub fn detect(records: &[Record]) -> Result<Excitation> {
-        let crest = deciding_crest_factor(records.iter().map(Ok::<_, Error>))?;
-        Ok(Excitation::from_record(crest, &records[0]))
-    }
-
     /// The impedance estimator for this kind, or the `chosen` one: random forcing H1, periodic
     /// forcing H1 (paired sets are replaced by H1: periods are not paired), the others paired
     /// sets.
@@ -419,7 +276,6 @@ crate::choice::choice_text!(Excitation);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simulate::{AntiAlias, ImpactTest, Simulator, multisine, seed_rig};
 
     #[test]
     fn names_round_trip() {
@@ -442,57 +298,6 @@ mod tests {
             );
             assert!(err.to_string().contains("stepped-sine"), "{err}");
         }
-    }
-
-    #[test]
-    fn detects_impacts() {
-        let records = ImpactTest::seed_rig().run(&seed_rig()).unwrap();
-        assert!(crest_factor(&records[0]) > 10.0);
-        assert_eq!(Excitation::detect(&records).unwrap(), Excitation::Impact);
-    }
-
-    #[test]
-    fn detects_random() {
-        let mut sim = Simulator::new(&seed_rig(), 6700.0, 8192, AntiAlias::default()).unwrap();
-        let records: Vec<Record> = (0..2)
-            .map(|r| sim.random_record(format!("r{r}"), 50.0, r).unwrap())
-            .collect();
-        let crest = crest_factor(&records[0]);
-        assert!(crest > 2.0 && crest < IMPACT_CREST_FACTOR, "{crest}");
-        assert_eq!(Excitation::detect(&records).unwrap(), Excitation::Random);
-    }
-
-    #[test]
-    fn multisine_is_not_an_impact() {
-        let period = 6700;
-        let drive = multisine(period, 8..=49, 50.0, 2 * period, 3).unwrap();
-        let mut sim =
-            Simulator::new(&seed_rig(), 6700.0, drive.len(), AntiAlias::default()).unwrap();
-        let record = sim
-            .held_record("ms", &[drive, vec![0.0; 2 * period]])
-            .unwrap();
-        let crest = crest_factor(&record);
-        assert!(crest > 1.0 && crest < IMPACT_CREST_FACTOR, "{crest}");
-        // Two periods are the least that show a repeat: it is found (a lag of half the record).
-        assert_eq!(Excitation::detect(&[record]).unwrap(), Excitation::Periodic);
-    }
-
-    #[test]
-    fn flat_records_are_skipped_then_refused() {
-        let flat = Record::new("flat", 100.0, vec![vec![2.0; 200]], vec![vec![0.0; 200]]).unwrap();
-        assert!(crest_factor(&flat).abs() < f64::MIN_POSITIVE);
-        let mut f = vec![0.0; 200];
-        f[5] = 1.0;
-        let hit = Record::new("hit", 100.0, vec![f], vec![vec![0.0; 200]]).unwrap();
-        assert_eq!(
-            Excitation::detect(&[flat.clone(), hit]).unwrap(),
-            Excitation::Impact
-        );
-        assert!(matches!(
-            Excitation::detect(&[flat.clone(), flat]),
-            Err(Error::DeadChannel { ref record, channel: Channel::Force(0), .. }) if record == "flat"
-        ));
-        assert!(matches!(Excitation::detect(&[]), Err(Error::NoRecords)));
     }
 
     #[test]

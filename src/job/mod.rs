@@ -50,8 +50,8 @@ pub use read::{Channels, is_uff, read_file, read_first, response_columns};
 
 use crate::error::{Error, Result};
 use crate::excitation::{
-    Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_welch, crest_factor,
-    deciding_crest_factor, response_crest_factor,
+    Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_welch, crest_factor, deciding_record,
+    response_crest_factor,
 };
 use crate::frf::Assignment;
 use crate::gate::FitGate;
@@ -183,13 +183,14 @@ impl Job {
         self.run(Source::Read(records), Instant::now(), &mut |_| {})
     }
 
-    /// The kind of excitation of records whose first is `first`, with the crest factor it was
-    /// decided by: the one given, or the one the crest factor of the first record with a
-    /// force and whether the first record repeats say ([`Excitation::from_record`]), reading
-    /// `rest` only as far as that record. Also whether it was detected.
+    /// The kind of excitation of records whose first is `first`, with the crest factor of the
+    /// record that decided it: the one given, or the one the first record with a force says
+    /// ([`Excitation::from_record`]), reading `rest` only as far as that record. Also whether
+    /// it was detected.
     ///
     /// # Errors
-    /// The errors of `rest`; [`Error::DeadChannel`] if no record has a force.
+    /// The errors of `rest`; [`Error::DeadChannel`] if no record has a force;
+    /// [`Error::UnclearExcitation`] when that record's force reads as more than one kind.
     pub fn excitation<'r>(
         &self,
         first: &'r Record,
@@ -198,9 +199,10 @@ impl Job {
         match self.options.excitation {
             Some(kind) => Ok((kind, crest_factor(first), false)),
             None => {
-                let crest =
-                    deciding_crest_factor(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
-                Ok((Excitation::from_record(crest, first), crest, true))
+                let deciding =
+                    deciding_record(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
+                let kind = Excitation::from_record(&deciding)?;
+                Ok((kind, crest_factor(&deciding), true))
             }
         }
     }

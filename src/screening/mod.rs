@@ -88,6 +88,7 @@ mod summary;
 
 pub(crate) use outliers::outlier_sets_by;
 pub use outliers::{OutlierSet, outlier_sets};
+pub(crate) use periods::repeat;
 pub use periods::{PeriodCheck, find_period};
 pub use screener::Screener;
 pub use summary::Summary;

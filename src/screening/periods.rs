@@ -16,7 +16,10 @@ use realfft::RealFftPlanner;
 
 use crate::error::Warning;
 use crate::records::Record;
-use crate::tolerance::{PERIOD_MISMATCH, PERIODIC_CORRELATION, START_TRANSIENT, TRANSIENT_ENERGY};
+use crate::tolerance::{
+    PERIOD_MISMATCH, PERIOD_REPEATS, PERIODIC_CORRELATION, PERIODIC_CORRELATION_DOUBT,
+    START_TRANSIENT, TRANSIENT_ENERGY,
+};
 
 thread_local! {
     /// The autocorrelation's FFT plans, kept per thread: records of one test share a length,
@@ -42,6 +45,73 @@ thread_local! {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn find_period(record: &Record) -> Option<f64> {
+    let (period_s, correlation, _) = autocorrelation_peak(record)?;
+    (correlation >= PERIODIC_CORRELATION).then_some(period_s)
+}
+
+/// How a record's dominant force repeats: the lag of its autocorrelation's peak, whatever its
+/// height, and how well the force repeats at it ([`repeat`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Repeat {
+    /// The lag (s): the first autocorrelation peak within a few percent of the largest, as
+    /// [`find_period`] picks it.
+    pub(crate) period_s: f64,
+    /// The normalised autocorrelation $\rho(L)$ at that lag.
+    pub(crate) correlation: f64,
+    /// The fraction of the force's energy between the harmonic lines of periods of the peak's
+    /// whole lag, the first period left out when there are three or more; when that is above
+    /// [`PERIOD_REPEATS`], the least over whole lags within [`LAG_SLACK`] of it. 1 when the
+    /// record holds fewer than two such periods, or when the correlation is below
+    /// [`PERIODIC_CORRELATION_DOUBT`] (not read: the force does not repeat).
+    pub(crate) scatter: f64,
+}
+
+/// Samples either side of an autocorrelation peak's lag at which [`Repeat::scatter`] is also
+/// read: noise moves a broad peak (a narrow-band force's, `T` samples per cycle) by about
+/// $\sqrt{2\sigma_\rho / (\rho\,(2\pi/T)^2)}$ samples, with $\sigma_\rho \approx 1/\sqrt N$ the
+/// autocorrelation's noise: 3 for a tone of 80 samples per cycle at 0.65 correlation over 8000
+/// samples, and a lag off by one sample puts a long record's periods out of step.
+const LAG_SLACK: usize = 3;
+
+/// How `record`'s dominant force repeats ([`Repeat`]); `None` for a flat force, one shorter
+/// than 32 samples or without an autocorrelation peak.
+pub(crate) fn repeat(record: &Record) -> Option<Repeat> {
+    let (period_s, correlation, lag) = autocorrelation_peak(record)?;
+    let f = record.force(record.dominant_force());
+    let scatter_at = |len: usize| {
+        let periods = f.len() / len.max(1);
+        if len >= 8 && periods >= 2 {
+            let skip = usize::from(periods >= 3);
+            between_lines(&f[skip * len..], len, periods - skip)
+        } else {
+            1.0
+        }
+    };
+    let scatter = if correlation < PERIODIC_CORRELATION_DOUBT {
+        1.0
+    } else {
+        let at_peak = scatter_at(lag);
+        if at_peak <= PERIOD_REPEATS {
+            at_peak
+        } else {
+            (lag.saturating_sub(LAG_SLACK)..=lag + LAG_SLACK)
+                .filter(|&len| len != lag)
+                .map(scatter_at)
+                .fold(at_peak, f64::min)
+        }
+    };
+    Some(Repeat {
+        period_s,
+        correlation,
+        scatter,
+    })
+}
+
+/// The lag (s) of the first autocorrelation peak of `record`'s dominant force within a few
+/// percent of the largest, among lags of 9 samples up to half the record, refined between
+/// samples by a parabola; the largest peak's normalised autocorrelation; the peak's lag in
+/// whole samples.
+fn autocorrelation_peak(record: &Record) -> Option<(f64, f64, usize)> {
     let f = record.force(record.dominant_force());
     let n = f.len();
     if n < 32 {
@@ -76,9 +146,6 @@ pub fn find_period(record: &Record) -> Option<f64> {
         .filter(|&(lag, v)| v >= rho(lag - 1) && v >= rho(lag + 1))
         .collect();
     let best = peaks.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-    if best < PERIODIC_CORRELATION {
-        return None;
-    }
     let &(lag, _) = peaks.iter().find(|p| p.1 > best - 0.05)?;
     let (a, b, c) = (rho(lag - 1), rho(lag), rho(lag + 1));
     let curvature = a - 2.0 * b + c;
@@ -87,7 +154,11 @@ pub fn find_period(record: &Record) -> Option<f64> {
     } else {
         0.0
     };
-    Some((lag as f64 + shift.clamp(-0.5, 0.5)) / record.sample_rate())
+    Some((
+        (lag as f64 + shift.clamp(-0.5, 0.5)) / record.sample_rate(),
+        best,
+        lag,
+    ))
 }
 
 /// Fraction of `x`'s energy (about its mean over the periods) in the scatter of its first

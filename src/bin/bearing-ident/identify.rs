@@ -19,8 +19,10 @@ use crate::report;
 mod nonlinear;
 
 /// What `--excitation auto` does.
-const AUTO_EXCITATION: &str = "decide from the force signals: impacts by their crest factor, \
-     periodic records by their autocorrelation (the period found too), else random";
+const AUTO_EXCITATION: &str = "decide from the force of the first record with one: a steady \
+     pure tone is a stepped sine, frequencies arriving in order a sweep, a crest factor of 8 or \
+     more impacts, a force that repeats periodic (the period found too), else random; when it \
+     cannot tell, it names the kinds and asks for --excitation";
 
 #[derive(Debug, clap::Args)]
 pub struct IdentifyArgs {

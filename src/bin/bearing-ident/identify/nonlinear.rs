@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use bearing_ident::Choice;
-use bearing_ident::excitation::{Excitation, deciding_crest_factor};
+use bearing_ident::excitation::{Excitation, deciding_record};
 use bearing_ident::model::rows;
 use bearing_ident::nonlinear::{Differentiation, NonlinearIdentification, Regressor, ReversePath};
 use bearing_ident::plot::{FigureOptions, ReportOptions, coefficient_rows, significant as sig};
@@ -43,7 +43,8 @@ pub(super) fn linear_only(args: &IdentifyArgs) -> Result<(), Failure> {
 }
 
 /// Runs the reverse path on every record of `args.files` and writes the result. The
-/// excitation is the one given, or the one the first record with a force says.
+/// excitation is the one given, or the one the first record with a force says
+/// ([`Excitation::from_record`]).
 pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Result<(), Failure> {
     let start = Instant::now();
     let first = read_file(&args.files[0], channels)?;
@@ -54,7 +55,7 @@ pub(super) fn run(args: &IdentifyArgs, terms: &str, channels: &Channels) -> Resu
                 .iter()
                 .map(|path| read_first(path, channels).map(std::borrow::Cow::Owned));
             let records = std::iter::once(Ok(std::borrow::Cow::Borrowed(&first[0]))).chain(rest);
-            Excitation::from_crest_factor(deciding_crest_factor(records)?)
+            Excitation::from_record(&*deciding_record(records)?)?
         }
     };
     if !matches!(excitation, Excitation::Random | Excitation::Periodic) {
