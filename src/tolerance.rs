@@ -318,6 +318,15 @@ pub const INTERFERENCE_GUARD: usize = 2;
 /// tests lies many decades further out.
 pub const MODEL_MISFIT_P: f64 = 0.01;
 
+/// Most iterations of the model check's own fit of the model family (iteratively reweighted
+/// least squares per element, see `identify::model_check`); it converges in a few from the
+/// estimator's coefficients.
+pub const FAMILY_FIT_ITERATIONS: usize = 20;
+
+/// The model check's own fit stops when an element's stiffness changes by less than this,
+/// relative: far below any noise the check judges.
+pub const FAMILY_FIT_TOLERANCE: f64 = 1e-10;
+
 /// Fewest lines the runs test of the model check's residual signs counts over (its normal
 /// approximation wants about ten of each sign); shorter sequences are left out of it.
 pub const MIN_RUNS_LINES: usize = 20;
@@ -343,11 +352,19 @@ pub const BAND_SHIFT_LINES: usize = 3;
 pub const MODEL_CHECK_FLOOR: f64 = 1e-6;
 // ---- Predicted bias (issue 25, item 8) ----
 
-/// A predicted bias ([`crate::gate::PredictedBias`]) is named in a warning and kept on the
-/// result above this many standard deviations of the coefficient it biases: below it, it
+/// A predicted bias ([`crate::gate::PredictedBias`]) is kept on the result and carried in the
+/// error bars above this many standard deviations of the coefficient it biases (named in a
+/// warning above [`BIAS_WARN_SIGMAS`], or here already when the user can remove it: impacts
+/// cut before the response decayed, `not_decayed`): below it, it
 /// widens a 95 % interval by under 12 % (the interval of `N(b, σ)` for `b = σ/2` covers as
 /// one of width `1.96 σ · 1.12` about the truth).
 pub const BIAS_SIGMAS: f64 = 0.5;
+
+/// A carried bias or noise uncertainty is news, a warning, only above this many random
+/// standard deviations of the coefficient it moves: it then makes at least half the variance of
+/// that coefficient's combined error bar. Below it, it is budget: carried in the combined
+/// error bars (above [`BIAS_SIGMAS`]) and listed in the budget, not warned about.
+pub const BIAS_WARN_SIGMAS: f64 = 1.0;
 
 /// A response is decayed when its slowest mode's envelope at the record's end is below this
 /// fraction of its start: the truncation of what is left is then predicted no more (its bias

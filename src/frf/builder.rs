@@ -11,6 +11,7 @@ use super::contribution::{
     Contribution, contribute, dead_channel, level_out_of_range, overflow_check,
 };
 use super::conversion::to_displacement;
+use super::noise::NoiseFloor;
 use super::sets::SetTable;
 use super::transfer::ChannelTransfers;
 use super::{Assignment, Band, Estimator, Frf};
@@ -59,6 +60,22 @@ impl Plan {
                 .ok()?;
             Some((l, freq, at))
         })
+    }
+}
+
+/// Adds one record's period means (its `n` channels' spectra summed over its `periods`
+/// periods, `sf` and `sx`, `[l * n + c]`) to `means` (`[l * 2n + c]`, forces then responses):
+/// nothing unless `means` is kept (periodic segmentation).
+fn add_period_means(means: &mut [f64], sf: &[c64], sx: &[c64], n: usize, periods: usize) {
+    if means.is_empty() || sf.len() * 2 != means.len() || periods == 0 {
+        return;
+    }
+    let p = periods as f64;
+    for (l, line) in means.chunks_exact_mut(2 * n).enumerate() {
+        for c in 0..n {
+            line[c] += sf[l * n + c].norm_sqr() / p;
+            line[n + c] += sx[l * n + c].norm_sqr() / p;
+        }
     }
 }
 
@@ -111,6 +128,13 @@ pub struct FrfBuilder {
     /// Paired sets: each set's `cond(X_s)` and `H_s` per line, once asked for
     /// ([`FrfBuilder::set_table`]); cleared when records come in or go out.
     pub(super) sets: OnceLock<SetTable>,
+    /// Periods: per line, `[l * 2n + c]` each force channel's $\sum_r |\Sigma_p F_{c,rp}|^2 / P$,
+    /// then each response channel's: the power of the period means, for the noise the periods
+    /// show ([`FrfBuilder::noise_floor`]).
+    pub(super) period_means: Vec<f64>,
+    /// The force noise the H1 finishes take off `S_ff` ([`FrfBuilder::compensate_force_noise`]);
+    /// cleared when records come in or go out.
+    pub(super) compensation: Option<NoiseFloor>,
 }
 
 impl FrfBuilder {
@@ -145,6 +169,8 @@ impl FrfBuilder {
             dead: None,
             level: None,
             sets: OnceLock::new(),
+            period_means: Vec::new(),
+            compensation: None,
         }
     }
 
@@ -300,8 +326,17 @@ impl FrfBuilder {
         for totals in [&mut self.sff, &mut self.sxf, &mut self.sxx] {
             totals.fill(zero);
         }
+        self.period_means.fill(0.0);
+        self.compensation = None;
         for g in &self.gathered {
-            if let Contribution::Cross { sff, sxf, sxx, .. } = &g.contribution {
+            if let Contribution::Cross {
+                sff,
+                sxf,
+                sxx,
+                sf,
+                sx,
+            } = &g.contribution
+            {
                 for (totals, part) in [
                     (&mut self.sff, sff),
                     (&mut self.sxf, sxf),
@@ -309,6 +344,7 @@ impl FrfBuilder {
                 ] {
                     totals.iter_mut().zip(part).for_each(|(t, p)| *t += p);
                 }
+                add_period_means(&mut self.period_means, sf, sx, plan.n, segments);
             }
         }
         self.averages = segments * self.gathered.len();
@@ -344,6 +380,9 @@ impl FrfBuilder {
                     self.sff = vec![c64::new(0.0, 0.0); size];
                     self.sxf = vec![c64::new(0.0, 0.0); size];
                     self.sxx = vec![c64::new(0.0, 0.0); size];
+                    if matches!(self.segmentation, Segmentation::Periods { .. }) {
+                        self.period_means = vec![0.0; plan.lines.len() * 2 * n];
+                    }
                 }
                 let spectral = match self.force_gate {
                     Some(gate) => spectral.with_force_gate(gate),
@@ -461,7 +500,10 @@ impl FrfBuilder {
                         )?;
                     }
                 }
-                self.averages += self.segmentation.starts(record.len()).count();
+                let segments = self.segmentation.starts(record.len()).count();
+                self.averages += segments;
+                let n = self.plan.as_ref().map_or(0, |(p, _)| p.n);
+                add_period_means(&mut self.period_means, &sf, &sx, n, segments);
                 if self.keep_partials {
                     Contribution::Cross {
                         sff,
@@ -487,6 +529,7 @@ impl FrfBuilder {
             }
         };
         self.sets.take();
+        self.compensation = None;
         self.gathered.push(Gathered {
             label: record.label().to_owned(),
             dominant: record.dominant_force(),
@@ -568,7 +611,19 @@ impl FrfBuilder {
             Estimator::H2 => Estimator::H1,
             Estimator::Hv | Estimator::PairedSets => return None,
         };
-        let frf = self.finish_cross_as(plan, None, other);
+        let frf = self.finish_cross_as(plan, None, other, None);
+        Some(frf.check_finite().map(|()| frf))
+    }
+
+    /// The H1 finish compensated for the force noise `force` (per average, `[l * n + c]` over
+    /// the plan's lines) instead of the builder's own compensation; `None` for other
+    /// estimators or before any record. The compensation's uncertainty is judged by it.
+    pub(crate) fn finish_compensated(&self, force: &[f64]) -> Option<Result<Frf>> {
+        let (plan, _) = self.plan.as_ref()?;
+        if self.estimator != Estimator::H1 || force.len() != plan.lines.len() * plan.n {
+            return None;
+        }
+        let frf = self.finish_cross_as(plan, None, Estimator::H1, Some(force));
         Some(frf.check_finite().map(|()| frf))
     }
 }

@@ -125,18 +125,23 @@ impl FrfBuilder {
         (totals, averages)
     }
 
-    /// The cross-spectral estimate from the totals (or weighted partials), line by line.
+    /// The cross-spectral estimate from the totals (or weighted partials), line by line, H1
+    /// compensated for the force noise ([`FrfBuilder::compensate_force_noise`]) if asked.
     pub(super) fn finish_cross(&self, plan: &Plan, weights: Option<&[f64]>) -> Frf {
-        self.finish_cross_as(plan, weights, self.estimator)
+        let compensation = self.compensation.as_ref().map(|c| &c.force[..]);
+        self.finish_cross_as(plan, weights, self.estimator, compensation)
     }
 
-    /// [`FrfBuilder::finish_cross`] with another cross-spectral `estimator` on the same sums.
+    /// [`FrfBuilder::finish_cross`] with another cross-spectral `estimator` on the same sums,
+    /// and H1 compensated for the force noise `compensation` (per average, `[l * n + c]`).
     pub(super) fn finish_cross_as(
         &self,
         plan: &Plan,
         weights: Option<&[f64]>,
         estimator: Estimator,
+        compensation: Option<&[f64]>,
     ) -> Frf {
+        let compensation = compensation.filter(|_| estimator == Estimator::H1);
         let n = plan.n;
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
@@ -152,8 +157,9 @@ impl FrfBuilder {
         let estimator = line_estimator(estimator);
         let mut work = LineWork::new(n);
         let (mut inv, mut conditioner) = (vec![zero; nn], linalg::Conditioner::new(n));
+        let (mut compensated, mut compensated_inv) = (vec![zero; nn], vec![zero; nn]);
         let (mut multiple, mut ordinary) = (vec![0.0; n], vec![0.0; nn]);
-        let (mut auto, mut variance) = (vec![0.0; n], vec![0.0; nn]);
+        let (mut auto, mut variance, mut equation) = (vec![0.0; n], vec![0.0; nn], vec![0.0; nn]);
         for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             if periodic && power(l) < UNEXCITED_RATIO * strongest {
@@ -165,10 +171,22 @@ impl FrfBuilder {
             let cond = conditioner.condition_number(sf);
             inv.copy_from_slice(sf);
             let ok = work.inverter.invert(&mut inv) && {
+                let (sff, sff_inv) = match compensation {
+                    Some(noise) => {
+                        compensate(sf, &noise[l * n..(l + 1) * n], averages, &mut compensated);
+                        compensated_inv.copy_from_slice(&compensated);
+                        if !work.inverter.invert(&mut compensated_inv) {
+                            frf.dropped_hz.push(freq);
+                            continue;
+                        }
+                        (&compensated[..], &compensated_inv[..])
+                    }
+                    None => (sf, &inv[..]),
+                };
                 let sums = LineSums {
                     n,
-                    sff: sf,
-                    sff_inv: &inv,
+                    sff,
+                    sff_inv,
                     sxf: sx,
                     sxx: ss,
                 };
@@ -186,13 +204,40 @@ impl FrfBuilder {
             line_coherence(n, sf, &inv, sx, &auto, &mut multiple, &mut ordinary);
             frf.push_coherence(&multiple, &ordinary);
             if with_variance {
-                h1_impedance_variance(n, h, &inv, &auto, &multiple, averages, &mut variance);
+                h1_impedance_variance(
+                    n,
+                    h,
+                    &inv,
+                    &auto,
+                    &multiple,
+                    averages,
+                    &mut variance,
+                    &mut equation,
+                );
                 frf.impedance_variance.extend_from_slice(&variance);
+                frf.equation_variance.extend_from_slice(&equation);
             }
         }
         frf
     }
 }
+
+/// `S_ff` of `averages` averages with the force noise `noise` (per average, one per channel)
+/// taken off its diagonal, into `out`; never below [`MIN_COMPENSATED`] of the diagonal (a line
+/// whose force is mostly noise keeps a little of it rather than a matrix that is not
+/// positive).
+pub(super) fn compensate(sff: &[c64], noise: &[f64], averages: f64, out: &mut [c64]) {
+    let n = noise.len();
+    out.copy_from_slice(sff);
+    for (c, &v) in noise.iter().enumerate() {
+        let d = c * (n + 1);
+        let kept = (sff[d].re - averages * v).max(MIN_COMPENSATED * sff[d].re);
+        out[d] = c64::new(kept, 0.0);
+    }
+}
+
+/// The least share of a force channel's auto-spectrum the compensation keeps.
+const MIN_COMPENSATED: f64 = 0.1;
 
 #[cfg(test)]
 mod tests {

@@ -39,6 +39,7 @@ mod h2;
 mod hv;
 pub mod interference;
 mod moments;
+mod noise;
 mod paired;
 mod replicates;
 mod sets;
@@ -56,6 +57,7 @@ pub use builder::FrfBuilder;
 pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub(crate) use moments::RecordMoments;
+pub use noise::{NoiseFloor, NoiseSource};
 pub use paired::paired_sets;
 pub(crate) use paired::{PairedKernel, Share};
 pub(crate) use replicates::Replicates;
@@ -157,6 +159,9 @@ pub struct Frf {
     ordinary_coherence: Vec<f64>,
     /// `E|δH_ij|²` per line, `n × n` column-major; empty when unknown.
     impedance_variance: Vec<f64>,
+    /// `E|(δG H)_ij|²` per line, `n × n` column-major: the variance of the identity `G H = I`
+    /// the fits solve, at the true `H` (see [`Frf::equation_variance`]); empty when unknown.
+    equation_variance: Vec<f64>,
     /// Band lines the excitation does not drive (periodic segmentation only).
     unexcited_hz: Vec<f64>,
     /// Spacing of the lines (Hz) when known.
@@ -256,6 +261,7 @@ impl Frf {
             multiple_coherence: Vec::new(),
             ordinary_coherence: Vec::new(),
             impedance_variance: Vec::new(),
+            equation_variance: Vec::new(),
             unexcited_hz: Vec::new(),
             spacing_hz: None,
         }
@@ -424,6 +430,18 @@ impl Frf {
             .map(|s| MatRef::from_column_major_slice(s, self.dofs, self.dofs))
     }
 
+    /// The variance of the identity the fits solve at line `k`, `E|(δG\,H)_{ij}|²` (`n × n`):
+    /// with the measured flexibility `G + δG` and the true impedance `H`, `(G + δG) H − I` is
+    /// `δG H`, the equation error of a right model, whose correlations across the elements of
+    /// a row of `δG` (H1's, `Cov(row i) ∝ S_ff⁻¹`) or of a set's impedance (paired sets) it
+    /// keeps. `None` as for [`Frf::impedance_variance`].
+    pub(crate) fn equation_variance(&self, k: usize) -> Option<MatRef<'_, f64>> {
+        let nn = self.dofs * self.dofs;
+        self.equation_variance
+            .get(k * nn..(k + 1) * nn)
+            .map(|s| MatRef::from_column_major_slice(s, self.dofs, self.dofs))
+    }
+
     /// Lines of the band left out because the excitation does not drive them: with
     /// [`Segmentation::Periods`], lines whose force power `tr S_ff` is below
     /// [`UNEXCITED_RATIO`] of the band's strongest line.
@@ -458,6 +476,9 @@ impl Frf {
             }
             if let Some(v) = self.impedance_variance.get(k * nn..(k + 1) * nn) {
                 out.impedance_variance.extend_from_slice(v);
+            }
+            if let Some(v) = self.equation_variance.get(k * nn..(k + 1) * nn) {
+                out.equation_variance.extend_from_slice(v);
             }
         }
         out.unexcited_hz = self.unexcited_hz.clone();

@@ -10,7 +10,7 @@ use faer::c64;
 use super::builder::{FrfBuilder, Plan};
 use super::coherence::SpectraCoherence;
 use super::contribution::Contribution;
-use super::variance::set_scatter;
+use super::variance::{set_equation_scatter, set_scatter};
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Error, Result};
 use crate::linalg;
@@ -179,7 +179,7 @@ impl FrfBuilder {
         let mut inverter = linalg::Inverter::new(n);
         let mut coherence = SpectraCoherence::new(n);
         let mut per_set = Vec::with_capacity(if with_variance { used.len() * nn } else { 0 });
-        let mut variance = vec![0.0; nn];
+        let (mut variance, mut equation) = (vec![0.0; nn], vec![0.0; nn]);
         'lines: for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
             per_set.clear();
@@ -204,6 +204,8 @@ impl FrfBuilder {
                 if with_variance {
                     set_scatter(&per_set, &h, &mut variance);
                     frf.impedance_variance.extend_from_slice(&variance);
+                    set_equation_scatter(&per_set, &h, &g, &mut equation);
+                    frf.equation_variance.extend_from_slice(&equation);
                 }
                 // Coherence from the cross-spectra of all records at this line.
                 coherence.line(

@@ -22,7 +22,7 @@ use faer::c64;
 
 use super::builder::{FrfBuilder, Plan};
 use super::contribution::Contribution;
-use super::cross::{LineSums, LineWork, UNEXCITED_RATIO, line_estimator};
+use super::cross::{LineSums, LineWork, UNEXCITED_RATIO, compensate, line_estimator};
 use super::paired::Share;
 use super::sets::SetTable;
 use super::{Assignment, Estimator, Frf};
@@ -299,8 +299,17 @@ impl Replicates<'_> {
             0.0
         };
         let estimator = line_estimator(self.builder.estimator);
+        // H1 compensated for the force noise the full data showed, at this replicate's
+        // number of averages.
+        let compensation = self
+            .builder
+            .compensation
+            .as_ref()
+            .filter(|_| self.builder.estimator == Estimator::H1)
+            .map(|c| &c.force[..]);
+        let averages = frf.averages as f64;
         let mut work = LineWork::new(n);
-        let mut inv = vec![zero; nn];
+        let (mut inv, mut compensated) = (vec![zero; nn], vec![zero; nn]);
         for &(l, freq, cond) in &self.lines {
             sum(l, &mut sums);
             if periodic && power(&sums) < UNEXCITED_RATIO * strongest {
@@ -309,6 +318,13 @@ impl Replicates<'_> {
             }
             let (sf, rest) = sums.split_at(nn);
             let (sx, ss) = rest.split_at(nn);
+            let sf = match compensation {
+                Some(noise) => {
+                    compensate(sf, &noise[l * n..(l + 1) * n], averages, &mut compensated);
+                    &compensated[..]
+                }
+                None => sf,
+            };
             inv.copy_from_slice(sf);
             let ok = work.inverter.invert(&mut inv) && {
                 let sums = LineSums {

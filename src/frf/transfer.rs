@@ -351,6 +351,15 @@ impl ChannelTransfers {
                     if g_hit {
                         out.flexibility[at] *= g_factor;
                     }
+                    // δG H → D_x (δG H) D_x⁻¹: a response channel's row and column.
+                    if let (false, Some(v)) = (on_row, out.equation_variance.get_mut(at)) {
+                        if g_hit {
+                            *v *= g_factor.norm_sqr();
+                        }
+                        if h_hit {
+                            *v *= h_factor.norm_sqr();
+                        }
+                    }
                 }
             }
         }

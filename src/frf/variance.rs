@@ -17,8 +17,13 @@ pub(super) fn set_scatter(per_set: &[c64], h: &[c64], out: &mut [f64]) {
     }
 }
 
-/// `E|δH_ij|²` at one line from the MIMO H1 random error (see [`Frf::impedance_variance`]):
-/// `sff_inv = S_ff⁻¹`, `auto[i] = S_xᵢxᵢ`, `multiple[i] = γ²ᵢ:f`, `averages = n_d`.
+/// `E|δH_ij|²` at one line from the MIMO H1 random error (see [`Frf::impedance_variance`])
+/// into `out`, and the equation error's `E|(δG H)_ij|² = ν_i q_j` into `equation`
+/// ([`Frf::equation_variance`]): row `i` of `δG` has covariance `ν_i S_ff⁻¹` with
+/// `ν_i = S_xᵢxᵢ (1 − γ²ᵢ:f)/(n_d − n)`, and `q_j = h_jᴴ S_ff⁻¹ h_j` for column `j` of `H`;
+/// `δH = −H (δG H)`. `sff_inv = S_ff⁻¹`, `auto[i] = S_xᵢxᵢ`, `multiple[i] = γ²ᵢ:f`,
+/// `averages = n_d`.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn h1_impedance_variance(
     n: usize,
     h: &[c64],
@@ -27,6 +32,7 @@ pub(super) fn h1_impedance_variance(
     multiple: &[f64],
     averages: f64,
     out: &mut [f64],
+    equation: &mut [f64],
 ) {
     let dof = averages - n as f64;
     for j in 0..n {
@@ -37,14 +43,35 @@ pub(super) fn h1_impedance_variance(
                 q += h[a + j * n].conj() * sff_inv[a + b * n] * h[b + j * n];
             }
         }
+        let q = q.re.max(0.0);
+        for a in 0..n {
+            equation[a + j * n] = (auto[a] * (1.0 - multiple[a])).max(0.0) / dof * q;
+        }
         for i in 0..n {
             out[i + j * n] = (0..n)
-                .map(|a| {
-                    let noise = (auto[a] * (1.0 - multiple[a])).max(0.0) / dof;
-                    h[i + a * n].norm_sqr() * noise
-                })
-                .sum::<f64>()
-                * q.re.max(0.0);
+                .map(|a| h[i + a * n].norm_sqr() * equation[a + j * n])
+                .sum::<f64>();
+        }
+    }
+}
+
+/// The equation error's variance `E|(δG H̄)_ij|²` at one line from the scatter of the `S`
+/// per-set impedances `per_set` about their mean `h` (column-major `n × n` each), with
+/// `g = h⁻¹`: to first order `G_s H̄ − I = −Ḡ (H_s − H̄)`, so
+/// $\sum_s |[\bar G (H_s - \bar H)]_{ij}|^2 / (S(S-1))$ (see [`Frf::equation_variance`]).
+pub(super) fn set_equation_scatter(per_set: &[c64], h: &[c64], g: &[c64], out: &mut [f64]) {
+    let nn = h.len();
+    let n = (nn as f64).sqrt().round() as usize;
+    let sets = (per_set.len() / nn) as f64;
+    out.fill(0.0);
+    for set in per_set.chunks_exact(nn) {
+        for j in 0..n {
+            for i in 0..n {
+                let e: c64 = (0..n)
+                    .map(|a| g[i + a * n] * (set[a + j * n] - h[a + j * n]))
+                    .sum();
+                out[i + j * n] += e.norm_sqr() / (sets * (sets - 1.0));
+            }
         }
     }
 }

@@ -1,9 +1,12 @@
 //! The bias the processing adds and the fit cannot see, predicted from the fitted model
 //! ([`crate::gate::PredictedBias`]): Welch leakage of Hann segments, truncation of impact
 //! records whose response has not decayed. Above half a standard deviation of some
-//! coefficient it is named in a warning and kept on the result.
+//! coefficient it is kept on the result and carried in the error bars; it is named in a
+//! warning when it is large against them or the user can remove it.
 
 use crate::error::Warning;
+#[cfg(doc)]
+use crate::frf::NoiseFloor;
 use crate::frf::{Frf, FrfBuilder};
 use crate::gate::{
     BiasSource, PredictedBias, leaked_flexibility, predicted_bias, truncated_flexibility, worst_in,
@@ -11,19 +14,23 @@ use crate::gate::{
 use crate::model::Coefficients;
 use crate::solve::{self, Fit, Method};
 use crate::spectra::{Segmentation, Window};
-use crate::tolerance::{BIAS_SIGMAS, DECAYED};
+use crate::tolerance::{BIAS_SIGMAS, BIAS_WARN_SIGMAS, DECAYED};
 
 use super::Settings;
 
 impl Settings {
     /// The predicted bias of `fit` (window-corrected) on the lines of `frf`, when some
     /// coefficient's exceeds [`BIAS_SIGMAS`] of its standard deviation `std`, with its warning
-    /// pushed on `warnings`: Welch (Hann) segments leak ([`Warning::LeakageBias`]); whole
-    /// records under no window whose slowest mode keeps more than [`DECAYED`] of its envelope
-    /// at the record's end are truncated ([`Warning::NotDecayed`]; the response taken to start
-    /// at the force's peak, the median over the records). Nothing is predicted for a
-    /// ready-made FRF, without standard deviations or when the prediction fails (it never
-    /// fails the identification).
+    /// pushed on `warnings` when it is news:
+    /// - Welch (Hann) segments leak: carried, and [`Warning::LeakageBias`] only when it passes
+    ///   [`BIAS_WARN_SIGMAS`] (the Welch length was chosen to keep it small).
+    /// - Whole records under no window whose slowest mode keeps more than [`DECAYED`] of its
+    ///   envelope at the record's end are truncated ([`Warning::NotDecayed`], which names the
+    ///   window that removes it; the response taken to start at the force's peak, the median
+    ///   over the records). Carried, never corrected.
+    ///
+    /// Nothing is predicted for a ready-made FRF, without standard deviations or when the
+    /// prediction fails (it never fails the identification).
     pub(super) fn predicted_bias(
         &self,
         frf: &Frf,
@@ -65,6 +72,11 @@ impl Settings {
         }
         let value = |c: &Coefficients| element(c, block, row, col);
         let relative = value(&bias.bias) / value(model);
+        // Leakage is budget unless large; a truncation the user can remove (an exponential
+        // window) is named as soon as it is carried.
+        if source == BiasSource::Leakage && sigmas <= BIAS_WARN_SIGMAS {
+            return Some(bias);
+        }
         warnings.push(match source {
             BiasSource::Leakage => Warning::LeakageBias {
                 spacing_hz: rate / seg_len as f64,
@@ -87,21 +99,24 @@ impl Settings {
         Some(bias)
     }
 
-    /// The difference between the fit on H1 and the fit on H2 of the same spectra, when the
-    /// estimator is one of the two, the method is not ML (whose noise model has both
-    /// channels) and the difference passes [`BIAS_SIGMAS`] of the random standard deviation
-    /// `random` on some coefficient, with [`Warning::NoiseBias`] pushed on `warnings`.
+    /// What the noise on the channels leaves uncertain in an H1 (or H2) fit, with
+    /// [`Warning::NoiseBias`] pushed on `warnings` when it passes [`BIAS_WARN_SIGMAS`] of the
+    /// random standard deviation `random` on some coefficient; nothing for ML (whose noise model
+    /// has both channels) or without error bars.
     ///
     /// Noise of power $N_f$ on the forces turns H1's impedance into $(I + N_f S_{ff}^{-1}) Z$,
     /// too stiff, too heavy and too damped by the forces' noise-to-signal ratio; noise on the
-    /// responses biases H2 the other way, and the truth lies between them. Neither the
-    /// replicates' scatter nor the model check sees this bias (it is the same in every
-    /// segment). Where the noise sits the records cannot tell (coherence sees only the sum of
-    /// the two ratios), and on a bearing rig it may sit on either side: a clean load cell and
-    /// noisy probes leave H1 nearly exact, a noisy force channel leaves H2 so. So the whole
-    /// bracket, the bias of the estimator in use were all the noise on the channel it
-    /// assumes clean, is carried as a standard uncertainty. The other fit is made on the same
-    /// lines as `frf` (after the coherence selection) with the same method.
+    /// responses biases H2 the other way. Neither the replicates' scatter nor the model check
+    /// sees this (it is the same in every segment).
+    /// - Where the periods or segments show the split ([`NoiseFloor`]), H1 was compensated for
+    ///   the force noise they show; what is left is the uncertainty of that estimate: the
+    ///   change of the fit when the force noise is raised by one standard error of it
+    ///   ([`NoiseFloor`]'s), always carried.
+    /// - Where they do not (H2, whole records, too few averages or lines), the whole bracket,
+    ///   the difference between the fits on H1 and on H2 of the same spectra, the bias of the
+    ///   estimator in use were all the noise on the channel it assumes clean, is carried once
+    ///   it passes [`BIAS_SIGMAS`]. The other fit is made on the same lines as `frf` (after the
+    ///   coherence selection) with the same method.
     pub(super) fn noise_bracket(
         &self,
         frf: &Frf,
@@ -112,10 +127,15 @@ impl Settings {
     ) -> Option<Coefficients> {
         // Without error bars nothing is judged or carried: no refit.
         let random = random?;
+        let builder = builder?;
         if self.method == Method::Ml {
             return None;
         }
-        let other = builder?.finish_bracket()?.ok()?;
+        let (other, compensated) = match builder.compensation() {
+            Some(floor) => (builder.finish_compensated(&floor.force_raised())?, true),
+            None => (builder.finish_bracket()?, false),
+        };
+        let other = other.ok()?;
         let kept = frf.freqs_hz();
         let other = other.retain_lines(|k| {
             kept.binary_search_by(|f| f.total_cmp(&other.freqs_hz()[k]))
@@ -129,19 +149,21 @@ impl Settings {
             faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| (b[(i, j)] - a[(i, j)]).abs());
         let bracket = Coefficients::from_stacked(bracket.as_ref()).ok()?;
         let (block, row, col, sigmas) = worst_in(&bracket, random)?;
-        if sigmas <= BIAS_SIGMAS {
+        if !compensated && sigmas <= BIAS_SIGMAS {
             return None;
         }
-        let value = |c: &Coefficients| element(c, block, row, col);
-        warnings.push(Warning::NoiseBias {
-            estimator: self.estimator,
-            block,
-            row,
-            col,
-            relative: (value(refit.coefficients()) - value(fit.coefficients()))
-                / value(fit.coefficients()),
-            sigmas,
-        });
+        if sigmas > BIAS_WARN_SIGMAS {
+            let value = |c: &Coefficients| element(c, block, row, col);
+            warnings.push(Warning::NoiseBias {
+                estimator: self.estimator,
+                block,
+                row,
+                col,
+                relative: (value(refit.coefficients()) - value(fit.coefficients()))
+                    / value(fit.coefficients()),
+                sigmas,
+            });
+        }
         Some(bracket)
     }
 }

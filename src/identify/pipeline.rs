@@ -318,7 +318,7 @@ impl Settings {
     /// it causes.
     fn finish(
         &self,
-        builder: FrfBuilder,
+        mut builder: FrfBuilder,
         screened: Vec<Warning>,
         mut t: Timings,
         start: Instant,
@@ -326,6 +326,8 @@ impl Settings {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
+        // H1 from periods or Welch segments: the force noise the records show is taken off.
+        timed(&mut t.noise, || builder.compensate_force_noise().is_some());
         let frf = timed(&mut t.frf, || {
             let frf = builder.finish(&self.assignment)?;
             let excitations = match self.estimator {
@@ -421,11 +423,13 @@ impl Settings {
         // r² compares like with like: measured and fitted flexibility of the windowed data.
         let fit_r2 = flexibility_r2(&frf, fit.coefficients());
         // So does the model check: the windowed data against the windowed fit.
-        let (model_check, misfit) = match &ml {
-            Some(report) if fit.method() == Method::Ml => ModelCheck::ml(report, &frf)?,
-            _ => ModelCheck::replicates(&frf, fit.coefficients(), self.runs_stride(&frf))?,
-        };
+        t.solve += solve_start.elapsed();
+        let (model_check, misfit) = timed(&mut t.model_check, || match &ml {
+            Some(report) if fit.method() == Method::Ml => ModelCheck::ml(report, &frf),
+            _ => ModelCheck::replicates(&frf, fit.coefficients(), self.runs_stride(&frf)),
+        })?;
         warnings.extend(misfit);
+        let solve_start = Instant::now();
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         t.solve += solve_start.elapsed();
@@ -434,6 +438,7 @@ impl Settings {
         })?;
         // A bias is judged against the random error: the model component may already be
         // widened by the very misfit the bias makes.
+        let bias_start = Instant::now();
         let random = bars.budget.as_ref().map(|b| &b.random);
         let predicted_bias = self.predicted_bias(
             &frf,
@@ -443,8 +448,9 @@ impl Settings {
             &mut warnings,
         );
         let bracket = self.noise_bracket(&frf, builder, &fit, random, &mut warnings);
-        // A bias past the threshold (warned above) is carried by the model component, so the
-        // combined intervals cover it.
+        t.bias += bias_start.elapsed();
+        // A bias past the threshold is carried by the model component, so the combined
+        // intervals cover it.
         let carried = [predicted_bias.as_ref().map(|b| &b.bias), bracket.as_ref()];
         if let Some(budget) = bars
             .budget
@@ -458,13 +464,16 @@ impl Settings {
         }
         // The calibration's sources move every coefficient at once (a common gain scales
         // M, C, K alike and moves no mode; a delay moves damping): carried as directions.
-        let modes_std = bars.budget.as_ref().and_then(|b| {
-            let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
-            mode_std(fit.coefficients(), &cov, b.calibration_directions()).ok()
+        let modes_std = timed(&mut t.uncertainty, || {
+            bars.budget.as_ref().and_then(|b| {
+                let cov = scaled_covariance(fit.covariance(), &b.random_and_model().ok()?);
+                mode_std(fit.coefficients(), &cov, b.calibration_directions()).ok()
+            })
         });
         t.total = start.elapsed();
         Ok(Identification {
             ml,
+            noise_floor: builder.and_then(|b| b.compensation().cloned()),
             band: self.band,
             window: self.window,
             segmentation: if builder.is_some() {

@@ -19,6 +19,8 @@ use super::{Budget, ModelCheck, Timings, Uncertainty};
 #[derive(Debug, Clone, PartialEq)]
 pub struct Identification {
     pub(super) ml: Option<MlReport>,
+    /// The noise the periods or segments showed, H1 compensated for its force share.
+    pub(super) noise_floor: Option<crate::frf::NoiseFloor>,
     pub(super) band: Band,
     pub(super) window: Window,
     pub(super) segmentation: Segmentation,
@@ -48,6 +50,25 @@ pub struct Identification {
 }
 
 impl Identification {
+    /// The measurement noise of the force and response channels that the records showed
+    /// (repeated periods, or Welch segments fitted over the band), when H1's impedance was
+    /// compensated for the force channels' share of it ([`crate::frf::NoiseFloor`]); `None`
+    /// for other estimators and segmentations, or when the records could not show it.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, noise: 0.02, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// // Paired sets of impacts: no compensation.
+    /// assert!(Identifier::new(8.0, 49.0).identify(&records)?.noise_floor().is_none());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn noise_floor(&self) -> Option<&crate::frf::NoiseFloor> {
+        self.noise_floor.as_ref()
+    }
+
     /// A bias of the coefficients predicted from the fitted model, when it exceeds half a
     /// standard deviation of some coefficient ([`PredictedBias`](crate::gate::PredictedBias),
     /// absolute, estimate minus truth, with its source): the Welch leakage of Hann segments

@@ -205,7 +205,7 @@ impl Settings {
         let mut builder =
             FrfBuilder::new(self.estimator, self.band, self.segmentation, self.window)
                 .channel_transfers(self.transfers.clone());
-        if self.uncertainty.resamples() || self.method == Method::Ml {
+        if self.resamples() || self.method == Method::Ml {
             builder = builder.keeping_partials();
         }
         if let Some(gate) = self.force_gate {
@@ -217,14 +217,13 @@ impl Settings {
         }
     }
 
-    /// The fit mapped back through an exponential window's exact correction, if any.
     /// The stride over lines of the model check's runs test: past the window's correlation of
-    /// neighbouring lines (see `model_check`'s module docs): 1 without a window, 2 for Hann,
+    /// neighbouring lines (see `model_check`'s module docs): 1 without a window, 3 for Hann,
     /// `⌈1.56·a·T⌉` for an exponential window of decay `a` over segments of `T = 1/spacing`.
     pub(super) fn runs_stride(&self, frf: &Frf) -> usize {
         match self.window {
             Window::Rectangular => 1,
-            Window::Hann => 2,
+            Window::Hann => 3,
             Window::Exponential { decay_per_s } => match frf.line_spacing_hz() {
                 Some(spacing) if spacing > 0.0 => {
                     let d = (1.56 * decay_per_s / spacing).ceil();
@@ -239,6 +238,17 @@ impl Settings {
         }
     }
 
+    /// Whether the error bars refit replicates, so that their spectra must be kept: the
+    /// jackknife and the bootstrap, and [`Uncertainty::Auto`] unless the records are cut
+    /// into periods (whose own scatter gives the sandwich its noise).
+    pub(super) fn resamples(&self) -> bool {
+        match self.uncertainty {
+            Uncertainty::Auto => !matches!(self.segmentation, Segmentation::Periods { .. }),
+            u => u.resamples(),
+        }
+    }
+
+    /// The fit mapped back through an exponential window's exact correction, if any.
     pub(super) fn corrected(&self, fit: Fit) -> Result<Fit> {
         match self.window.decay_per_s() {
             Some(a) if a > 0.0 => fit.corrected_for_window(a),

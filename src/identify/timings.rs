@@ -13,10 +13,13 @@ use std::time::{Duration, Instant};
 /// |---|---|
 /// | `screen` | record screening: flat channels, clipping, double hits, duplicates, outliers, the per-line test of paired sets |
 /// | `spectra` | windows, gates and FFTs of the records, folded into band-line spectra or cross-spectra |
+/// | `noise` | the noise the periods or segments show, for H1's compensation ([`NoiseFloor`](crate::frf::NoiseFloor)) |
 /// | `frf` | impedance and flexibility per line (inversions, per-line products, coherence, and the per-line condition numbers the estimators compute as they go), coherence selection |
 /// | `conditioning` | the verdict on the per-line condition numbers ([`Conditioning`](crate::conditioning::Conditioning)) |
 /// | `solve` | the fit, the window correction and the diagnostics of the fit |
-/// | `uncertainty` | the error bars (sandwich, or every jackknife / bootstrap refit) |
+/// | `model_check` | the model check ([`ModelCheck`](crate::identify::ModelCheck)) |
+/// | `uncertainty` | the error bars (sandwich, or every jackknife / bootstrap refit, the band refits of the budget) |
+/// | `bias` | the processing bias predicted from the fit (leakage, truncation) and the refit that judges the noise compensation (or the H1/H2 bracket) |
 /// | `total` | everything from the call to the result |
 ///
 /// `total` is at least the sum of the others (the rest is bookkeeping between stages). Records
@@ -35,7 +38,7 @@ use std::time::{Duration, Instant};
 /// let records = ImpactTest { per_direction: 1, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
 /// let t = Identifier::new(8.0, 49.0).identify(&records)?.timings();
 /// assert!(t.total >= t.stages().iter().map(|(_, d)| *d).sum());
-/// assert_eq!(t.stages().len(), 6);
+/// assert_eq!(t.stages().len(), 9);
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, Default)]
@@ -45,36 +48,48 @@ pub struct Timings {
     pub screen: Duration,
     /// Spectra of the records (FFTs).
     pub spectra: Duration,
+    /// The noise the records show, for H1's compensation.
+    pub noise: Duration,
     /// Impedance and flexibility per line.
     pub frf: Duration,
     /// The conditioning verdict.
     pub conditioning: Duration,
     /// The fit and its diagnostics.
     pub solve: Duration,
+    /// The model check.
+    pub model_check: Duration,
     /// The error bars.
     pub uncertainty: Duration,
+    /// The predicted processing bias and the noise compensation's refit.
+    pub bias: Duration,
     /// From the call to the result.
     pub total: Duration,
 }
 
 impl Timings {
-    /// The stages by name (`"screen"`, `"spectra"`, `"frf"`, `"conditioning"`, `"solve"`,
-    /// `"uncertainty"`), in pipeline order, without the total.
+    /// The stages by name, in pipeline order, without the total.
     ///
     /// # Examples
     /// ```
     /// use bearing_ident::identify::Timings;
     /// let names: Vec<&str> = Timings::default().stages().iter().map(|(n, _)| *n).collect();
-    /// assert_eq!(names, ["screen", "spectra", "frf", "conditioning", "solve", "uncertainty"]);
+    /// assert_eq!(
+    ///     names,
+    ///     ["screen", "spectra", "noise", "frf", "conditioning", "solve", "model_check",
+    ///      "uncertainty", "bias"]
+    /// );
     /// ```
-    pub fn stages(&self) -> [(&'static str, Duration); 6] {
+    pub fn stages(&self) -> [(&'static str, Duration); 9] {
         [
             ("screen", self.screen),
             ("spectra", self.spectra),
+            ("noise", self.noise),
             ("frf", self.frf),
             ("conditioning", self.conditioning),
             ("solve", self.solve),
+            ("model_check", self.model_check),
             ("uncertainty", self.uncertainty),
+            ("bias", self.bias),
         ]
     }
 }

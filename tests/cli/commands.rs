@@ -1546,10 +1546,11 @@ fn a_stated_delay_uncertainty_enters_the_budget() {
     );
 }
 
-/// Three multisine records, one driving x and two driving y, with `--excitation periodic`:
-/// before, the run failed as `bad_band` "the band holds 0 usable frequency lines" — the cause
-/// was the jackknife, whose refit without the lone x record has no excitation in x. Now the fit
-/// is given with sandwich error bars and the `jackknife_unavailable` warning.
+/// Three multisine records, one driving x and two driving y, with `--excitation periodic` and
+/// the jackknife asked for (periodic records take the sandwich by default): before, the run
+/// failed as `bad_band` "the band holds 0 usable frequency lines" — the cause was the
+/// jackknife, whose refit without the lone x record has no excitation in x. Now the fit is
+/// given with sandwich error bars and the `jackknife_unavailable` warning.
 #[test]
 fn a_direction_excited_by_one_record_falls_back_to_the_sandwich() {
     let dir = tempfile::tempdir().unwrap();
@@ -1568,9 +1569,12 @@ fn a_direction_excited_by_one_record_falls_back_to_the_sandwich() {
             "periodic",
             "--period",
             "1",
+            "--uncertainty",
+            "jackknife",
         ],
         &chosen,
     );
+    assert_eq!(v["uncertainty"], "sandwich", "{v}");
     let kinds: Vec<&str> = v["warning_kinds"]
         .as_array()
         .unwrap()
@@ -1689,10 +1693,10 @@ fn a_column_named_twice_is_refused_and_swapped_columns_are_suggested() {
 }
 
 /// A right model's multisine records cut into Welch segments (as `--excitation random` reads
-/// them; `auto` read them so until it learnt to find their period): leakage both inflates the replicates' scatter (residuals at 0.16 of it) and gives
-/// those small residuals runs of one sign over frequency (runs p ≈ 1e-5). That pattern is
-/// no misfit: the check says the model fits and no `model_misfit` is raised (it was before
-/// the runs test required residuals of at least half the pure error).
+/// them): leakage inflates the replicates' scatter (residuals at a few per cent of it) and
+/// shapes those small residuals over frequency. That is no misfit: the check says the model
+/// fits and no `model_misfit` is raised. (The runs test counts only residuals of at least half
+/// the pure error; on these 50 lines, taken three apart under Hann, it has too few to count.)
 #[test]
 fn leakage_patterns_in_small_residuals_are_no_misfit() {
     let dir = tempfile::tempdir().unwrap();
@@ -1714,7 +1718,6 @@ fn leakage_patterns_in_small_residuals_are_no_misfit() {
     let v = identify_json(&["--band", "8,49", "--excitation", "random"], &files);
     let check = &v["model_check"];
     assert!(check["statistic"].as_f64().unwrap() < 0.5 * check["expected"].as_f64().unwrap());
-    assert!(check["runs_p_value"].as_f64().unwrap() < 0.01, "{check}");
     assert_eq!(check["verdict"], "fits", "{check}");
     let kinds = v["warning_kinds"].as_array().unwrap();
     assert!(!kinds.iter().any(|k| k == "model_misfit"), "{kinds:?}");

@@ -30,17 +30,28 @@ fn library_timings_cover_every_stage() {
                 [
                     "screen",
                     "spectra",
+                    "noise",
                     "frf",
                     "conditioning",
                     "solve",
-                    "uncertainty"
+                    "model_check",
+                    "uncertainty",
+                    "bias"
                 ]
             );
             let parts: std::time::Duration = t.stages().iter().map(|(_, d)| *d).sum();
             assert!(t.total >= parts, "{t:?}");
             assert_eq!(
                 parts,
-                t.screen + t.spectra + t.frf + t.conditioning + t.solve + t.uncertainty
+                t.screen
+                    + t.spectra
+                    + t.noise
+                    + t.frf
+                    + t.conditioning
+                    + t.solve
+                    + t.model_check
+                    + t.uncertainty
+                    + t.bias
             );
         }
     }

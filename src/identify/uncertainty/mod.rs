@@ -56,8 +56,10 @@ pub enum Uncertainty {
         /// Seed of the resampling.
         seed: u64,
     },
-    /// The jackknife when there are at least 3 replicates, else the sandwich (no warning).
-    /// The result reports the one used.
+    /// The jackknife when there are at least 3 replicates, else the sandwich (no warning);
+    /// for periodic records the sandwich, whose noise the periods measure line by line (their
+    /// scatter has many degrees of freedom at every line, a jackknife over a few records
+    /// few). The result reports the one used.
     Auto,
 }
 
@@ -112,9 +114,13 @@ impl crate::Choice for Uncertainty {
 
     fn describe(self) -> &'static str {
         match self {
-            Uncertainty::Auto => "the jackknife with at least 3 sets or records, else the sandwich",
+            Uncertainty::Auto => {
+                "the jackknife with at least 3 sets or records, else the sandwich; periods: the sandwich"
+            }
             Uncertainty::None => "no error bars",
-            Uncertainty::Sandwich => "first order from the fit's residuals",
+            Uncertainty::Sandwich => {
+                "first order: the replicates' scatter (else the residuals) through the fit"
+            }
             Uncertainty::Jackknife => "leave-one-out refits of the sets or records",
             Uncertainty::Bootstrap { .. } => "refits of resampled sets or records",
         }
@@ -150,14 +156,16 @@ impl Settings {
         // Shared by every refit: per-set impedances (or per-record cross-spectra) on the
         // lines of `frf`, with their condition numbers; only the fit is repeated.
         let shared = match builder {
-            Some(b) if self.uncertainty.resamples() && self.method != Method::Ml => {
+            Some(b) if self.resamples() && self.method != Method::Ml => {
                 Some(b.replicates_on(&self.assignment, frf)?)
             }
             _ => None,
         };
         let replicates = shared.as_ref().map_or(0, Replicates::count);
         let mut uncertainty = match self.uncertainty {
-            Uncertainty::Auto if self.method == Method::Ml => Uncertainty::Sandwich,
+            Uncertainty::Auto if self.method == Method::Ml || !self.resamples() => {
+                Uncertainty::Sandwich
+            }
             Uncertainty::Auto if replicates >= 3 => Uncertainty::Jackknife,
             Uncertainty::Auto => Uncertainty::Sandwich,
             Uncertainty::Jackknife | Uncertainty::Bootstrap { .. } if replicates < 3 => {
