@@ -57,7 +57,7 @@ pub use builder::FrfBuilder;
 pub use cross::UNEXCITED_RATIO;
 pub use h1::h1;
 pub(crate) use moments::RecordMoments;
-pub use noise::{NoiseFloor, NoiseSource};
+pub use noise::{ForceNoise, NoiseFloor, NoiseSource};
 pub use paired::paired_sets;
 pub(crate) use paired::{PairedKernel, Share};
 pub(crate) use replicates::Replicates;

@@ -28,17 +28,29 @@
 //!   compensated. The standard errors come from the fit, scaled by its own reduced χ² when that
 //!   is above 1 (noise that is not flat, overlapping segments).
 //!
-//! # Compensation
-//! With the force noise known, $G = S_{xf} (S_{ff} - A N_f)^{-1}$ is unbiased for both
-//! noises ([`FrfBuilder::compensate_force_noise`]): the diagonal of $S_{ff}$ loses the noise
-//! power the records show, and every finish of the builder (the full data, the leave-one-out
-//! replicates, the band refits) uses it. Its uncertainty is what the noise estimate's standard
-//! error moves the fit by ([`FrfBuilder::finish_compensated`] with the estimate raised by one
-//! standard error).
+//! # Force measurement noise or an unmeasured excitation
+//! The segments' force-side term is any noise that enters as the forces do: the force
+//! channels' measurement noise, but equally an excitation they do not measure (a second force
+//! on the rig, the distortion of a nonlinear element), which leaves H1 exact. Second-order
+//! spectra cannot tell the two apart. Periods can: a measurement's noise scatters from period
+//! to period, while a periodic drive, its distortion and the rig's response to them repeat.
 //!
-//! On a clean load cell the force noise comes out near zero and H1 is left as it was; on
-//! 10 % force noise over white random forcing (noise-free responses) the regression found
-//! 100–104 % of the simulated force noise power, and 0.3 % of it on noise-free forces.
+//! # Compensation
+//! With the force measurement noise known, $G = S_{xf} (S_{ff} - A N_f)^{-1}$ is unbiased
+//! for both noises: the diagonal of $S_{ff}$ loses the noise power the records show, and every
+//! finish of the builder (the full data, the leave-one-out replicates, the band refits) uses
+//! it ([`FrfBuilder::estimate_noise`]: always for periods, for segments when the user says
+//! the force-side noise is measurement noise, [`ForceNoise::Measurement`]). Its uncertainty is
+//! what the noise estimate's standard error moves the fit by ([`FrfBuilder::finish_compensated`]
+//! with the estimate raised by one standard error). Over segments without that statement,
+//! H1 is left as it is and what compensation would change is carried in the error bars: it is
+//! zero when the force side shows no noise, the usual case of a clean load cell and noisy
+//! probes, where the H1/H2 bracket would carry the probes' noise too.
+//!
+//! On 10 % force noise over white random forcing (noise-free responses) the segments' fit
+//! found 100–104 % of the simulated force noise power, and 0.3 % of it on noise-free forces;
+//! on a cubic spring driven by random forces it took the distortion for force-side noise of
+//! about half the forces' power, as it must.
 
 use faer::linalg::solvers::{DenseSolveCore, Solve};
 use faer::{Mat, c64};
@@ -67,6 +79,61 @@ impl NoiseSource {
     }
 }
 
+/// What the noise the records show on the force side is taken for, and so whether H1 is
+/// compensated for it ([`FrfBuilder::estimate_noise`]).
+///
+/// Noise on a force channel's measurement biases H1; an excitation the force channels do not
+/// measure (another force on the rig, a nonlinear element's distortion) leaves H1 exact. Over
+/// Welch segments the two give the same spectra, so the records cannot tell them apart;
+/// repeated periods can (a measurement's noise scatters from period to period, a periodic
+/// drive and its distortion repeat).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::frf::ForceNoise;
+/// assert_eq!("measurement".parse::<ForceNoise>()?, ForceNoise::Measurement);
+/// assert_eq!(ForceNoise::default(), ForceNoise::Auto);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum ForceNoise {
+    /// Compensate where the records show force measurement noise for what it is (periods);
+    /// over Welch segments, compensate for nothing and carry in the error bars what the
+    /// force-side noise would move the fit by were it measurement noise.
+    #[default]
+    Auto,
+    /// The force-side noise of Welch segments is the force channels' measurement noise (a
+    /// noisy load cell, no other excitation): compensate for it too.
+    Measurement,
+}
+
+impl crate::Choice for ForceNoise {
+    const OPTION: &'static str = "force-noise";
+    const ALL: &'static [ForceNoise] = &[ForceNoise::Auto, ForceNoise::Measurement];
+
+    /// `"auto"` or `"measurement"` (the command line's `--force-noise` values).
+    fn name(self) -> &'static str {
+        match self {
+            ForceNoise::Auto => "auto",
+            ForceNoise::Measurement => "measurement",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            ForceNoise::Auto => {
+                "compensate H1 for the force noise repeated periods show; over segments, carry it"
+            }
+            ForceNoise::Measurement => {
+                "the force-side noise of segments is measurement noise: compensate H1 for it"
+            }
+        }
+    }
+}
+
+crate::choice::choice_text!(ForceNoise);
+
 /// The measurement noise of each force and response channel that the records show (see the
 /// [module](self) docs): per band line and channel, the noise power per average, with its
 /// standard error, and per channel the band's noise-to-signal power ratio for reports.
@@ -92,6 +159,7 @@ impl NoiseSource {
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseFloor {
     source: NoiseSource,
+    compensated: bool,
     n: usize,
     /// Per plan line `l`, `[l * n + c]`: the force channels' noise power per average.
     pub(crate) force: Vec<f64>,
@@ -111,6 +179,11 @@ impl NoiseFloor {
     /// What showed the noise.
     pub fn source(&self) -> NoiseSource {
         self.source
+    }
+
+    /// Whether H1 was compensated for the force noise (see [`ForceNoise`]).
+    pub fn compensated(&self) -> bool {
+        self.compensated
     }
 
     /// Per force channel, the noise power over the signal power in the band (the median over
@@ -190,21 +263,30 @@ impl FrfBuilder {
         }
     }
 
-    /// Estimates the noise ([`FrfBuilder::noise_floor`]) and, when the records show it, has
-    /// every later H1 finish of this builder subtract the force channels' share from `S_ff`
-    /// (see the [module](self) docs). Records pushed or removed afterwards undo it.
-    pub fn compensate_force_noise(&mut self) -> Option<&NoiseFloor> {
+    /// Estimates the noise ([`FrfBuilder::noise_floor`]) for H1 and keeps it; when it is force
+    /// measurement noise for what the records or `force_noise` say (periods always, Welch
+    /// segments with [`ForceNoise::Measurement`]), every later H1 finish of this builder
+    /// subtracts the force channels' share from `S_ff` (see the [module](self) docs). Records
+    /// pushed or removed afterwards undo it.
+    pub fn estimate_noise(&mut self, force_noise: ForceNoise) -> Option<&NoiseFloor> {
         if self.estimator != super::Estimator::H1 {
             return None;
         }
-        let floor = self.noise_floor()?;
-        self.compensation = Some(floor);
-        self.compensation.as_ref()
+        let mut floor = self.noise_floor()?;
+        floor.compensated =
+            floor.source == NoiseSource::Periods || force_noise == ForceNoise::Measurement;
+        self.noise = Some(floor);
+        self.noise.as_ref()
     }
 
-    /// The noise floor the finishes are compensated for, if any.
+    /// The noise estimated by [`FrfBuilder::estimate_noise`], if any.
+    pub(crate) fn noise(&self) -> Option<&NoiseFloor> {
+        self.noise.as_ref()
+    }
+
+    /// The noise floor the H1 finishes are compensated for, if any.
     pub(crate) fn compensation(&self) -> Option<&NoiseFloor> {
-        self.compensation.as_ref()
+        self.noise.as_ref().filter(|n| n.compensated)
     }
 
     /// Periods: the scatter of each channel's spectrum about its period mean, line by line.
@@ -294,6 +376,7 @@ impl NoiseFloor {
             Self::ratios(n, &response, &response_std, response_auto);
         NoiseFloor {
             source,
+            compensated: false,
             n,
             force,
             force_std,

@@ -50,7 +50,7 @@ pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
 use crate::error::Result;
-use crate::frf::{Assignment, ChannelTransfers, Estimator};
+use crate::frf::{Assignment, ChannelTransfers, Estimator, ForceNoise};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;
 use crate::solve::{IvfOptions, Method};
@@ -92,6 +92,7 @@ pub struct Identifier {
     calibration: Calibration,
     transfers: ChannelTransfers,
     drop_periods: usize,
+    force_noise: ForceNoise,
 }
 
 impl Identifier {
@@ -120,6 +121,7 @@ impl Identifier {
             calibration: Calibration::default(),
             transfers: ChannelTransfers::new(),
             drop_periods: 0,
+            force_noise: ForceNoise::default(),
         }
     }
 
@@ -184,6 +186,33 @@ impl Identifier {
     /// Condition-number thresholds. Valid `1 ≤ warn ≤ refuse`; default `1e3` and `1e8`.
     pub fn condition_limits(mut self, limits: ConditionLimits) -> Self {
         self.limits = limits;
+        self
+    }
+
+    /// What the force-side noise H1's records show is taken for ([`ForceNoise`]): measurement
+    /// noise repeated periods show is compensated for always; over Welch segments, only with
+    /// [`ForceNoise::Measurement`] (default [`ForceNoise::Auto`]: carried in the error bars).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::ForceNoise;
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, add_noise, seed_rig};
+    /// use bearing_ident::{Estimator, Identifier, Window};
+    /// use rand::SeedableRng;
+    /// let mut sim = Simulator::new(&seed_rig(), 500.0, 32_768, AntiAlias::default())?;
+    /// let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+    /// let records: Vec<_> = (0..4)
+    ///     .map(|r| add_noise(&sim.random_record(format!("r{r}"), 20.0, r)?, 0.05, &mut rng))
+    ///     .collect::<Result<_, _>>()?;
+    /// let id = Identifier::new(8.0, 49.0).estimator(Estimator::H1).window(Window::Hann);
+    /// let auto = id.clone().identify(&records)?;
+    /// assert!(!auto.noise_floor().unwrap().compensated());
+    /// let told = id.force_noise(ForceNoise::Measurement).identify(&records)?;
+    /// assert!(told.noise_floor().unwrap().compensated());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn force_noise(mut self, force_noise: ForceNoise) -> Self {
+        self.force_noise = force_noise;
         self
     }
 

@@ -326,8 +326,11 @@ impl Settings {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
-        // H1 from periods or Welch segments: the force noise the records show is taken off.
-        timed(&mut t.noise, || builder.compensate_force_noise().is_some());
+        // H1 from periods or Welch segments: the noise the records show, the force
+        // measurement noise taken off where it is that.
+        timed(&mut t.noise, || {
+            builder.estimate_noise(self.force_noise).is_some()
+        });
         let frf = timed(&mut t.frf, || {
             let frf = builder.finish(&self.assignment)?;
             let excitations = match self.estimator {
@@ -473,7 +476,7 @@ impl Settings {
         t.total = start.elapsed();
         Ok(Identification {
             ml,
-            noise_floor: builder.and_then(|b| b.compensation().cloned()),
+            noise_floor: builder.and_then(|b| b.noise().cloned()),
             band: self.band,
             window: self.window,
             segmentation: if builder.is_some() {

@@ -24,7 +24,10 @@ use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 /// [`Identification::predicted_bias`]), `period` and `periods_dropped`; `model_check` (`statistic`, `expected`, `dof`, `p_value`, `runs_p_value`, `verdict`
 /// `fits`/`misfit`/`untested`, `reason`), `budget` (`random`, `model`, `calibration`, each
 /// with `M_std`, `C_std`, `K_std`; null without error bars; the top-level `*_std` are the
-/// combined standard uncertainties), `natural_frequencies_hz_std`, `damping_ratios_std`.
+/// combined standard uncertainties), `noise` (H1 over periods or Welch segments: `source`
+/// `periods`/`segments`, `compensated`, `force_ratio`, `force_ratio_std`, `response_ratio`,
+/// `response_ratio_std`, each channel's noise over signal power in the band; null otherwise;
+/// see [`Identification::noise_floor`]), `natural_frequencies_hz_std`, `damping_ratios_std`.
 impl serde::Serialize for Identification {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use crate::model::rows;
@@ -120,6 +123,7 @@ impl serde::Serialize for Identification {
         // The model check, the uncertainty budget, the derived quantities' error bars.
         m.serialize_entry("model_check", &self.model_check)?;
         m.serialize_entry("budget", &self.budget)?;
+        m.serialize_entry("noise", &self.noise_floor)?;
         m.serialize_entry(
             "natural_frequencies_hz_std",
             &self.natural_frequencies_hz_std(),
@@ -167,6 +171,21 @@ impl serde::Serialize for Budget {
         m.serialize_entry("random", &part(&self.random))?;
         m.serialize_entry("model", &part(&self.model))?;
         m.serialize_entry("calibration", &part(&self.calibration))?;
+        m.end()
+    }
+}
+
+/// `{source, compensated, force_ratio, force_ratio_std, response_ratio, response_ratio_std}`.
+impl serde::Serialize for crate::frf::NoiseFloor {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(6))?;
+        m.serialize_entry("source", self.source().name())?;
+        m.serialize_entry("compensated", &self.compensated())?;
+        m.serialize_entry("force_ratio", self.force_ratio())?;
+        m.serialize_entry("force_ratio_std", self.force_ratio_std())?;
+        m.serialize_entry("response_ratio", self.response_ratio())?;
+        m.serialize_entry("response_ratio_std", self.response_ratio_std())?;
         m.end()
     }
 }

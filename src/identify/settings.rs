@@ -8,7 +8,7 @@
 
 use crate::conditioning::ConditionLimits;
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, Frf, FrfBuilder};
+use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, ForceNoise, Frf, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
@@ -78,6 +78,7 @@ pub struct Settings {
     pub(super) gate: FitGate,
     pub(super) calibration: Calibration,
     pub(super) transfers: ChannelTransfers,
+    pub(super) force_noise: ForceNoise,
     /// Periods left out at the start of every record (periodic records only; 0 otherwise).
     pub(super) drop_periods: usize,
 }
@@ -162,6 +163,7 @@ impl Settings {
             gate: id.gate,
             calibration: id.calibration.clone(),
             transfers: id.transfers.clone(),
+            force_noise: id.force_noise,
             drop_periods: match id.segmentation {
                 Segmentation::Periods { .. } => id.drop_periods,
                 _ => 0,

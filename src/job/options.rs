@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use crate::error::{Error, Result, excerpt};
 use crate::excitation::Excitation;
-use crate::frf::Estimator;
+use crate::frf::{Estimator, ForceNoise};
 use crate::identify::Uncertainty;
 use crate::solve::Method;
 use crate::spectra::Window;
@@ -132,6 +132,8 @@ pub struct Options {
     pub step_tolerance_hz: f64,
     /// `reject-bad-records`: leave out the records screening finds faulty (else warn only).
     pub reject_bad_records: bool,
+    /// `force-noise`: what H1's force-side noise is taken for ([`ForceNoise`]); default auto.
+    pub force_noise: ForceNoise,
     /// `min-coherence`: drop lines where the multiple coherence of any output is below this;
     /// default 0.
     pub min_coherence: f64,
@@ -173,13 +175,14 @@ pub struct Options {
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 23] = [
+    pub const NAMES: [&'static str; 24] = [
         "band",
         "method",
         "excitation",
         "estimator",
         "window",
         "uncertainty",
+        "force-noise",
         "bootstrap-draws",
         "seed",
         "force-gate",
@@ -208,6 +211,7 @@ impl Options {
             estimator: None,
             window: None,
             uncertainty: Uncertainty::Auto,
+            force_noise: ForceNoise::Auto,
             bootstrap_draws: 200,
             seed: 0,
             force_gate_s: None,
@@ -274,6 +278,7 @@ impl Options {
             "estimator" => self.estimator = Some(value.parse()?),
             "window" => self.window = Some(value.parse()?),
             "uncertainty" => self.uncertainty = value.parse()?,
+            "force-noise" => self.force_noise = value.parse()?,
             "bootstrap-draws" => self.bootstrap_draws = count()?,
             "seed" => self.seed = value.trim().parse().map_err(|_| invalid("a seed"))?,
             "force-gate" => self.force_gate_s = Some(number()?),
@@ -343,6 +348,7 @@ mod tests {
             ("estimator", "h2"),
             ("window", "exp:0.1"),
             ("uncertainty", "bootstrap"),
+            ("force-noise", "measurement"),
             ("bootstrap-draws", "30"),
             ("seed", "7"),
             ("force-gate", "0.01"),

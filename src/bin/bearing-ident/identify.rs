@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use bearing_ident::excitation::Excitation;
+use bearing_ident::frf::ForceNoise;
 use bearing_ident::io::CsvLayout;
 use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, read_first};
 use bearing_ident::quality::ImpactChecks;
@@ -52,10 +53,17 @@ pub struct IdentifyArgs {
     #[arg(long)]
     window: Option<String>,
     /// Error bars: `auto` is the jackknife over paired sets or records when there are at least
-    /// 3 of them, else the first-order sandwich; `bootstrap` draws `--bootstrap-draws`
-    /// resamples of the sets or records (seeded by `--seed`).
+    /// 3 of them, else (and for periodic records) the first-order sandwich from the replicates'
+    /// own scatter; `bootstrap` draws `--bootstrap-draws` resamples of the sets or records
+    /// (seeded by `--seed`).
     #[arg(long, value_parser = choice::<Uncertainty>(), default_value = "auto")]
     uncertainty: Uncertainty,
+    /// H1's force-side noise: `auto` compensates for the force measurement noise repeated
+    /// periods show and carries, over Welch segments, what compensation would change (the
+    /// segments cannot tell force noise from an unmeasured excitation); `measurement` says the
+    /// segments' force-side noise is the load cell's and compensates for it too.
+    #[arg(long, value_parser = choice::<ForceNoise>(), default_value = "auto")]
+    force_noise: ForceNoise,
     /// Bootstrap resamples.
     #[arg(long, default_value_t = 200)]
     bootstrap_draws: usize,
@@ -204,6 +212,7 @@ fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure>
     o.estimator = args.estimator;
     o.window = args.window.as_deref().map(str::parse).transpose()?;
     o.uncertainty = args.uncertainty;
+    o.force_noise = args.force_noise;
     o.bootstrap_draws = args.bootstrap_draws;
     o.seed = args.seed;
     o.force_gate_s = args.force_gate;
