@@ -39,7 +39,7 @@ mod h2;
 mod hv;
 pub mod interference;
 mod moments;
-mod noise;
+pub mod noise;
 mod paired;
 mod replicates;
 mod sets;

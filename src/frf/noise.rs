@@ -39,13 +39,14 @@
 //! With the force measurement noise known, $G = S_{xf} (S_{ff} - A N_f)^{-1}$ is unbiased
 //! for both noises: the diagonal of $S_{ff}$ loses the noise power the records show, and every
 //! finish of the builder (the full data, the leave-one-out replicates, the band refits) uses
-//! it ([`FrfBuilder::estimate_noise`]: always for periods, for segments when the user says
-//! the force-side noise is measurement noise, [`ForceNoise::Measurement`]). Its uncertainty is
-//! what the noise estimate's standard error moves the fit by ([`FrfBuilder::finish_compensated`]
-//! with the estimate raised by one standard error). Over segments without that statement,
-//! H1 is left as it is and what compensation would change is carried in the error bars: it is
-//! zero when the force side shows no noise, the usual case of a clean load cell and noisy
-//! probes, where the H1/H2 bracket would carry the probes' noise too.
+//! it ([`FrfBuilder::estimate_noise`]). Its uncertainty is what the noise estimate's standard
+//! error moves the fit by (a finish compensated for the estimate raised by one
+//! standard error). Periods are always compensated. Over segments the force-side noise is
+//! compensated only when the user says it is the load cell's ([`ForceNoise::Measurement`]):
+//! otherwise H1 is left as it is and what compensation would change is carried in the error
+//! bars. On a clean load cell the force-side noise is near zero and nothing is carried: the
+//! usual case of noisy probes, where the H1/H2 bracket would have carried the probes' noise
+//! too.
 //!
 //! On 10 % force noise over white random forcing (noise-free responses) the segments' fit
 //! found 100–104 % of the simulated force noise power, and 0.3 % of it on noise-free forces;
@@ -83,10 +84,11 @@ impl NoiseSource {
 /// compensated for it ([`FrfBuilder::estimate_noise`]).
 ///
 /// Noise on a force channel's measurement biases H1; an excitation the force channels do not
-/// measure (another force on the rig, a nonlinear element's distortion) leaves H1 exact. Over
+/// measure (another force on the rig, flow-induced forces, a nonlinear element's distortion)
+/// leaves H1 exact (under random forcing, H1 is then the best linear approximation). Over
 /// Welch segments the two give the same spectra, so the records cannot tell them apart;
 /// repeated periods can (a measurement's noise scatters from period to period, a periodic
-/// drive and its distortion repeat).
+/// drive and its distortion repeat), and periods are always compensated.
 ///
 /// # Examples
 /// ```
@@ -98,13 +100,13 @@ impl NoiseSource {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum ForceNoise {
-    /// Compensate where the records show force measurement noise for what it is (periods);
-    /// over Welch segments, compensate for nothing and carry in the error bars what the
-    /// force-side noise would move the fit by were it measurement noise.
+    /// Compensate where the records show the force channels' measurement noise for what it
+    /// is (periods); over Welch segments compensate for nothing and carry in the error bars
+    /// what compensation would change.
     #[default]
     Auto,
     /// The force-side noise of Welch segments is the force channels' measurement noise (a
-    /// noisy load cell, no other excitation): compensate for it too.
+    /// noisy load cell, no other force on the rig, a linear element): compensate for it too.
     Measurement,
 }
 
@@ -126,7 +128,7 @@ impl crate::Choice for ForceNoise {
                 "compensate H1 for the force noise repeated periods show; over segments, carry it"
             }
             ForceNoise::Measurement => {
-                "the force-side noise of segments is measurement noise: compensate H1 for it"
+                "the force-side noise of segments is the load cell's: compensate H1 for it"
             }
         }
     }
@@ -149,7 +151,11 @@ crate::choice::choice_text!(ForceNoise);
 /// let records: Vec<_> = (0..4)
 ///     .map(|r| add_noise(&sim.random_record(format!("r{r}"), 20.0, r)?, 0.05, &mut rng))
 ///     .collect::<Result<_, _>>()?;
-/// let id = Identifier::new(8.0, 49.0).estimator(bearing_ident::Estimator::H1).identify(&records)?;
+/// let id = Identifier::new(8.0, 49.0)
+///     .estimator(bearing_ident::Estimator::H1)
+///     .segmentation(bearing_ident::Segmentation::Welch { len: 2048 })
+///     .window(bearing_ident::Window::Hann)
+///     .identify(&records)?;
 /// let noise = id.noise_floor().expect("shown by the segments");
 /// assert_eq!(noise.source(), NoiseSource::Segments);
 /// // 5 % of each channel's RMS, spread to Nyquist: far below the forces' own power.
@@ -404,6 +410,9 @@ struct Residuals {
     gain: Vec<f64>,
     /// `[l * n + i]`: $\sum_j |\Delta G_{ij}/\Delta f|^2 P_j$.
     leakage: Vec<f64>,
+    /// `[l * n + i]`: what response channel `i`'s (flat) noise becomes at the line, the
+    /// square of the known channel characteristics divided out there (1 without any).
+    floor: Vec<f64>,
     force_auto: Vec<f64>,
     response_auto: Vec<f64>,
 }
@@ -432,6 +441,7 @@ impl Residuals {
             unexplained: vec![0.0; lines * n],
             gain: vec![0.0; lines * nn],
             leakage: vec![0.0; lines * n],
+            floor: vec![1.0; lines * n],
             force_auto: vec![0.0; lines * n],
             response_auto: vec![0.0; lines * n],
         };
@@ -465,10 +475,19 @@ impl Residuals {
                 out.unexplained[l * n + i] = (sxx[d] - explained[d]).re.max(0.0);
                 out.force_auto[l * n + i] = sff[d].re / averages;
                 out.response_auto[l * n + i] = sxx[d].re / averages;
+                // A force's flat noise, like a response's, is scaled at the line by the square
+                // of the known characteristic divided out of its channel.
+                let corrected = |c: usize| {
+                    plan.corrections
+                        .get(l * 2 * n + c)
+                        .map_or(1.0, |z| z.norm_sqr())
+                };
+                out.floor[l * n + i] = corrected(n + i);
                 for j in 0..n {
                     // [S⁻¹]_jj per average is A [S_ff⁻¹]_jj.
                     let kept = 1.0 - force_noise[j] * averages * plain[j * (n + 1)].re;
-                    out.gain[(l * n + i) * n + j] = g[i + j * n].norm_sqr() * kept.max(0.0);
+                    out.gain[(l * n + i) * n + j] =
+                        g[i + j * n].norm_sqr() * kept.max(0.0) * corrected(j);
                 }
             }
             gs[l * nn..(l + 1) * nn].copy_from_slice(&g);
@@ -501,7 +520,7 @@ impl Residuals {
         let regressor = |row: usize, col: usize| -> f64 {
             let i = row % n;
             match col {
-                c if c < n => f64::from(u8::from(c == i)),
+                c if c < n => f64::from(u8::from(c == i)) * self.floor[row],
                 c if c < 2 * n => self.gain[row * n + (c - n)],
                 _ => self.leakage[row],
             }

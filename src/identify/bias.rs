@@ -74,7 +74,7 @@ impl Settings {
         let relative = value(&bias.bias) / value(model);
         // Leakage is budget unless large; a truncation the user can remove (an exponential
         // window) is named as soon as it is carried.
-        if source == BiasSource::Leakage && sigmas <= BIAS_WARN_SIGMAS {
+        if source == BiasSource::Leakage && !news(&bias.bias, std, fit) {
             return Some(bias);
         }
         warnings.push(match source {
@@ -165,7 +165,7 @@ impl Settings {
         if basis != NoiseBiasBasis::Compensation && sigmas <= BIAS_SIGMAS {
             return None;
         }
-        if sigmas > BIAS_WARN_SIGMAS {
+        if news(&bracket, random, fit) {
             let value = |c: &Coefficients| element(c, block, row, col);
             warnings.push(Warning::NoiseBias {
                 estimator: self.estimator,
@@ -180,6 +180,22 @@ impl Settings {
         }
         Some(bracket)
     }
+}
+
+/// Whether a carried `bias` is news: past [`BIAS_WARN_SIGMAS`] of the random standard
+/// deviation `random` on some coefficient, that deviation taken as at least the fit's own
+/// first-order one (a jackknife over four records has three degrees of freedom: judged by it
+/// alone, a bias a little under the threshold would be warned about on one seed in five).
+fn news(bias: &Coefficients, random: &Coefficients, fit: &Fit) -> bool {
+    let steadier = match fit.std_dev() {
+        Some(first_order) => {
+            let (a, b) = (random.stacked(), first_order.stacked());
+            let max = faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].max(b[(i, j)]));
+            Coefficients::from_stacked(max.as_ref()).unwrap_or_else(|_| random.clone())
+        }
+        None => random.clone(),
+    };
+    worst_in(bias, &steadier).is_some_and(|w| w.3 > BIAS_WARN_SIGMAS)
 }
 
 /// The element `[row][col]` of `block` of `c`.

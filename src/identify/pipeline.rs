@@ -331,19 +331,22 @@ impl Settings {
         timed(&mut t.noise, || {
             builder.estimate_noise(self.force_noise).is_some()
         });
-        let frf = timed(&mut t.frf, || {
-            let frf = builder.finish(&self.assignment)?;
-            let excitations = match self.estimator {
-                Estimator::PairedSets => builder.excitations(&self.assignment)?,
-                _ => builder.excitations(&Assignment::DominantForce)?,
-            };
-            Ok((frf, excitations))
-        });
         // Kept for the error: a record far out of scale that the screening found (and kept).
         let suspect = screened.iter().find_map(out_of_scale);
-        let outcome = frf.and_then(|(frf, excitations)| {
-            self.conclude(frf, Some(&builder), excitations, screened, t, start)
-        });
+        let attempt = |builder: &FrfBuilder, screened: Vec<Warning>, mut t: Timings| {
+            let frf = timed(&mut t.frf, || {
+                let frf = builder.finish(&self.assignment)?;
+                let excitations = match self.estimator {
+                    Estimator::PairedSets => builder.excitations(&self.assignment)?,
+                    _ => builder.excitations(&Assignment::DominantForce)?,
+                };
+                Ok((frf, excitations))
+            });
+            frf.and_then(|(frf, excitations)| {
+                self.conclude(frf, Some(builder), excitations, screened, t, start)
+            })
+        };
+        let outcome = attempt(&builder, screened, t);
         // A record without force or without response, one far out of scale with its
         // siblings, or one whose levels leave f64 in the spectra's products, shows up later as
         // missing rank, a singular fit, a fit that cannot converge or values that are not

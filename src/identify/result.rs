@@ -19,7 +19,7 @@ use super::{Budget, ModelCheck, Timings, Uncertainty};
 #[derive(Debug, Clone, PartialEq)]
 pub struct Identification {
     pub(super) ml: Option<MlReport>,
-    /// The noise the periods or segments showed, H1 compensated for its force share.
+    /// The noise the periods or segments showed for H1.
     pub(super) noise_floor: Option<crate::frf::NoiseFloor>,
     pub(super) band: Band,
     pub(super) window: Window,
@@ -50,10 +50,10 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// The measurement noise of the force and response channels that the records showed
-    /// (repeated periods, or Welch segments fitted over the band), when H1's impedance was
-    /// compensated for the force channels' share of it ([`crate::frf::NoiseFloor`]); `None`
-    /// for other estimators and segmentations, or when the records could not show it.
+    /// The noise on the force and response channels that the records showed (repeated
+    /// periods, or Welch segments fitted over the band) for H1, and whether H1 was compensated
+    /// for the force channels' share ([`crate::frf::NoiseFloor`]); `None` for other
+    /// estimators and segmentations, or when the records could not show it.
     ///
     /// # Examples
     /// ```

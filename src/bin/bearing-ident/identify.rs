@@ -59,9 +59,10 @@ pub struct IdentifyArgs {
     #[arg(long, value_parser = choice::<Uncertainty>(), default_value = "auto")]
     uncertainty: Uncertainty,
     /// H1's force-side noise: `auto` compensates for the force measurement noise repeated
-    /// periods show and carries, over Welch segments, what compensation would change (the
-    /// segments cannot tell force noise from an unmeasured excitation); `measurement` says the
-    /// segments' force-side noise is the load cell's and compensates for it too.
+    /// periods show and, over Welch segments (which cannot tell the load cell's noise from a
+    /// force it does not measure or a nonlinear distortion), carries what compensation would
+    /// change; `measurement` says the segments' force-side noise is the load cell's and
+    /// compensates for it too.
     #[arg(long, value_parser = choice::<ForceNoise>(), default_value = "auto")]
     force_noise: ForceNoise,
     /// Bootstrap resamples.
