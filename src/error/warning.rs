@@ -501,6 +501,14 @@ pub enum Warning {
         /// segments or periods) or `"ml cost"` (the likelihood's own cost).
         source: &'static str,
     },
+    /// The constant coefficients misfit, and a frequency-dependent family fits: the element's
+    /// stiffness and damping change with frequency (`--model auto`).
+    FrequencyDependent {
+        /// The smallest family that fits (`states:1`, `poly:2`, …).
+        family: String,
+        /// Its poles (Hz), if any.
+        poles_hz: Vec<f64>,
+    },
 }
 
 impl Warning {
@@ -552,6 +560,7 @@ impl Warning {
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
             Warning::ModelMisfit { .. } => "model_misfit",
+            Warning::FrequencyDependent { .. } => "frequency_dependent",
             Warning::NotDecayed { .. } => "not_decayed",
             Warning::LeakageBias { .. } => "leakage_bias",
             Warning::NoiseBias { .. } => "noise_bias",

@@ -443,6 +443,18 @@ impl fmt::Display for Warning {
                  outside the model, more degrees of freedom, a residual or nonlinear term, or \
                  check the response kind (`--response`)"
             ),
+            Warning::FrequencyDependent { family, poles_hz } => {
+                let poles: Vec<String> = poles_hz.iter().map(|p| format!("{p:.3} Hz")).collect();
+                let poles = match poles.is_empty() {
+                    true => String::new(),
+                    false => format!(" (poles at {})", poles.join(", ")),
+                };
+                write!(
+                    f,
+                    "the misfit is what a frequency-dependent element leaves: `{family}`{poles} \
+                     fits within the noise; `--model auto` identifies it"
+                )
+            }
         }
     }
 }

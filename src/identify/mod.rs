@@ -50,6 +50,7 @@ pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
 use crate::error::Result;
+use crate::element::ModelSpec;
 use crate::frf::{Assignment, ChannelTransfers, Estimator, ForceNoise};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;
@@ -93,6 +94,7 @@ pub struct Identifier {
     transfers: ChannelTransfers,
     drop_periods: usize,
     force_noise: ForceNoise,
+    model: ModelSpec,
 }
 
 impl Identifier {
@@ -122,6 +124,7 @@ impl Identifier {
             transfers: ChannelTransfers::new(),
             drop_periods: 0,
             force_noise: ForceNoise::default(),
+            model: ModelSpec::default(),
         }
     }
 
@@ -220,6 +223,31 @@ impl Identifier {
     /// ```
     pub fn force_noise(mut self, force_noise: ForceNoise) -> Self {
         self.force_noise = force_noise;
+        self
+    }
+
+    /// The element model fitted beside the constant coefficients ([`ModelSpec`]; default
+    /// `kcm`, the constant `K`, `C`, `M` of the chosen method): a frequency-dependent family
+    /// by name, or [`ModelSpec::Auto`], the smallest the model check accepts. The families are
+    /// fitted by weighted least squares on the impedance ([`crate::element`]); when one other
+    /// than `kcm` is chosen, [`Identification::coefficients`] are its constant part, with its
+    /// standard deviations, model check and modes. Not with an exponential window, and only
+    /// `kcm` with maximum likelihood.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::element::{Family, ModelSpec};
+    /// use bearing_ident::{Identifier, simulate::{ImpactTest, seed_rig}};
+    /// let records = ImpactTest { per_direction: 4, noise: 0.03, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).model(ModelSpec::Auto).identify(&records)?;
+    /// let model = id.model().expect("asked for");
+    /// assert_eq!(model.family(), Family::Kcm);
+    /// assert_eq!(model.selection()[0].family, Family::Kc); // tried first, refused
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn model(mut self, model: ModelSpec) -> Self {
+        self.model = model;
         self
     }
 

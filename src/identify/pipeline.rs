@@ -21,7 +21,8 @@ use super::screen::{
     kept_records, observe, out_of_scale, reported, screen_batch, without_interference,
 };
 use super::timings::{Untimed, timed};
-use super::{Identification, Identifier, ModelCheck, Settings, Timings};
+use super::{Budget, Identification, Identifier, ModelCheck, Settings, Timings};
+use crate::element::{ModelSpec, select};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
 
@@ -436,6 +437,7 @@ impl Settings {
         })?;
         warnings.extend(misfit);
         let solve_start = Instant::now();
+        let windowed = fit.coefficients().clone();
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         t.solve += solve_start.elapsed();
@@ -476,9 +478,55 @@ impl Settings {
                 mode_std(fit.coefficients(), &cov, b.calibration_directions()).ok()
             })
         });
+        // The element model: a family other than kcm asked for, or the smallest the model
+        // check accepts; with the default kcm, a misfit that a frequency-dependent family
+        // would explain is named.
+        let (mut fit, mut model_check, mut modes_std) = (fit, model_check, modes_std);
+        let element = if self.model != ModelSpec::default() {
+            let (element, found) = timed(&mut t.model_check, || {
+                select(&frf, self.model, self.runs_stride(&frf), Some(&windowed))
+            })?;
+            if !element.is_kcm() {
+                let constant = element.constant_part()?;
+                let std = element.constant_part_std();
+                if let (Some(std), Some(_)) = (&std, bars.budget.as_ref()) {
+                    let b = element.check().birge_factor();
+                    let random = std.scaled(1.0 / b);
+                    let model = std.scaled((1.0 - 1.0 / (b * b)).max(0.0).sqrt());
+                    let calibration = self.calibration.std_dev(&constant)?;
+                    let budget = Budget::of_parts(random, model, calibration);
+                    bars.std_dev = Some(budget.combined()?);
+                    bars.budget = Some(budget);
+                    bars.interval_factor = crate::statistics::t975(0);
+                    bars.uncertainty = super::Uncertainty::Sandwich;
+                }
+                fit = fit.replaced(constant, bars.std_dev.clone());
+                model_check = element.check().clone();
+                modes_std = None;
+                warnings.retain(|w| !matches!(w, Warning::ModelMisfit { .. }));
+                warnings.extend(found);
+            }
+            Some(element)
+        } else {
+            if model_check.verdict == super::model_check::Verdict::Misfit {
+                let hint = timed(&mut t.model_check, || {
+                    select(&frf, ModelSpec::Auto, self.runs_stride(&frf), Some(&windowed))
+                });
+                if let Some((element, _)) = hint.ok().filter(|(e, _)| {
+                    !e.is_kcm() && e.check().verdict == super::model_check::Verdict::Fits
+                }) {
+                    warnings.push(Warning::FrequencyDependent {
+                        family: element.family().to_string(),
+                        poles_hz: element.poles_hz(),
+                    });
+                }
+            }
+            None
+        };
         t.total = start.elapsed();
         Ok(Identification {
             ml,
+            model: element,
             noise_floor: builder.and_then(|b| b.noise().cloned()),
             band: self.band,
             window: self.window,
