@@ -113,8 +113,7 @@ pub fn select(
         ModelSpec::Auto => Family::candidates(AUTO_MAX_POLES),
     };
     let auto = spec == ModelSpec::Auto;
-    let mut tried: Vec<(Candidate, Option<(super::FamilyFit, ModelCheck, Vec<Warning>)>)> =
-        Vec::new();
+    let mut tried: Vec<(Candidate, Option<Tried>)> = Vec::new();
     let mut previous_poles: Vec<f64> = Vec::new();
     for family in families {
         let start_poles = (family.poles() == previous_poles.len() + 1).then(|| {
@@ -134,9 +133,9 @@ pub fn select(
                     ModelCheck::of_family(&data, &fit, frf.freqs_hz(), runs_stride)?;
                 let unsupported = if auto { unsupported(&fit, frf) } else { None };
                 let (size, terms2) = (family.size(data.n), check.dof.unwrap_or(0.0));
-                let criterion = check.statistic.map(|s| {
-                    s + size as f64 * (terms2 + size as f64).max(1.0).ln()
-                });
+                let criterion = check
+                    .statistic
+                    .map(|s| s + size as f64 * (terms2 + size as f64).max(1.0).ln());
                 let verdict = match (&unsupported, &check.verdict) {
                     (Some(_), _) => "unsupported",
                     (None, Verdict::Misfit) => "misfit",
@@ -203,6 +202,9 @@ pub fn select(
         warnings,
     ))
 }
+
+/// A family fitted and checked: its fit, its check and the check's warnings.
+type Tried = (super::FamilyFit, ModelCheck, Vec<Warning>);
 
 fn refused(family: Family, verdict: &'static str, reason: String) -> Candidate {
     Candidate {

@@ -265,6 +265,9 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
     }
     model_check_lines(&mut out, id);
+    if let Some(model) = id.model() {
+        element_model_lines(&mut out, &axes, model);
+    }
     let r2 = id.fit_r2();
     let _ = write!(out, "  flexibility fit r²:");
     for (i, ai) in axes.iter().enumerate() {
@@ -296,6 +299,68 @@ fn model_check_lines(out: &mut String, id: &Identification) {
         ),
         (v, ..) => writeln!(out, "  model check: {}", v.name()),
     };
+}
+
+/// The element model: its family and poles, the residues on the diagonal, and every family
+/// tried with its verdict.
+fn element_model_lines(
+    out: &mut String,
+    axes: &[String],
+    model: &bearing_ident::element::ElementModel,
+) {
+    let poles: Vec<String> = model
+        .poles_hz()
+        .iter()
+        .zip(
+            model
+                .poles_hz_std()
+                .unwrap_or_default()
+                .iter()
+                .chain(std::iter::repeat(&f64::NAN)),
+        )
+        .map(|(p, s)| format!("{p:.3} ± {s:.3} Hz"))
+        .collect();
+    let _ = writeln!(
+        out,
+        "  element model: {}{} (the coefficients above are its constant part)",
+        model.family(),
+        if poles.is_empty() {
+            String::new()
+        } else {
+            format!(", poles {}", poles.join(", "))
+        }
+    );
+    let fit = model.fit();
+    let family = model.family();
+    for b in 3..family.parameters_per_element() {
+        if !matches!(family, bearing_ident::element::Family::States { .. }) {
+            break;
+        }
+        let (a, sa) = (fit.matrix(b), fit.matrix_std(b));
+        let cells: Vec<String> = axes
+            .iter()
+            .enumerate()
+            .map(|(i, ax)| {
+                let s = sa.as_ref().map_or(f64::NAN, |m| m[(i, i)]);
+                format!(
+                    "{}_{ax}{ax} {} ± {}",
+                    family.parameter_name(b),
+                    sig(a[(i, i)], 5),
+                    sig(s, 2)
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "    {} N/m", cells.join(", "));
+    }
+    let tried: Vec<String> = model
+        .selection()
+        .iter()
+        .map(|c| match (c.statistic, c.dof) {
+            (Some(s), Some(d)) => format!("{} {} (χ²/expected {:.2})", c.family, c.verdict, s / d),
+            _ => format!("{} {}", c.family, c.verdict),
+        })
+        .collect();
+    let _ = writeln!(out, "    families: {}", tried.join("; "));
 }
 
 /// The per-line diagonal coefficients as a table (the JSON has every element).
