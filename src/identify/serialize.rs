@@ -195,7 +195,9 @@ impl serde::Serialize for crate::frf::NoiseFloor {
 
 /// `{family, order, selection: [{model, statistic, dof, p_value, runs_p_value, criterion,
 /// verdict, reason}], poles_hz, poles_hz_std, matrices: [{name, value, std}], modes: [{
-/// natural_frequency_hz, damping_ratio}], curve: {frequency_hz, K, C, K_std, C_std}}`, the
+/// natural_frequency_hz, damping_ratio}], verdict, effective (2 DOF: {frequency_hz, K_eff,
+/// C_eff, K_eff_std, C_eff_std, crossover_hz, crossover_hz_std}, else null), curve:
+/// {frequency_hz, K, C, K_std, C_std}}`, the
 /// matrices as rows and the curve one matrix per line; `order` is the number of states or the
 /// polynomial degree (0 for `kc`, `kcm`).
 impl serde::Serialize for crate::element::ElementModel {
@@ -233,7 +235,7 @@ impl serde::Serialize for crate::element::ElementModel {
             v.iter().map(|m| rows(m.as_ref())).collect()
         };
         let modes: Vec<crate::model::Mode> = self.modes().unwrap_or_default();
-        let mut m = s.serialize_map(Some(9))?;
+        let mut m = s.serialize_map(Some(10))?;
         m.serialize_entry("family", &family.to_string())?;
         m.serialize_entry(
             "order",
@@ -249,6 +251,32 @@ impl serde::Serialize for crate::element::ElementModel {
         m.serialize_entry("matrices", &matrices)?;
         m.serialize_entry("modes", &modes)?;
         m.serialize_entry("verdict", self.check().verdict.name())?;
+        #[derive(serde::Serialize)]
+        struct EffectiveOut {
+            frequency_hz: Vec<f64>,
+            #[serde(rename = "K_eff")]
+            k: Vec<f64>,
+            #[serde(rename = "C_eff")]
+            c: Vec<f64>,
+            #[serde(rename = "K_eff_std")]
+            k_std: Vec<f64>,
+            #[serde(rename = "C_eff_std")]
+            c_std: Vec<f64>,
+            crossover_hz: Option<f64>,
+            crossover_hz_std: Option<f64>,
+        }
+        m.serialize_entry(
+            "effective",
+            &self.effective().map(|e| EffectiveOut {
+                frequency_hz: e.frequency_hz,
+                k: e.stiffness,
+                c: e.damping,
+                k_std: e.stiffness_std,
+                c_std: e.damping_std,
+                crossover_hz: e.crossover_hz,
+                crossover_hz_std: e.crossover_hz_std,
+            }),
+        )?;
         #[derive(serde::Serialize)]
         struct CurveOut {
             frequency_hz: Vec<f64>,
