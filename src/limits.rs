@@ -153,4 +153,20 @@ mod tests {
         assert_eq!(read_json_text(&path).unwrap().len(), 3);
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    #[test]
+    fn a_folder_is_refused_in_words_by_every_reader() {
+        let dir = std::env::temp_dir().join(format!("limits-folder-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = open(&dir, Some("*.csv")).unwrap_err();
+        assert_eq!(e.kind(), "io_error");
+        let text = e.to_string();
+        assert!(text.ends_with(&format!("give its files: {}", dir.join("*.csv").display())));
+        assert!(!text.contains("os error"), "{text}");
+        let e = read_json_text(&dir).unwrap_err();
+        assert!(e.to_string().ends_with(": a folder, not a file"), "{e}");
+        let e = open(&dir.join("none.csv"), Some("*.csv")).unwrap_err();
+        assert!(e.to_string().contains("none.csv"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -175,3 +175,48 @@ pub fn wrap(first: &str, words: &str, indent: usize) -> String {
     out.push('\n');
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(cells: &[&str]) -> Vec<String> {
+        cells.iter().map(|c| (*c).to_owned()).collect()
+    }
+
+    #[test]
+    fn columns_align_and_groups_stay_whole() {
+        let wide = "w".repeat(50);
+        let rows = vec![
+            row(&["key", "a", "b", &wide, "c"]),
+            row(&["k2", "10", "2", "x"]),
+        ];
+        // Groups [a, b] and [wide, c] fit in one block; the short row's last cell is empty.
+        let text = table(&rows, 1, &[2, 2], Align::Right, 0);
+        assert_eq!(text.lines().count(), 2, "{text}");
+        let want = format!(" k2  10  2  {}x", " ".repeat(49));
+        assert_eq!(text.lines().nth(1).unwrap(), want);
+        // With a wider first group the second moves whole into a block of its own: 2 + 3 + 2
+        // + 55 + 2 + 55 is 119 characters, and 4 more would pass 120.
+        let wide = "w".repeat(55);
+        let rows = vec![
+            row(&["key", &wide, &wide, "a", "b"]),
+            row(&["k2", "1", "2", "3"]),
+        ];
+        let text = table(&rows, 1, &[2, 2], Align::Left, 2);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 5, "{text}");
+        assert_eq!(lines[2], "");
+        assert_eq!(lines[3], "  key  a  b");
+        assert_eq!(lines[4], "  k2   3");
+        assert!(lines.iter().all(|l| l.chars().count() <= TABLE_WIDTH));
+    }
+
+    #[test]
+    fn wrap_keeps_a_long_word_whole() {
+        let long = "z".repeat(130);
+        let text = wrap("first", &format!("a {long} b"), 4);
+        assert_eq!(text, format!("first a\n    {long}\n    b\n"));
+        assert_eq!(wrap("", "", 2), "\n");
+    }
+}

@@ -568,6 +568,42 @@ mod tests {
     }
 
     #[test]
+    fn a_page_says_its_kind_and_is_read_back() {
+        for kind in Kind::ALL {
+            let mut h = String::new();
+            page_head(&mut h, &ReportOptions::default(), kind);
+            assert_eq!(Kind::of_page(&h), Some(kind), "{h}");
+        }
+        assert_eq!(Kind::of_page("<html><title>mine</title>"), None);
+        let unknown = format!("{}something else{}", Kind::MARK, Kind::MARK_END);
+        assert_eq!(Kind::of_page(&unknown), None);
+    }
+
+    #[test]
+    fn a_folder_with_another_kind_of_report_is_refused() {
+        let dir = std::env::temp_dir().join(format!("html-kind-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        create_dir(&dir, Kind::Field).unwrap();
+        let mut page = String::new();
+        page_head(&mut page, &ReportOptions::default(), Kind::Field);
+        write_file(&dir.join("index.html"), &page).unwrap();
+        create_dir(&dir, Kind::Field).unwrap();
+        let e = create_dir(&dir, Kind::Identification).unwrap_err();
+        assert_eq!(e.kind(), "io_error");
+        assert!(
+            e.to_string().ends_with(
+                "holds a field identification report; give the identification report another \
+                 folder, or empty this one"
+            ),
+            "{e}"
+        );
+        write_file(&dir.join("index.html"), "<html>mine</html>").unwrap();
+        let e = create_dir(&dir, Kind::Field).unwrap_err();
+        assert!(e.to_string().contains("not a report of this tool"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn significant_digits() {
         assert_eq!(sig(146300.0, 4), "146300");
         assert_eq!(sig(4.6997, 3), "4.70");
