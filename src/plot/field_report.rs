@@ -70,7 +70,8 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// #     residual: at(3, 1.0), added: [at(2, 0.0), at(5, 2.0)], noise: 0.0, repeats: 1, seed: 1 }
 /// #     .simulate(&rotor, brg)?;
 /// let id = field::identify(&rotor, &tests)?;
-/// let dir = std::env::temp_dir().join("bearing-ident-field-report-doc");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = bearing_ident::plot::field_report(&id, &dir, &Default::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();

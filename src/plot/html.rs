@@ -74,7 +74,8 @@ impl Default for ReportOptions {
 /// use bearing_ident::simulate::{ImpactTest, seed_rig};
 /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
 /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
-/// let dir = std::env::temp_dir().join("bearing-ident-doc-report");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = plot::report(&id, &records, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 8);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();

@@ -35,7 +35,8 @@ use crate::nonlinear::NonlinearIdentification;
 /// let id = ReversePath::new(8.0, 36.0, &[Regressor::Cubic])
 ///     .segment_len(256)
 ///     .identify(&[Record::new("cubic", fs, vec![f], vec![x])?])?;
-/// let dir = std::env::temp_dir().join("bearing-ident-nonlinear-report-doc");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = nonlinear_report(&id, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
