@@ -6,6 +6,7 @@ use bearing_ident::Choice;
 use bearing_ident::job::Facts;
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::plot::{coefficient_rows, significant as sig};
+use bearing_ident::text::{self, Align};
 use bearing_ident::{Coefficients, Identification};
 
 /// Facts about the run that the identification itself does not hold.
@@ -152,8 +153,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     let n = co.dofs();
     let axes = axis_labels(&c.axes, n);
     let freqs = id.freqs_hz();
-    let _ = writeln!(
-        out,
+    let run = format!(
         "{} records, {} DOF, {} samples/s; excitation {}{} (crest factor {:.1}); estimator {}{}; method {}",
         c.files.len(),
         n,
@@ -169,9 +169,9 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         },
         id.method().name(),
     );
-    let _ = writeln!(
-        out,
-        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages; window {}\n",
+    out.push_str(&text::wrap("", &run, 2));
+    let band = format!(
+        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages; window {}",
         id.band().low_hz(),
         id.band().high_hz(),
         freqs.len(),
@@ -188,6 +188,8 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
                 format!("; force gate {} s + {} s taper", g.open_s(), g.taper_s())
             })
     );
+    out.push_str(&text::wrap("", &band, 2));
+    out.push('\n');
     if !id.frf().unexcited_hz().is_empty() {
         let _ = writeln!(
             out,
@@ -363,35 +365,31 @@ fn element_model_lines(
     let _ = writeln!(out, "    families: {}", tried.join("; "));
 }
 
-/// The per-line diagonal coefficients as a table (the JSON has every element).
+/// The per-line diagonal coefficients as a table (the JSON has every element), split into
+/// blocks of whole degrees of freedom when wider than
+/// [`TABLE_WIDTH`](bearing_ident::text::TABLE_WIDTH).
 fn per_frequency_lines(out: &mut String, axes: &[String], pf: &PerFrequency) {
     let _ = writeln!(out, "\nPer frequency (diagonal; ± one standard deviation)");
-    let _ = write!(out, "  {:>9}", "f (Hz)");
+    let mut header = vec!["f (Hz)".to_owned()];
     for a in axes {
-        let _ = write!(
-            out,
-            " {:>24} {:>22}",
-            format!("K_{a}{a} (N/m)"),
-            format!("C_{a}{a} (N·s/m)")
-        );
+        header.push(format!("K_{a}{a} (N/m)"));
+        header.push(format!("C_{a}{a} (N·s/m)"));
     }
-    let _ = writeln!(out);
+    let mut rows = vec![header];
+    let pm = |v: f64, s: Option<f64>| match s {
+        Some(s) => format!("{} ± {}", sig(v, 6), sig(s, 2)),
+        None => sig(v, 6),
+    };
     for (k, f) in pf.freqs_hz().iter().enumerate() {
-        let _ = write!(out, "  {f:>9.3}");
+        let mut row = vec![format!("{f:.3}")];
         for i in 0..axes.len() {
-            let pm = |v: f64, s: Option<f64>| match s {
-                Some(s) => format!("{} ± {}", sig(v, 6), sig(s, 2)),
-                None => sig(v, 6),
-            };
             let ks = pf.stiffness_std(k).map(|s| s[(i, i)]);
             let cs = pf.damping_std(k).map(|s| s[(i, i)]);
-            let _ = write!(
-                out,
-                " {:>24} {:>22}",
-                pm(pf.stiffness(k)[(i, i)], ks),
-                pm(pf.damping(k)[(i, i)], cs)
-            );
+            row.push(pm(pf.stiffness(k)[(i, i)], ks));
+            row.push(pm(pf.damping(k)[(i, i)], cs));
         }
-        let _ = writeln!(out);
+        rows.push(row);
     }
+    let groups = vec![2; axes.len()];
+    out.push_str(&text::table(&rows, 1, &groups, Align::Right, 2));
 }
