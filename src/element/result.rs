@@ -108,6 +108,33 @@ impl ElementModel {
         &self.curve
     }
 
+    /// `K(ω)`, `C(ω)` of the model, with standard deviations, at any frequencies `freqs_hz`
+    /// (the curve of [`curve`](Self::curve) is this on the lines used). Off the band the model
+    /// is extrapolated: its error bars say how far that can be trusted.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::element::ModelSpec;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).model(ModelSpec::Auto).identify(&records)?;
+    /// let model = id.model().expect("a model was asked for");
+    /// let curve = model.curve_at(&[10.0, 30.0]);
+    /// // The seed rig is a constant K, C, M system: its K(ω) is the same at every frequency.
+    /// let (k10, k30) = (curve.stiffness[0][(0, 0)], curve.stiffness[1][(0, 0)]);
+    /// assert!((k10 / k30 - 1.0).abs() < 1e-6);
+    /// assert!((k10 / 146.3e3 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn curve_at(&self, freqs_hz: &[f64]) -> Curve {
+        Curve::of(
+            &self.fit,
+            freqs_hz,
+            &super::select::constant_mass(&self.fit),
+        )
+    }
+
     /// The poles (Hz).
     pub fn poles_hz(&self) -> Vec<f64> {
         self.fit
