@@ -1,7 +1,7 @@
 //! [`ElementModel`]: the family chosen (or asked for), its fit, its check, the candidates
 //! tried, and its `K(ω)`, `C(ω)` on the lines used ([`Curve`]).
 
-use faer::{Mat, c64};
+use faer::{Mat, MatRef, c64};
 
 use super::{Family, FamilyFit};
 use crate::error::Result;
@@ -78,6 +78,7 @@ pub struct ElementModel {
     pub(crate) check: ModelCheck,
     pub(crate) selection: Vec<Candidate>,
     pub(crate) curve: Curve,
+    pub(crate) others: Vec<FamilyFit>,
 }
 
 impl ElementModel {
@@ -101,6 +102,12 @@ impl ElementModel {
     /// family asked for by name).
     pub fn selection(&self) -> &[Candidate] {
         &self.selection
+    }
+
+    /// The fits of the other families the selection fitted, in its order (empty for a family
+    /// asked for by name): what a figure draws beside the chosen model.
+    pub fn other_fits(&self) -> &[FamilyFit] {
+        &self.others
     }
 
     /// `K(ω)`, `C(ω)` of the model on the lines used.
@@ -131,7 +138,7 @@ impl ElementModel {
         Curve::of(
             &self.fit,
             freqs_hz,
-            &super::select::constant_mass(&self.fit),
+            super::select::constant_mass(&self.fit).as_ref(),
         )
     }
 
@@ -388,7 +395,7 @@ impl ElementModel {
 
 impl Curve {
     /// The curve of `fit` on `freqs_hz`, `M` the model's constant mass `mass`.
-    pub(crate) fn of(fit: &FamilyFit, freqs_hz: &[f64], mass: &Mat<f64>) -> Curve {
+    pub(crate) fn of(fit: &FamilyFit, freqs_hz: &[f64], mass: MatRef<'_, f64>) -> Curve {
         let n = fit.dofs();
         let mut curve = Curve {
             frequency_hz: freqs_hz.to_vec(),

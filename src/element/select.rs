@@ -199,16 +199,21 @@ pub fn select(
             c
         })
         .collect();
-    let (fit, check, warnings) = tried.swap_remove(chosen).1.expect("chosen is fitted");
+    let (fit, check, warnings) = tried.remove(chosen).1.expect("chosen is fitted");
+    let others = tried
+        .into_iter()
+        .filter_map(|(_, t)| t.map(|t| t.0))
+        .collect();
     let fit = fit.widened(check.birge_factor());
     let mass = constant_mass(&fit);
-    let curve = Curve::of(&fit, frf.freqs_hz(), &mass);
+    let curve = Curve::of(&fit, frf.freqs_hz(), mass.as_ref());
     Ok((
         ElementModel {
             fit,
             check,
             selection,
             curve,
+            others,
         },
         warnings,
     ))
