@@ -194,7 +194,9 @@ mod tests {
             assert_eq!(f.to_string().parse::<Family>().unwrap(), f);
         }
         assert_eq!(" KCM ".parse::<Family>().unwrap(), Family::Kcm);
-        for bad in ["kcmx", "poly", "poly:0", "poly:7", "states:5", "states:x", "", "auto"] {
+        for bad in [
+            "kcmx", "poly", "poly:0", "poly:7", "states:5", "states:x", "", "auto",
+        ] {
             let e = bad.parse::<Family>().unwrap_err();
             assert!(e.to_string().contains("states:N"), "{bad}: {e}");
         }
@@ -207,7 +209,11 @@ mod tests {
         let mut phi = vec![c64::new(0.0, 0.0); 5];
         Family::States { poles: 2 }.basis(10.0, &[1.0, 1000.0], 1.0, &mut phi);
         let (k, c, m, a1, a2) = (100.0, 2.0, 0.5, 7.0, 3.0);
-        let h: c64 = [k, c, m, a1, a2].iter().zip(&phi).map(|(t, p)| p * *t).sum();
+        let h: c64 = [k, c, m, a1, a2]
+            .iter()
+            .zip(&phi)
+            .map(|(t, p)| p * *t)
+            .sum();
         let expected = c64::new(k - 100.0 * m, 10.0 * c)
             + c64::new(0.0, 10.0) / c64::new(1.0, 10.0) * a1
             + c64::new(0.0, 10.0) / c64::new(1000.0, 10.0) * a2;

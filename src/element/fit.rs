@@ -69,7 +69,11 @@ impl Data {
             .iter()
             .map(|f| 2.0 * std::f64::consts::PI * f)
             .collect();
-        let omega0 = omega.iter().copied().fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        let omega0 = omega
+            .iter()
+            .copied()
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
         Data {
             n,
             omega,
@@ -154,7 +158,9 @@ impl FamilyFit {
     /// Coefficient matrix `b` of the family ([`Family::parameter_name`]).
     pub fn matrix(&self, b: usize) -> Mat<f64> {
         let per = self.family.parameters_per_element();
-        Mat::from_fn(self.n, self.n, |i, j| self.theta[(i + j * self.n) * per + b])
+        Mat::from_fn(self.n, self.n, |i, j| {
+            self.theta[(i + j * self.n) * per + b]
+        })
     }
 
     /// Standard deviations of coefficient matrix `b`, when known.
@@ -384,10 +390,9 @@ fn robust_fit(
                     data.weight(t, var)
                 };
             }
-            let next = weighted_solve(&phi, data, e, &weights, per)
-                .ok_or(Error::SingularFit {
-                    method: crate::Method::LeastSquares,
-                })?;
+            let next = weighted_solve(&phi, data, e, &weights, per).ok_or(Error::SingularFit {
+                method: crate::Method::LeastSquares,
+            })?;
             let change = next
                 .iter()
                 .zip(&coefficients)
@@ -440,7 +445,13 @@ fn residual(phi: &[c64], data: &Data, k: usize, e: usize, theta: &[f64]) -> c64 
 
 /// The weighted least-squares coefficients of element `e`: the normal equations
 /// `Σ_k w_k Re(φ_b φ̄_c) θ_c = Σ_k w_k Re(y_k φ̄_b)`, columns scaled to unit diagonal.
-fn weighted_solve(phi: &[c64], data: &Data, e: usize, weights: &[f64], per: usize) -> Option<Vec<f64>> {
+fn weighted_solve(
+    phi: &[c64],
+    data: &Data,
+    e: usize,
+    weights: &[f64],
+    per: usize,
+) -> Option<Vec<f64>> {
     let nn = data.n * data.n;
     let mut a = Mat::<f64>::zeros(per, per);
     let mut rhs = Mat::<f64>::zeros(per, 1);
@@ -666,7 +677,10 @@ fn covariance(data: &Data, fit: &mut FamilyFit) {
         }
     }
     let inverses: Vec<Mat<f64>> = i_tt.iter().map(|m| scaled_inverse(m)).collect();
-    if inverses.iter().any(|m| !m.col_iter().all(|c| c.iter().all(|v| v.is_finite()))) {
+    if inverses
+        .iter()
+        .any(|m| !m.col_iter().all(|c| c.iter().all(|v| v.is_finite())))
+    {
         return;
     }
     // Schur complement for the poles: C_qq = (I_qq − Σ_e I_qθ I_θθ⁻¹ I_θq)⁻¹.
@@ -754,7 +768,11 @@ mod tests {
         let frf = frf_with(|_| Mat::zeros(2, 2));
         let fit = fit_family(&frf, Family::Kcm, None, None).unwrap();
         let truth = seed_rig();
-        for (b, m) in [(0, truth.stiffness()), (1, truth.damping()), (2, truth.mass())] {
+        for (b, m) in [
+            (0, truth.stiffness()),
+            (1, truth.damping()),
+            (2, truth.mass()),
+        ] {
             let got = fit.matrix(b);
             for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
                 assert!(
@@ -770,7 +788,10 @@ mod tests {
     /// Two states on different elements: the poles and residues come back.
     #[test]
     fn two_states_are_recovered() {
-        let (p1, p2) = (2.0 * std::f64::consts::PI * 12.0, 2.0 * std::f64::consts::PI * 35.0);
+        let (p1, p2) = (
+            2.0 * std::f64::consts::PI * 12.0,
+            2.0 * std::f64::consts::PI * 35.0,
+        );
         let frf = frf_with(|w| {
             let s = c64::new(0.0, w);
             let mut h = Mat::<c64>::zeros(2, 2);
@@ -780,8 +801,16 @@ mod tests {
             h
         });
         let fit = fit_family(&frf, Family::States { poles: 2 }, None, None).unwrap();
-        assert!((fit.poles()[0] / p1 - 1.0).abs() < 1e-4, "{:?}", fit.poles());
-        assert!((fit.poles()[1] / p2 - 1.0).abs() < 1e-4, "{:?}", fit.poles());
+        assert!(
+            (fit.poles()[0] / p1 - 1.0).abs() < 1e-4,
+            "{:?}",
+            fit.poles()
+        );
+        assert!(
+            (fit.poles()[1] / p2 - 1.0).abs() < 1e-4,
+            "{:?}",
+            fit.poles()
+        );
         let (a1, a2) = (fit.matrix(3), fit.matrix(4));
         assert!((a1[(0, 0)] / 3.0e4 - 1.0).abs() < 1e-4);
         assert!((a2[(1, 1)] / 5.0e4 - 1.0).abs() < 1e-4);

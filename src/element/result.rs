@@ -111,11 +111,9 @@ impl ElementModel {
         let zero = Mat::zeros(n, n);
         match self.family() {
             Family::Kc => Coefficients::new(zero, self.fit.matrix(1), self.fit.matrix(0)),
-            Family::Kcm | Family::States { .. } => Coefficients::new(
-                self.fit.matrix(2),
-                self.fit.matrix(1),
-                self.fit.matrix(0),
-            ),
+            Family::Kcm | Family::States { .. } => {
+                Coefficients::new(self.fit.matrix(2), self.fit.matrix(1), self.fit.matrix(0))
+            }
             Family::Poly { degree } => {
                 let m = if degree >= 2 {
                     let w0 = self.fit.omega0();

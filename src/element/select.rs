@@ -113,8 +113,10 @@ pub fn select(
         ModelSpec::Auto => Family::candidates(AUTO_MAX_POLES),
     };
     let auto = spec == ModelSpec::Auto;
-    let mut tried: Vec<(Candidate, Option<(super::FamilyFit, ModelCheck, Vec<Warning>)>)> =
-        Vec::new();
+    let mut tried: Vec<(
+        Candidate,
+        Option<(super::FamilyFit, ModelCheck, Vec<Warning>)>,
+    )> = Vec::new();
     let mut previous_poles: Vec<f64> = Vec::new();
     for family in families {
         let start_poles = (family.poles() == previous_poles.len() + 1).then(|| {
@@ -134,9 +136,9 @@ pub fn select(
                     ModelCheck::of_family(&data, &fit, frf.freqs_hz(), runs_stride)?;
                 let unsupported = if auto { unsupported(&fit, frf) } else { None };
                 let (size, terms2) = (family.size(data.n), check.dof.unwrap_or(0.0));
-                let criterion = check.statistic.map(|s| {
-                    s + size as f64 * (terms2 + size as f64).max(1.0).ln()
-                });
+                let criterion = check
+                    .statistic
+                    .map(|s| s + size as f64 * (terms2 + size as f64).max(1.0).ln());
                 let verdict = match (&unsupported, &check.verdict) {
                     (Some(_), _) => "unsupported",
                     (None, Verdict::Misfit) => "misfit",

@@ -49,8 +49,8 @@ pub use timings::Timings;
 pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
-use crate::error::Result;
 use crate::element::ModelSpec;
+use crate::error::Result;
 use crate::frf::{Assignment, ChannelTransfers, Estimator, ForceNoise};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;

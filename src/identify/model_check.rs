@@ -64,13 +64,13 @@
 
 use faer::c64;
 
+use crate::element::fit::{Data, fit_data};
+use crate::element::{Family, FamilyFit};
 use crate::error::{Result, Warning};
 use crate::frf::Frf;
 use crate::model::Coefficients;
 use crate::solve::ml::MlReport;
 use crate::statistics::chi2_upper_tail;
-use crate::element::fit::{Data, fit_data};
-use crate::element::{Family, FamilyFit};
 #[cfg(doc)]
 use crate::tolerance::MODEL_CHECK_FLOOR;
 use crate::tolerance::{MIN_RUNS_LINES, MODEL_MISFIT_P, RUNS_MIN_RATIO};

@@ -22,9 +22,9 @@ use super::screen::{
 };
 use super::timings::{Untimed, timed};
 use super::{Budget, Identification, Identifier, ModelCheck, Settings, Timings};
-use crate::element::{ModelSpec, select};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
+use crate::element::{ModelSpec, select};
 
 impl Identifier {
     /// Runs the identification.
@@ -510,7 +510,12 @@ impl Settings {
         } else {
             if model_check.verdict == super::model_check::Verdict::Misfit {
                 let hint = timed(&mut t.model_check, || {
-                    select(&frf, ModelSpec::Auto, self.runs_stride(&frf), Some(&windowed))
+                    select(
+                        &frf,
+                        ModelSpec::Auto,
+                        self.runs_stride(&frf),
+                        Some(&windowed),
+                    )
                 });
                 if let Some((element, _)) = hint.ok().filter(|(e, _)| {
                     !e.is_kcm() && e.check().verdict == super::model_check::Verdict::Fits

@@ -209,7 +209,11 @@ impl Fit {
 
     /// The fit with other coefficients and standard deviations (an element model's constant
     /// part); no covariance.
-    pub(crate) fn replaced(&self, coefficients: Coefficients, std_dev: Option<Coefficients>) -> Fit {
+    pub(crate) fn replaced(
+        &self,
+        coefficients: Coefficients,
+        std_dev: Option<Coefficients>,
+    ) -> Fit {
         Fit {
             coefficients,
             std_dev,
