@@ -368,6 +368,18 @@ fn robust_fit(
     poles: &[f64],
     start: Option<&[f64]>,
 ) -> Result<FamilyFit> {
+    robust_fit_in(data, family, poles, start, FAMILY_FIT_ITERATIONS)
+}
+
+/// [`robust_fit`] with at most `iterations` reweightings per element (the pole search's
+/// inner fits take two: `1/v`, then once reweighted).
+fn robust_fit_in(
+    data: &Data,
+    family: Family,
+    poles: &[f64],
+    start: Option<&[f64]>,
+    iterations: usize,
+) -> Result<FamilyFit> {
     let (n, lines) = (data.n, data.lines());
     let nn = n * n;
     let per = family.parameters_per_element();
@@ -378,7 +390,7 @@ fn robust_fit(
     for e in 0..nn {
         let mut coefficients = theta[e * per..(e + 1) * per].to_vec();
         let started = start.is_some();
-        for iteration in 0..FAMILY_FIT_ITERATIONS {
+        for iteration in 0..iterations {
             for (k, w) in weights.iter_mut().enumerate() {
                 let var = data.var[k * nn + e];
                 *w = if !var.is_finite() {
@@ -524,7 +536,11 @@ fn search_poles(
 }
 
 /// Starts of the pole search.
-const POLE_STARTS: usize = 4;
+const POLE_STARTS: usize = 3;
+
+/// Reweightings of each inner fit of the pole search (the final fit at its poles takes up to
+/// [`FAMILY_FIT_ITERATIONS`]).
+const SEARCH_REWEIGHTINGS: usize = 2;
 
 /// Levenberg–Marquardt on `q = ln p` over the weighted residuals of the projected problem
 /// (weights `1/v`, then the robust ones of the fit at the current poles), from `poles`.
@@ -537,7 +553,7 @@ fn levenberg_marquardt(data: &Data, family: Family, poles: Vec<f64>) -> Result<(
     );
     let cost_at = |q: &[f64]| -> Result<(f64, Vec<f64>)> {
         let poles: Vec<f64> = q.iter().map(|v| v.exp()).collect();
-        let fit = robust_fit(data, family, &poles, None)?;
+        let fit = robust_fit_in(data, family, &poles, None, SEARCH_REWEIGHTINGS)?;
         Ok((fit.statistic, projected_residuals(data, &fit)))
     };
     let (mut cost, mut r) = cost_at(&q)?;
@@ -676,7 +692,7 @@ fn covariance(data: &Data, fit: &mut FamilyFit) {
             }
         }
     }
-    let inverses: Vec<Mat<f64>> = i_tt.iter().map(|m| scaled_inverse(m)).collect();
+    let inverses: Vec<Mat<f64>> = i_tt.iter().map(scaled_inverse).collect();
     if inverses
         .iter()
         .any(|m| !m.col_iter().all(|c| c.iter().all(|v| v.is_finite())))
@@ -746,7 +762,6 @@ fn scaled_inverse(m: &Mat<f64>) -> Mat<f64> {
 mod tests {
     use super::*;
     use crate::simulate::seed_rig;
-    use faer::linalg::solvers::DenseSolveCore as _;
 
     /// Noise-free impedances of the seed rig with `extra` added: every family recovers what it
     /// can represent exactly.

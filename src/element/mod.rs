@@ -52,5 +52,5 @@ mod select;
 
 pub use basis::Family;
 pub use fit::{FamilyFit, fit_family};
-pub use result::{Candidate, Curve, ElementModel};
+pub use result::{Candidate, Curve, Effective, ElementModel};
 pub use select::{ModelSpec, select};

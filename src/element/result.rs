@@ -47,6 +47,30 @@ pub struct Curve {
     pub damping_std: Vec<Mat<f64>>,
 }
 
+/// The effective coefficients of a 2-DOF model for forward whirl, per line of its curve, and
+/// the crossover frequency where the effective damping changes sign
+/// ([`ElementModel::effective`]): with the isotropic parts `K = (K_xx + K_yy)/2`,
+/// `k = (K_xy − K_yx)/2`, `C = (C_xx + C_yy)/2`, `c = (C_xy − C_yx)/2` of the model's `K(ω)`,
+/// `C(ω)`: $K_{eff} = K + \omega c$, $C_{eff} = C - k/\omega$.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Effective {
+    /// The lines (Hz).
+    pub frequency_hz: Vec<f64>,
+    /// `K_eff` per line (N/m).
+    pub stiffness: Vec<f64>,
+    /// `C_eff` per line (N·s/m).
+    pub damping: Vec<f64>,
+    /// Standard deviations of `K_eff` (the elements' in quadrature).
+    pub stiffness_std: Vec<f64>,
+    /// Standard deviations of `C_eff`.
+    pub damping_std: Vec<f64>,
+    /// The lowest frequency (Hz) from a third of the band's lower edge to three times its upper
+    /// edge where `C_eff` changes sign, on the model; `None` when it does not.
+    pub crossover_hz: Option<f64>,
+    /// Its standard deviation: `σ(C_eff)` there over the slope of `C_eff`.
+    pub crossover_hz_std: Option<f64>,
+}
+
 /// The element model of an identification ([`Identification::model`](crate::Identification::model)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElementModel {
@@ -206,6 +230,122 @@ impl ElementModel {
             .collect();
         modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
         Ok(modes)
+    }
+
+    /// `K_eff`, `C_eff` for forward whirl and the crossover frequency ([`Effective`]), for two
+    /// degrees of freedom (`x`, `y`); `None` otherwise.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::element::{Family, fit_family, ModelSpec, select};
+    /// use bearing_ident::{Frf, simulate::seed_rig};
+    /// # use faer::linalg::solvers::DenseSolveCore;
+    /// // A cross-coupled element: k = 2e4 N/m, C = 130 N·s/m → C_eff crosses zero at
+    /// // ω = k/C, 24.5 Hz (the seed rig's own cross terms shift it a little).
+    /// let k = seed_rig();
+    /// let freqs: Vec<f64> = (8..=49).map(f64::from).collect();
+    /// let g = freqs.iter().map(|&f| {
+    ///     let mut h = k.impedance_at(f);
+    ///     h[(0, 1)].re += 2e4;
+    ///     h[(1, 0)].re -= 2e4;
+    ///     h.partial_piv_lu().inverse()
+    /// }).collect::<Vec<_>>();
+    /// let frf = Frf::from_flexibility(freqs, &g)?;
+    /// let (model, _) = select(&frf, ModelSpec::Family(Family::Kcm), 1, None)?;
+    /// let eff = model.effective().unwrap();
+    /// let c = &k.damping();
+    /// let kk = 0.5 * (k.stiffness()[(0, 1)] - k.stiffness()[(1, 0)]) + 2e4;
+    /// let cc = 0.5 * (c[(0, 0)] + c[(1, 1)]);
+    /// let expected = kk / cc / (2.0 * std::f64::consts::PI);
+    /// assert!((eff.crossover_hz.unwrap() / expected - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn effective(&self) -> Option<Effective> {
+        if self.fit.dofs() != 2 {
+            return None;
+        }
+        let mass = self.constant_part().ok()?.mass().to_owned();
+        let at = |omega: f64| -> (f64, f64, f64, f64) {
+            let mut k = [[0.0; 2]; 2];
+            let mut c = [[0.0; 2]; 2];
+            let mut ks = [[0.0; 2]; 2];
+            let mut cs = [[0.0; 2]; 2];
+            for i in 0..2 {
+                for j in 0..2 {
+                    let (h, std) = self.fit.element_with_std(omega, i, j, true);
+                    k[i][j] = h.re + omega * omega * mass[(i, j)];
+                    c[i][j] = h.im / omega;
+                    let (sr, si) = std.unwrap_or((f64::NAN, f64::NAN));
+                    ks[i][j] = sr;
+                    cs[i][j] = si / omega;
+                }
+            }
+            let k_eff = 0.5 * (k[0][0] + k[1][1]) + omega * 0.5 * (c[0][1] - c[1][0]);
+            let c_eff = 0.5 * (c[0][0] + c[1][1]) - 0.5 * (k[0][1] - k[1][0]) / omega;
+            let k_std = 0.5
+                * (ks[0][0].powi(2)
+                    + ks[1][1].powi(2)
+                    + (omega * cs[0][1]).powi(2)
+                    + (omega * cs[1][0]).powi(2))
+                .sqrt();
+            let c_std = 0.5
+                * (cs[0][0].powi(2)
+                    + cs[1][1].powi(2)
+                    + (ks[0][1] / omega).powi(2)
+                    + (ks[1][0] / omega).powi(2))
+                .sqrt();
+            (k_eff, c_eff, k_std, c_std)
+        };
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let mut out = Effective {
+            frequency_hz: self.curve.frequency_hz.clone(),
+            stiffness: Vec::new(),
+            damping: Vec::new(),
+            stiffness_std: Vec::new(),
+            damping_std: Vec::new(),
+            crossover_hz: None,
+            crossover_hz_std: None,
+        };
+        for &f in &self.curve.frequency_hz {
+            let (k, c, ks, cs) = at(two_pi * f);
+            out.stiffness.push(k);
+            out.damping.push(c);
+            out.stiffness_std.push(ks);
+            out.damping_std.push(cs);
+        }
+        let freqs = &self.curve.frequency_hz;
+        let (low, high) = (
+            freqs.iter().copied().fold(f64::INFINITY, f64::min) / 3.0,
+            freqs.iter().copied().fold(0.0, f64::max) * 3.0,
+        );
+        // The first sign change on a fine logarithmic grid, refined by bisection.
+        let grid = 2000;
+        let point = |i: usize| low * (high / low).powf(i as f64 / grid as f64);
+        let c_at = |f: f64| at(two_pi * f).1;
+        let mut previous = c_at(point(0));
+        for i in 1..=grid {
+            let current = c_at(point(i));
+            if previous.signum() != current.signum() && previous.is_finite() && current.is_finite()
+            {
+                let (mut a, mut b) = (point(i - 1), point(i));
+                for _ in 0..60 {
+                    let m = 0.5 * (a + b);
+                    if c_at(m).signum() == previous.signum() {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                let f = 0.5 * (a + b);
+                let slope = (c_at(f * 1.001) - c_at(f * 0.999)) / (0.002 * f);
+                let (_, _, _, c_std) = at(two_pi * f);
+                out.crossover_hz = Some(f);
+                out.crossover_hz_std = (slope != 0.0).then(|| c_std / slope.abs());
+                break;
+            }
+            previous = current;
+        }
+        Some(out)
     }
 
     /// Whether the model is the constant `K`, `C`, `M` of the default fit.

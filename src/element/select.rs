@@ -113,10 +113,7 @@ pub fn select(
         ModelSpec::Auto => Family::candidates(AUTO_MAX_POLES),
     };
     let auto = spec == ModelSpec::Auto;
-    let mut tried: Vec<(
-        Candidate,
-        Option<(super::FamilyFit, ModelCheck, Vec<Warning>)>,
-    )> = Vec::new();
+    let mut tried: Vec<(Candidate, Option<Tried>)> = Vec::new();
     let mut previous_poles: Vec<f64> = Vec::new();
     for family in families {
         let start_poles = (family.poles() == previous_poles.len() + 1).then(|| {
@@ -127,6 +124,17 @@ pub fn select(
         let fitted = fit_data(&data, family, start_poles.as_deref(), start);
         let (candidate, kept) = match fitted {
             Err(e) if auto => (refused(family, "unsupported", e.to_string()), None),
+            Err(Error::TooFewLines { lines, .. }) => {
+                return Err(Error::InvalidOption {
+                    option: "model",
+                    message: format!(
+                        "--model {family}: {} parameters per element need more than {} lines; \
+                         the band holds {lines}",
+                        family.parameters_per_element(),
+                        family.parameters_per_element() / 2,
+                    ),
+                });
+            }
             Err(e) => return Err(e),
             Ok(fit) => {
                 if family.poles() > 0 {
@@ -206,6 +214,9 @@ pub fn select(
     ))
 }
 
+/// A family fitted and checked: its fit, its check and the check's warnings.
+type Tried = (super::FamilyFit, ModelCheck, Vec<Warning>);
+
 fn refused(family: Family, verdict: &'static str, reason: String) -> Candidate {
     Candidate {
         family,
@@ -275,5 +286,184 @@ fn constant_mass(fit: &super::FamilyFit) -> faer::Mat<f64> {
             faer::Mat::from_fn(n, n, |i, j| -k2[(i, j)] / (w0 * w0))
         }
         Family::Poly { .. } => faer::Mat::zeros(n, n),
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::identify::Identifier;
+    use crate::records::Record;
+    use crate::simulate::{add_noise, seed_rig};
+    use crate::spectra::{Segmentation, Window};
+    use faer::linalg::solvers::DenseSolveCore;
+    use faer::{Mat, c64, mat};
+    use rand::{RngExt, SeedableRng};
+    use realfft::RealFftPlanner;
+
+    /// Exact periodic records of the seed rig with internal states (poles in Hz, residues):
+    /// random-phase multisines on lines 8–49 of a 1 s period at 1000 samples/s, one direction
+    /// per record, three records per direction, 8 periods, the steady state computed at the
+    /// lines (`X = H⁻¹ F`), then `noise` on every channel.
+    pub(crate) fn states_records(
+        poles_hz: &[f64],
+        residues: &[Mat<f64>],
+        noise: f64,
+        seed: u64,
+    ) -> Vec<Record> {
+        let truth = seed_rig();
+        let (rate, period, periods) = (1000.0, 1000usize, 8usize);
+        let inverse = RealFftPlanner::<f64>::new().plan_fft_inverse(period);
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let mut records = Vec::new();
+        for d in 0..2 {
+            for r in 0..3 {
+                let zero = c64::new(0.0, 0.0);
+                let mut f = vec![zero; period / 2 + 1];
+                let mut x = vec![vec![zero; period / 2 + 1]; 2];
+                for k in 8..=49 {
+                    let phase = rng.random::<f64>() * std::f64::consts::TAU;
+                    f[k] = c64::new(phase.cos(), phase.sin()) * 5000.0;
+                    let s = c64::new(0.0, std::f64::consts::TAU * k as f64);
+                    let mut h = truth.impedance_at(k as f64);
+                    for (p, a) in poles_hz.iter().zip(residues) {
+                        let pole = std::f64::consts::TAU * p;
+                        for i in 0..2 {
+                            for j in 0..2 {
+                                h[(i, j)] += s / (s + pole) * a[(i, j)];
+                            }
+                        }
+                    }
+                    let g = h.partial_piv_lu().inverse();
+                    for i in 0..2 {
+                        x[i][k] = g[(i, d)] * f[k];
+                    }
+                }
+                let time = |spec: &[c64]| {
+                    let (mut spec, mut out) = (spec.to_vec(), vec![0.0; period]);
+                    inverse.process(&mut spec, &mut out).unwrap();
+                    let one: Vec<f64> = out.iter().map(|v| v / period as f64).collect();
+                    (0..periods).flat_map(|_| one.clone()).collect::<Vec<f64>>()
+                };
+                let mut forces = vec![vec![0.0; period * periods]; 2];
+                forces[d] = time(&f);
+                let clean = Record::new(
+                    format!("ms-{d}-{r}"),
+                    rate,
+                    forces,
+                    vec![time(&x[0]), time(&x[1])],
+                )
+                .unwrap();
+                records.push(add_noise(&clean, noise, &mut rng).unwrap());
+            }
+        }
+        records
+    }
+
+    fn identify(records: &[Record], spec: ModelSpec) -> crate::Identification {
+        Identifier::new(8.0, 49.0)
+            .estimator(crate::Estimator::H1)
+            .segmentation(Segmentation::Periods { len: 1000 })
+            .window(Window::Rectangular)
+            .model(spec)
+            .identify(records)
+            .unwrap()
+    }
+
+    /// `auto` chooses the family the records were made with — `kcm`, one state, two states —
+    /// and recovers its poles and residues within their error bars; the constant part is the
+    /// rig's.
+    #[test]
+    fn auto_chooses_the_family_of_the_records() {
+        let cases = [
+            (vec![], vec![], Family::Kcm),
+            (
+                vec![20.0],
+                vec![mat![[4e4, 0.0], [0.0, 3e4]]],
+                Family::States { poles: 1 },
+            ),
+            (
+                vec![12.0, 35.0],
+                vec![mat![[3e4, 0.0], [0.0, 2e4]], mat![[2e4, -5e3], [0.0, 4e4]]],
+                Family::States { poles: 2 },
+            ),
+        ];
+        for (poles, residues, family) in cases {
+            let id = identify(&states_records(&poles, &residues, 0.02, 3), ModelSpec::Auto);
+            let model = id.model().unwrap();
+            eprintln!(
+                "{family}: chose {} poles {:?} ± {:?}",
+                model.family(),
+                model.poles_hz(),
+                model.poles_hz_std()
+            );
+            assert_eq!(model.family(), family);
+            let std = model.poles_hz_std().unwrap();
+            for (j, p) in poles.iter().enumerate() {
+                let z = (model.poles_hz()[j] - p) / std[j];
+                assert!(z.abs() < 3.0, "pole {p}: {z} σ");
+                let (a, sa) = (
+                    model.fit().matrix(3 + j),
+                    model.fit().matrix_std(3 + j).unwrap(),
+                );
+                for i in 0..2 {
+                    let z = (a[(i, i)] - residues[j][(i, i)]) / sa[(i, i)];
+                    assert!(z.abs() < 3.0, "A{}[{i}][{i}]: {z} σ", j + 1);
+                }
+            }
+            let (c, s, t) = (
+                id.coefficients().stiffness(),
+                id.std_dev().unwrap().stiffness(),
+                seed_rig(),
+            );
+            for i in 0..2 {
+                let z = (c[(i, i)] - t.stiffness()[(i, i)]) / s[(i, i)];
+                assert!(z.abs() < 3.0, "K[{i}][{i}]: {z} σ");
+            }
+            // Every family before the chosen one was tried and refused.
+            let tried = model.selection();
+            assert_eq!(tried.last().unwrap().verdict, "chosen");
+            assert!(
+                tried[..tried.len() - 1]
+                    .iter()
+                    .all(|c| c.verdict != "chosen")
+            );
+        }
+    }
+
+    /// With the default kcm, records of an element with a state are a misfit, and the warning
+    /// names the family that fits.
+    #[test]
+    fn a_kcm_misfit_names_the_family_that_fits() {
+        let records = states_records(&[20.0], &[mat![[4e4, 0.0], [0.0, 3e4]]], 0.02, 4);
+        let id = identify(&records, ModelSpec::default());
+        let kinds: Vec<&str> = id.warnings().iter().map(|w| w.kind()).collect();
+        assert!(kinds.contains(&"model_misfit"), "{kinds:?}");
+        let hint = id
+            .warnings()
+            .iter()
+            .find(|w| w.kind() == "frequency_dependent")
+            .expect("named");
+        assert!(hint.to_string().contains("states:1"), "{hint}");
+        assert!(id.model().is_none());
+    }
+
+    /// A family asked for by name is fitted even when it misfits; one with more parameters per
+    /// element than the lines allow is refused, naming the counts.
+    #[test]
+    fn a_family_by_name_is_fitted_or_refused() {
+        let records = states_records(&[20.0], &[mat![[4e4, 0.0], [0.0, 3e4]]], 0.02, 5);
+        let id = identify(&records, ModelSpec::Family(Family::Kc));
+        assert_eq!(id.model().unwrap().family(), Family::Kc);
+        assert_eq!(id.model_check().verdict, Verdict::Misfit);
+        assert_eq!(id.coefficients().mass()[(0, 0)], 0.0);
+        let e = Identifier::new(8.0, 14.0)
+            .estimator(crate::Estimator::H1)
+            .segmentation(Segmentation::Periods { len: 1000 })
+            .model(ModelSpec::Family(Family::Poly { degree: 6 }))
+            .identify(&records)
+            .unwrap_err();
+        assert!(e.to_string().contains("14 parameters per element"), "{e}");
+        assert!(e.to_string().contains("the band holds 7"), "{e}");
     }
 }

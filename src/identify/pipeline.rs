@@ -503,8 +503,21 @@ impl Settings {
                 fit = fit.replaced(constant, bars.std_dev.clone());
                 model_check = element.check().clone();
                 modes_std = None;
-                warnings.retain(|w| !matches!(w, Warning::ModelMisfit { .. }));
+                // The constant part's checks give way to the model's: its misfit, and its
+                // modes, those of the internal states' state space.
+                warnings.retain(|w| {
+                    !matches!(
+                        w,
+                        Warning::ModelMisfit { .. } | Warning::UnstableMode { .. }
+                    )
+                });
                 warnings.extend(found);
+                warnings.extend(element.modes().unwrap_or_default().iter().filter_map(|m| {
+                    (m.damping_ratio < 0.0).then_some(Warning::UnstableMode {
+                        frequency_hz: m.natural_frequency_hz,
+                        damping_ratio: m.damping_ratio,
+                    })
+                }));
             }
             Some(element)
         } else {
