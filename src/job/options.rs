@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use crate::element::ModelSpec;
 use crate::error::{Error, Result, excerpt};
 use crate::excitation::Excitation;
 use crate::frf::{Estimator, ForceNoise};
@@ -134,6 +135,8 @@ pub struct Options {
     pub reject_bad_records: bool,
     /// `force-noise`: what H1's force-side noise is taken for ([`ForceNoise`]); default auto.
     pub force_noise: ForceNoise,
+    /// `model`: the element model ([`ModelSpec`]); default `kcm`.
+    pub model: ModelSpec,
     /// `min-coherence`: drop lines where the multiple coherence of any output is below this;
     /// default 0.
     pub min_coherence: f64,
@@ -175,7 +178,7 @@ pub struct Options {
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 24] = [
+    pub const NAMES: [&'static str; 25] = [
         "band",
         "method",
         "excitation",
@@ -183,6 +186,7 @@ impl Options {
         "window",
         "uncertainty",
         "force-noise",
+        "model",
         "bootstrap-draws",
         "seed",
         "force-gate",
@@ -212,6 +216,7 @@ impl Options {
             window: None,
             uncertainty: Uncertainty::Auto,
             force_noise: ForceNoise::Auto,
+            model: ModelSpec::Family(crate::element::Family::Kcm),
             bootstrap_draws: 200,
             seed: 0,
             force_gate_s: None,
@@ -279,6 +284,7 @@ impl Options {
             "window" => self.window = Some(value.parse()?),
             "uncertainty" => self.uncertainty = value.parse()?,
             "force-noise" => self.force_noise = value.parse()?,
+            "model" => self.model = value.parse()?,
             "bootstrap-draws" => self.bootstrap_draws = count()?,
             "seed" => self.seed = value.trim().parse().map_err(|_| invalid("a seed"))?,
             "force-gate" => self.force_gate_s = Some(number()?),
@@ -349,6 +355,7 @@ mod tests {
             ("window", "exp:0.1"),
             ("uncertainty", "bootstrap"),
             ("force-noise", "measurement"),
+            ("model", "auto"),
             ("bootstrap-draws", "30"),
             ("seed", "7"),
             ("force-gate", "0.01"),

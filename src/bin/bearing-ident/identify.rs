@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use bearing_ident::element::ModelSpec;
 use bearing_ident::excitation::Excitation;
 use bearing_ident::frf::ForceNoise;
 use bearing_ident::io::CsvLayout;
@@ -65,6 +66,12 @@ pub struct IdentifyArgs {
     /// compensates for it too.
     #[arg(long, value_parser = choice::<ForceNoise>(), default_value = "auto")]
     force_noise: ForceNoise,
+    /// Element model: `kcm` (constant K, C, M; the default), `kc`, `poly:P` (K(ω), C(ω)
+    /// polynomials of degree P), `states:N` (K, C, M and N internal states, the model of seals,
+    /// tilting pads, magnetic bearings), or `auto`: the smallest family the model check
+    /// accepts (JSON `model`).
+    #[arg(long, default_value = "kcm")]
+    model: ModelSpec,
     /// Bootstrap resamples.
     #[arg(long, default_value_t = 200)]
     bootstrap_draws: usize,
@@ -214,6 +221,7 @@ fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure>
     o.window = args.window.as_deref().map(str::parse).transpose()?;
     o.uncertainty = args.uncertainty;
     o.force_noise = args.force_noise;
+    o.model = args.model;
     o.bootstrap_draws = args.bootstrap_draws;
     o.seed = args.seed;
     o.force_gate_s = args.force_gate;
