@@ -1,16 +1,17 @@
 //! Records of a system whose element has internal states (`simulate::ElementStates`,
 //! `Simulator::with_states`, the `states` option of `Setup`) against independent references:
 //! the steady-state response to a sine against `X = H(iω)⁻¹ F` of the closed form, an impulse
-//! response against a fine RK4 integration of the ODE, and states that do nothing against
-//! records without them.
+//! response against a fine RK4 integration of the ODE, states that do nothing against records
+//! without them; and impact records of such an element identified with `--model auto`.
 
 use std::f64::consts::PI;
 
+use bearing_ident::element::{Family, ModelSpec};
 use bearing_ident::model::Coefficients;
 use bearing_ident::simulate::{
     AntiAlias, ElementStates, Impact, Kind, Setup, Simulator, seed_rig, sine, slowest_decay,
 };
-use bearing_ident::{Error, Parameter, Response};
+use bearing_ident::{Error, Identifier, Parameter, Response};
 use faer::{c64, mat};
 
 use crate::common::EXACT;
@@ -123,7 +124,8 @@ fn sine_response_matches_the_closed_form_impedance() {
 /// The impulse response of a 1-DOF system with one state, `m ẍ + c ẋ + k x + A w = f`,
 /// `ẇ = ẋ − p w`, sampled without a filter, against classical RK4 on the same ODE with steps of
 /// 1 µs (a 200th of a sample; the pulse's edges on the grid), whose own error is of order
-/// `(ωh)⁴ ≈ 6·10⁻¹²` for the pulse's `ω = π/2 ms`.
+/// `(ωh)⁴ ≈ 6·10⁻¹²` for the pulse's `ω = π/2 ms`; without states the records are
+/// [`Simulator::new`]'s, bit for bit.
 #[test]
 fn impulse_response_matches_rk4_of_the_ode() {
     let (m, c, k) = (4.7, 130.0, 1.5e5);
@@ -184,7 +186,17 @@ fn impulse_response_matches_rk4_of_the_ode() {
     assert!(worst < 1e-10, "{worst:e}");
     // The state matters: without it the response differs by far more than that.
     let mut plain = Simulator::new(&system, rate, samples, AntiAlias::None).unwrap();
-    let without = plain.record("hit", &[hit]).unwrap();
+    let without = plain.record("hit", std::slice::from_ref(&hit)).unwrap();
+    // No states is `Simulator::new`, bit for bit.
+    let mut none = Simulator::with_states(
+        &system,
+        &ElementStates::default(),
+        rate,
+        samples,
+        AntiAlias::None,
+    )
+    .unwrap();
+    assert_eq!(none.record("hit", &[hit]).unwrap(), without);
     let apart = without
         .displacement(0)
         .iter()
@@ -354,4 +366,60 @@ fn bad_states_are_refused() {
             ..
         })
     ));
+}
+
+/// Impact records of the seed's rig whose element has one state at 20 Hz,
+/// `A = diag(4e4, 3e4)` N/m, with 2 % noise: [`ModelSpec::Auto`] chooses `states:1` and
+/// recovers the pole and the residues' diagonal within three of their standard deviations;
+/// with the default `kcm` the records are a misfit and the `frequency_dependent` warning names
+/// the family that fits.
+#[test]
+fn impacts_of_an_element_with_a_state_are_identified_as_states_1() {
+    let (pole_hz, residue) = (20.0, [4.0e4, 3.0e4]);
+    let mut setup = Setup::default();
+    setup.set("noise", "0.02").unwrap();
+    setup.set("states", "20:4e4,0;0,3e4").unwrap();
+    let records = setup.run(&seed_rig()).unwrap().records;
+    let identifier = || Identifier::new(8.0, 49.0);
+
+    let id = identifier()
+        .model(ModelSpec::Auto)
+        .identify(&records)
+        .unwrap();
+    let model = id.model().expect("an element model");
+    let tried: Vec<String> = model
+        .selection()
+        .iter()
+        .map(|c| format!("{} {} p={:?}", c.family, c.verdict, c.p_value))
+        .collect();
+    println!("tried: {tried:?}");
+    assert_eq!(model.family(), Family::States { poles: 1 }, "{tried:?}");
+    let (pole, pole_std) = (model.poles_hz()[0], model.poles_hz_std().unwrap()[0]);
+    let z = (pole - pole_hz) / pole_std;
+    println!("pole {pole:.3} ± {pole_std:.3} Hz ({z:+.2} σ)");
+    assert!(z.abs() < 3.0, "pole {pole} ± {pole_std} Hz");
+    let (a, a_std) = (model.fit().matrix(3), model.fit().matrix_std(3).unwrap());
+    for (i, truth) in residue.iter().enumerate() {
+        let z = (a[(i, i)] - truth) / a_std[(i, i)];
+        println!(
+            "A[{i}][{i}] {:.4e} ± {:.2e} N/m ({z:+.2} σ)",
+            a[(i, i)],
+            a_std[(i, i)]
+        );
+        assert!(
+            z.abs() < 3.0,
+            "A[{i}][{i}] {} ± {}",
+            a[(i, i)],
+            a_std[(i, i)]
+        );
+    }
+
+    let kcm = identifier().identify(&records).unwrap();
+    let kinds: Vec<&str> = kcm.warnings().iter().map(|w| w.kind()).collect();
+    let hint = kcm
+        .warnings()
+        .iter()
+        .find(|w| w.kind() == "frequency_dependent")
+        .unwrap_or_else(|| panic!("no frequency_dependent warning: {kinds:?}"));
+    assert!(hint.to_string().contains("states:1"), "{hint}");
 }

@@ -1,7 +1,7 @@
 //! `bearing-ident simulate`: records of a given system (impacts, random forcing, or a shaker:
 //! multisine, stepped sine, sweep), with an element's optional internal states, or optional
-//! nonlinear terms integrated by RK4, written as CSV files. The test itself is the library's [`Setup`]: this file reads its options and
-//! writes what it makes.
+//! nonlinear terms integrated by RK4, written as CSV files. The test itself is the library's
+//! [`Setup`]: this file reads its options and writes what it makes.
 
 use bearing_ident::Choice;
 use std::path::PathBuf;

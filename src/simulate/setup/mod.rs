@@ -119,8 +119,8 @@ pub struct Setup {
     /// `rate`: sampling rate (Hz); default 6700.
     pub rate: f64,
     /// `duration`: record length (s). Default: impacts and sweeps, long enough for the
-    /// response (internal states included) to decay to 1e-7; random, 60 s; stepped sine, 1 s kept; multisine,
-    /// `period × periods`.
+    /// response (internal states included) to decay to 1e-7; random, 60 s; stepped sine, 1 s
+    /// kept; multisine, `period × periods`.
     pub duration: Option<f64>,
     /// `pulse`: half-sine pulse duration (s); default 0.002.
     pub pulse: f64,
