@@ -456,7 +456,10 @@ pub(crate) mod tests {
         let id = identify(&records, ModelSpec::Family(Family::Kc));
         assert_eq!(id.model().unwrap().family(), Family::Kc);
         assert_eq!(id.model_check().verdict, Verdict::Misfit);
-        assert_eq!(id.coefficients().mass()[(0, 0)].to_bits(), 0.0_f64.to_bits());
+        assert_eq!(
+            id.coefficients().mass()[(0, 0)].to_bits(),
+            0.0_f64.to_bits()
+        );
         let e = Identifier::new(8.0, 14.0)
             .estimator(crate::Estimator::H1)
             .segmentation(Segmentation::Periods { len: 1000 })

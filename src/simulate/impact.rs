@@ -92,7 +92,7 @@ impl ImpactTest {
     ///
     /// # Errors
     /// As [`Simulator::new`], [`Simulator::responding`], [`Simulator::record`],
-    /// [`sample_count`] and [`slowest_decay`]
+    /// [`sample_count`] and [`slowest_decay`](super::slowest_decay)
     /// (a mass that is not positive definite, a mode that does not decay);
     /// [`Error::InvalidParameter`] if the slowest mode has not decayed to `10⁻⁶` of its
     /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
