@@ -491,6 +491,7 @@ def simulate(
     sweep_time: float | None = None,
     simultaneous: bool | None = None,
     response: str | Sequence[str] | None = None,
+    states: str | None = None,
     mass: Any = None,
     damping: Any = None,
     stiffness: Any = None,
@@ -516,7 +517,9 @@ def simulate(
     ``pulse`` (0.002 s) the hits, ``response`` what the responses record (``displacement``,
     ``velocity``, ``acceleration``; one or one per degree of freedom). The system is the seed's
     rig (Diaz & San Andrés 1999: 4.7/4.8 kg, 146.3/169.1 kN/m) unless ``mass``, ``damping``
-    and ``stiffness`` are given (square arrays). ``coulomb``, ``coulomb_planar``, ``cubic``,
+    and ``stiffness`` are given (square arrays). ``states`` gives the element internal states,
+    ``"POLE_HZ:A11,A12;A21,A22|POLE_HZ:..."`` (one residue matrix, N/m, per pole):
+    ``H = K + iωC − ω²M + Σ A_j iω/(iω + 2π f_j)``, simulated exactly. ``coulomb``, ``coulomb_planar``, ``cubic``,
     ``quadratic_damping`` add nonlinear terms (integrated by RK4, ``smoothing`` and
     ``oversampling`` its settings). The GIL is released while it runs.
 
@@ -542,6 +545,7 @@ def simulate(
         "sweep_time": sweep_time,
         "simultaneous": simultaneous,
         "response": response,
+        "states": states,
         "coulomb": coulomb,
         "coulomb_planar": coulomb_planar,
         "cubic": cubic,

@@ -124,6 +124,7 @@ def simulate(
     sweep_time: float | None = None,
     simultaneous: bool | None = None,
     response: str | Sequence[str] | None = None,
+    states: str | None = None,
     mass: ArrayLike | None = None,
     damping: ArrayLike | None = None,
     stiffness: ArrayLike | None = None,

@@ -24,6 +24,7 @@ mod recovery;
 mod responses;
 mod screening;
 mod seed_rig;
+mod simulated_states;
 mod statistics;
 mod timings;
 mod welch_choice;
