@@ -7,6 +7,7 @@
 mod common;
 
 mod coverage;
+mod element_models;
 mod errors;
 mod estimators;
 mod excitations;
