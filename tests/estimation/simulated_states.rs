@@ -414,6 +414,38 @@ fn impacts_of_an_element_with_a_state_are_identified_as_states_1() {
         );
     }
 
+    // The rig's modes with the element: those of the augmented state space, against the
+    // eigenvalues of the simulated system (complex pairs, by ascending frequency).
+    let states = bearing_ident::simulate::ElementStates::new(
+        vec![pole_hz],
+        vec![faer::mat![[residue[0], 0.0], [0.0, residue[1]]]],
+    )
+    .unwrap();
+    let mut truth: Vec<(f64, f64)> = states
+        .eigenvalues(&seed_rig())
+        .unwrap()
+        .iter()
+        .filter(|l| l.im > 0.0)
+        .map(|l| (l.norm() / (2.0 * std::f64::consts::PI), -l.re / l.norm()))
+        .collect();
+    truth.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let modes = id.modes().unwrap();
+    assert_eq!(modes.len(), truth.len(), "{modes:?}");
+    for (m, (f, zeta)) in modes.iter().zip(&truth) {
+        println!(
+            "mode {:.3} Hz ζ {:.4} (truth {f:.3} Hz ζ {zeta:.4})",
+            m.natural_frequency_hz, m.damping_ratio
+        );
+        assert!(
+            (m.natural_frequency_hz / f - 1.0).abs() < 2e-3,
+            "{m:?} vs {f}"
+        );
+        assert!(
+            (m.damping_ratio / zeta - 1.0).abs() < 0.03,
+            "{m:?} vs {zeta}"
+        );
+    }
+
     let kcm = identifier().identify(&records).unwrap();
     let kinds: Vec<&str> = kcm.warnings().iter().map(|w| w.kind()).collect();
     let hint = kcm
