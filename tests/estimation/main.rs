@@ -22,6 +22,7 @@ mod properties;
 mod quality;
 mod recovery;
 mod responses;
+mod ross_elements;
 mod screening;
 mod seed_rig;
 mod statistics;
