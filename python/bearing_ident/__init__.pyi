@@ -76,6 +76,8 @@ class Identification:
     damping_ratios: npt.NDArray[np.float64]
     warnings: list[tuple[str, str]]
     timings_ms: dict[str, float]
+    @property
+    def model(self) -> dict[str, Any] | None: ...
     def to_dict(self) -> dict[str, Any]: ...
     def to_ross_toml(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False) -> str: ...
     def to_ross(self, n: int = 0, tag: str = "bearing", per_frequency: bool = False) -> Any: ...
@@ -122,6 +124,7 @@ def simulate(
     sweep_time: float | None = None,
     simultaneous: bool | None = None,
     response: str | Sequence[str] | None = None,
+    states: str | None = None,
     mass: ArrayLike | None = None,
     damping: ArrayLike | None = None,
     stiffness: ArrayLike | None = None,

@@ -133,6 +133,19 @@ def test_simulate_equals_the_cli_and_recovers_the_system(tmp_path, kind, options
 
 
 @needs_cli
+@pytest.mark.parametrize(
+    "kind, options", [("impact", dict(impacts=1)), ("multisine", dict(records=1, rate=1000.0, periods=2))]
+)
+def test_states_equal_the_cli(tmp_path, kind, options):
+    """`states` as `--states`: the same records, and not those of the rig without states."""
+    options = dict(options, states="20:4e4,0;0,3e4|35:1e4,0;0,1e4")
+    records, _ = _simulated_by_both(tmp_path, kind, options)
+    del options["states"]
+    plain = bi.simulate(kind, **options)
+    assert max(np.max(np.abs(a.response - b.response)) / np.max(np.abs(b.response)) for a, b in zip(records, plain)) > 0.01
+
+
+@needs_cli
 @pytest.mark.parametrize("options, terms, bound, term_bounds", NONLINEAR, ids=[c[1] for c in NONLINEAR])
 def test_nonlinear_simulation_equals_the_cli_and_the_reverse_path_recovers_it(
     tmp_path, options, terms, bound, term_bounds

@@ -233,6 +233,16 @@ named_table! {
         InitialDisplacement => "initial displacement",
         /// `initial velocity`, checked in `simulate::nonlinear`.
         InitialVelocity => "initial velocity",
+        /// `state pole`, checked in `simulate::states`.
+        StatePole => "state pole",
+        /// `state residue count`, checked in `simulate::states`.
+        StateResidueCount => "state residue count",
+        /// `state residue size`, checked in `simulate::states`.
+        StateResidueSize => "state residue size",
+        /// `state residue`, checked in `simulate::states`.
+        StateResidue => "state residue",
+        /// `decay with internal states`, checked in `simulate::states`.
+        StateDecay => "decay with internal states",
         // ---- Export (`crate::export`) ----
         /// `mass matrix size`, checked in `export::ross`, `per_frequency`.
         MassMatrixSize => "mass matrix size",

@@ -66,10 +66,16 @@ impl AntiAlias {
 
     /// Writes the filters of the `2n` channels (forces first) into the simulator's state matrix
     /// `a`: per channel a cascade of `order / 2` second-order sections in companion form, the
-    /// states from index `5n + channel · order` on (see [`Simulator`](super::Simulator)). Each
-    /// channel's input is force `c` (pulse generator plus held force) or displacement `c − n`;
-    /// [`AntiAlias::connect`] changes it.
-    pub(super) fn fill_state_matrix(self, a: &mut Mat<f64>, n: usize, sample_rate: f64) {
+    /// states from index `first + channel · order` on, after the structure's `first` states
+    /// (see [`Simulator`](super::Simulator)). Each channel's input is force `c` (pulse
+    /// generator plus held force) or displacement `c − n`; [`AntiAlias::connect`] changes it.
+    pub(super) fn fill_state_matrix(
+        self,
+        a: &mut Mat<f64>,
+        n: usize,
+        first: usize,
+        sample_rate: f64,
+    ) {
         if let AntiAlias::Butterworth {
             order,
             cutoff_ratio,
@@ -79,7 +85,7 @@ impl AntiAlias {
             for c in 0..2 * n {
                 for s in 0..order / 2 {
                     let q = 1.0 / (2.0 * (PI * (2 * s + 1) as f64 / (2 * order) as f64).cos());
-                    let y = 5 * n + c * order + 2 * s;
+                    let y = first + c * order + 2 * s;
                     if s > 0 {
                         a[(y + 1, y - 2)] += wc * wc;
                     }
@@ -92,7 +98,7 @@ impl AntiAlias {
                 } else {
                     vec![(c - n, 1.0)]
                 };
-                self.connect(a, n, sample_rate, c, &inputs);
+                self.connect(a, first, sample_rate, c, &inputs);
             }
         }
     }
@@ -108,7 +114,7 @@ impl AntiAlias {
         };
         let dim = 5 + 2 * order;
         let mut a = Mat::<f64>::zeros(dim, dim);
-        self.fill_state_matrix(&mut a, 1, sample_rate);
+        self.fill_state_matrix(&mut a, 1, 5, sample_rate);
         // Channel 0 is the force channel of the one DOF: states 5 … 5 + order, input the held
         // force (state 4).
         let a_f = (0..order * order)
@@ -120,13 +126,14 @@ impl AntiAlias {
 
     /// Makes the input of channel `channel`'s filter (forces first, then responses) the
     /// weighted sum `Σ w · s[u]` of the structure's states `inputs = [(u, w)]` (indices below
-    /// `5n`): a response channel then filters displacement, velocity or acceleration, and the
-    /// filtered velocity is the derivative of the filtered displacement (the filter is linear
-    /// and starts from rest). Nothing for [`AntiAlias::None`].
+    /// `first`, where the filters' states begin): a response channel then filters
+    /// displacement, velocity or acceleration, and the filtered velocity is the derivative of
+    /// the filtered displacement (the filter is linear and starts from rest). Nothing for
+    /// [`AntiAlias::None`].
     pub(super) fn connect(
         self,
         a: &mut Mat<f64>,
-        n: usize,
+        first: usize,
         sample_rate: f64,
         channel: usize,
         inputs: &[(usize, f64)],
@@ -137,8 +144,8 @@ impl AntiAlias {
         } = self
         {
             let wc = 2.0 * PI * cutoff_ratio * sample_rate;
-            let row = 5 * n + channel * order + 1;
-            for u in 0..5 * n {
+            let row = first + channel * order + 1;
+            for u in 0..first {
                 a[(row, u)] = 0.0;
             }
             for &(u, w) in inputs {

@@ -4,8 +4,8 @@ use rand::SeedableRng;
 use rand::rngs::StdRng;
 
 use super::{
-    AntiAlias, MAX_RECORDS, MAX_TOTAL_SAMPLES, Simulator, add_noise, at_most, sample_count,
-    slowest_decay,
+    AntiAlias, ElementStates, MAX_RECORDS, MAX_TOTAL_SAMPLES, Simulator, add_noise, at_most,
+    sample_count,
 };
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
@@ -92,17 +92,23 @@ impl ImpactTest {
     ///
     /// # Errors
     /// As [`Simulator::new`], [`Simulator::responding`], [`Simulator::record`],
-    /// [`sample_count`] and [`slowest_decay`]
+    /// [`sample_count`] and [`slowest_decay`](super::slowest_decay)
     /// (a mass that is not positive definite, a mode that does not decay);
     /// [`Error::InvalidParameter`] if the slowest mode has not decayed to `10⁻⁶` of its
     /// amplitude by the end of the record (the records would leak); [`Error::TooLarge`] for
     /// more than [`MAX_RECORDS`] records or [`MAX_TOTAL_SAMPLES`] samples in all.
     pub fn run_clean(&self, system: &Coefficients) -> Result<Vec<Record>> {
-        self.clean(system, &[])
+        self.clean(system, &ElementStates::default(), &[])
     }
 
-    /// [`ImpactTest::run_clean`] with response channels recording `responses`.
-    fn clean(&self, system: &Coefficients, responses: &[Response]) -> Result<Vec<Record>> {
+    /// [`ImpactTest::run_clean`] of `system` with internal `states` ([`Simulator::with_states`];
+    /// the slowest decay is the system's with them), response channels recording `responses`.
+    fn clean(
+        &self,
+        system: &Coefficients,
+        states: &ElementStates,
+        responses: &[Response],
+    ) -> Result<Vec<Record>> {
         let samples = self.samples()?;
         let n = system.dofs();
         let records = self.per_direction as f64 * n as f64;
@@ -112,7 +118,7 @@ impl ImpactTest {
             records * samples as f64,
             MAX_TOTAL_SAMPLES,
         )?;
-        let slowest = slowest_decay(system)?;
+        let slowest = states.slowest_decay(system)?;
         let decay_time = self.duration_s - self.pretrigger_s - self.pulse_s;
         let decays = slowest * decay_time >= crate::tolerance::SIM_DECAY_NEPERS;
         if !decays {
@@ -122,8 +128,9 @@ impl ImpactTest {
                 expected: "long enough for the slowest mode to decay to 1e-6",
             });
         }
-        let mut sim = Simulator::new(system, self.sample_rate, samples, self.anti_alias)?
-            .responding(responses)?;
+        let mut sim =
+            Simulator::with_states(system, states, self.sample_rate, samples, self.anti_alias)?
+                .responding(responses)?;
         let mut out = Vec::with_capacity(n * self.per_direction);
         for dof in 0..n {
             for hit in 0..self.per_direction {
@@ -182,7 +189,21 @@ impl ImpactTest {
         system: &Coefficients,
         responses: &[Response],
     ) -> Result<Vec<Record>> {
-        let clean = self.clean(system, responses)?;
+        self.run_with_states(system, &ElementStates::default(), responses)
+    }
+
+    /// [`ImpactTest::run_responding`] of `system` with internal `states`
+    /// ([`Simulator::with_states`]), as [`Setup`](super::Setup) runs it.
+    ///
+    /// # Errors
+    /// As [`ImpactTest::run_responding`] and [`ElementStates::slowest_decay`].
+    pub(super) fn run_with_states(
+        &self,
+        system: &Coefficients,
+        states: &ElementStates,
+        responses: &[Response],
+    ) -> Result<Vec<Record>> {
+        let clean = self.clean(system, states, responses)?;
         let mut rng = StdRng::seed_from_u64(self.seed);
         clean
             .iter()

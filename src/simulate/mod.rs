@@ -16,6 +16,14 @@
 //! through the same analogue Butterworth filter before sampling ([`AntiAlias`]); the filter
 //! cancels in `X/F` and suppresses the aliases. Records must also be long enough for the
 //! response to decay, or the DFT leaks (see [`ImpactTest::run`], which checks this).
+//!
+//! # Elements with internal states
+//! An element whose stiffness and damping change with frequency (a seal, tilting pads, a
+//! magnetic bearing) is simulated with internal states ([`ElementStates`]): each pole `p_j`
+//! adds states `w_j` with `ẇ_j = ẋ − p_j w_j` and a force `A_j w_j`, so that
+//! `H(ω) = K + sC + s²M + Σ A_j s/(s + p_j)`, `s = iω`. They are states of the same linear
+//! system, integrated just as exactly ([`Simulator::with_states`]; the `states` option of
+//! [`Setup`]).
 
 mod anti_alias;
 pub(crate) mod expm;
@@ -26,6 +34,7 @@ mod rig;
 mod setup;
 mod simulator;
 mod sparse_rows;
+mod states;
 mod waveforms;
 
 use crate::error::{Error, Result};
@@ -39,6 +48,7 @@ pub use nonlinear::{
 pub use rig::{seed_rig, slowest_decay};
 pub use setup::{Kind, NonlinearTerms, Setup, Simulated};
 pub use simulator::Simulator;
+pub use states::ElementStates;
 pub use waveforms::{SWEEP_TAPER, band_noise, multisine, sine, sweep};
 
 /// Most samples in one simulated record (or one drive signal): `2²⁴`, about 16.8 million
@@ -48,8 +58,13 @@ pub const MAX_SAMPLES: usize = 1 << 24;
 /// Most records one simulated test may produce ([`ImpactTest`], and the CLI's `simulate`).
 pub const MAX_RECORDS: usize = 4096;
 
-/// Most degrees of freedom a [`Simulator`] accepts (its state has `(5 + 2·order) n` entries).
+/// Most degrees of freedom a [`Simulator`] accepts (its state has `(5 + N + 2·order) n`
+/// entries, with `N` internal-state poles).
 pub const MAX_DOFS: usize = 16;
+
+/// Most poles of an element's internal states ([`ElementStates`]): each adds `n` states to the
+/// simulator's.
+pub const MAX_STATE_POLES: usize = 8;
 
 /// Most samples × records of one simulated test, `2²⁸`: bounds the time of a simulation.
 pub const MAX_TOTAL_SAMPLES: usize = 1 << 28;

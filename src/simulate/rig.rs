@@ -25,20 +25,7 @@ use crate::model::Coefficients;
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
-    let min_sym_eig = |a: faer::MatRef<'_, f64>| -> Result<f64> {
-        let n = a.nrows();
-        let sym = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-        let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower)?;
-        Ok(eig.iter().copied().fold(f64::INFINITY, f64::min))
-    };
-    let mass = min_sym_eig(system.mass().as_ref())?;
-    if mass.is_nan() || mass <= 0.0 {
-        return Err(Error::InvalidParameter {
-            name: crate::Parameter::MassMatrix,
-            value: mass,
-            expected: "positive definite (smallest eigenvalue of its symmetric part > 0)",
-        });
-    }
+    check_mass(system)?;
     let slowest = system
         .eigenvalues()?
         .iter()
@@ -61,6 +48,31 @@ pub fn slowest_decay(system: &Coefficients) -> Result<f64> {
         });
     }
     Ok(slowest)
+}
+
+/// The smallest eigenvalue of the symmetric part of `a`.
+fn min_sym_eig(a: faer::MatRef<'_, f64>) -> Result<f64> {
+    let n = a.nrows();
+    let sym = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower)?;
+    Ok(eig.iter().copied().fold(f64::INFINITY, f64::min))
+}
+
+/// `Ok` if the symmetric part of the system's mass matrix is positive definite.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming `"mass matrix"`, its value the smallest eigenvalue of
+/// the symmetric part; the eigenvalue iteration's errors.
+pub(super) fn check_mass(system: &Coefficients) -> Result<()> {
+    let mass = min_sym_eig(system.mass().as_ref())?;
+    if mass.is_nan() || mass <= 0.0 {
+        return Err(Error::InvalidParameter {
+            name: crate::Parameter::MassMatrix,
+            value: mass,
+            expected: "positive definite (smallest eigenvalue of its symmetric part > 0)",
+        });
+    }
+    Ok(())
 }
 
 /// The seed's test rig (Diaz & San Andrés 1999) as a 2-DOF system: `M = diag(4.7, 4.8)` kg,

@@ -10,7 +10,8 @@ use rand_distr::{Distribution, Normal};
 use super::expm::expm;
 use super::sparse_rows::SparseRows;
 use super::{
-    AntiAlias, Impact, MAX_DOFS, MAX_SAMPLES, at_most, finite_positive, require_finite_positive,
+    AntiAlias, ElementStates, Impact, MAX_DOFS, MAX_SAMPLES, at_most, finite_positive,
+    require_finite_positive,
 };
 use crate::error::{Channel, Error, Result};
 use crate::model::Coefficients;
@@ -47,6 +48,9 @@ pub struct Simulator {
     /// Structure part of `A` without the pulse generators' frequency.
     base: Mat<f64>,
     dim: usize,
+    /// Index of the first filter state: the structure's states (`x`, `v`, pulse generators,
+    /// held forces, the element's internal states) come before it, `(5 + N) n` of them.
+    structure: usize,
     /// `(duration, Φ)` for the pulse durations seen so far, `Φ` by rows of its nonzeros.
     cache: Vec<(f64, SparseRows)>,
 }
@@ -60,6 +64,63 @@ impl Simulator {
     /// or [`MAX_DOFS`] degrees of freedom; [`Error::Singular`] if `M` is singular.
     pub fn new(
         system: &Coefficients,
+        sample_rate: f64,
+        samples: usize,
+        anti_alias: AntiAlias,
+    ) -> Result<Self> {
+        Self::plan(
+            system,
+            &ElementStates::default(),
+            sample_rate,
+            samples,
+            anti_alias,
+        )
+    }
+
+    /// Plans a simulation of `system` with an element's internal `states` (see
+    /// [`ElementStates`]): `M ẍ + C ẋ + K x + Σ A_j w_j = f`, `ẇ_j = ẋ − p_j w_j`, from rest.
+    /// Every record kind works as with [`Simulator::new`], which this is, bit for bit, without
+    /// states; an acceleration response is $M^{-1}(f - C v - K x - \sum_j A_j w_j)$.
+    ///
+    /// # Errors
+    /// As [`Simulator::new`]; with states, as [`ElementStates::slowest_decay`]: residues that
+    /// are not `n × n`, a mass that is not positive definite, or a mode of the system with its
+    /// states that does not decay ([`Error::InvalidParameter`] naming the matrix, or
+    /// `decay with internal states`).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::model::Coefficients;
+    /// use bearing_ident::simulate::{AntiAlias, ElementStates, Simulator};
+    /// use faer::mat;
+    /// // A static load: the states relax (w → 0), so only K carries it: 10 N on 1e4 N/m.
+    /// let sdof = Coefficients::new(mat![[1.0]], mat![[40.0]], mat![[1.0e4]])?;
+    /// let states: ElementStates = "5:2e4".parse()?;
+    /// let mut sim = Simulator::with_states(&sdof, &states, 1000.0, 4000, AntiAlias::None)?;
+    /// let rec = sim.held_record("static", &[vec![10.0; 4000]])?;
+    /// assert!((rec.displacement(0)[3999] - 1.0e-3).abs() < 1e-12);
+    /// // A state that takes the damping away is refused.
+    /// let driving: ElementStates = "5:-2e4".parse()?;
+    /// assert!(Simulator::with_states(&sdof, &driving, 1000.0, 4000, AntiAlias::None).is_err());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn with_states(
+        system: &Coefficients,
+        states: &ElementStates,
+        sample_rate: f64,
+        samples: usize,
+        anti_alias: AntiAlias,
+    ) -> Result<Self> {
+        if !states.is_empty() {
+            states.slowest_decay(system)?;
+        }
+        Self::plan(system, states, sample_rate, samples, anti_alias)
+    }
+
+    /// The simulator of [`Simulator::with_states`], its states checked.
+    fn plan(
+        system: &Coefficients,
+        states: &ElementStates,
         sample_rate: f64,
         samples: usize,
         anti_alias: AntiAlias,
@@ -86,8 +147,10 @@ impl Simulator {
         let (mk, mc) = (lu.solve(system.stiffness()), lu.solve(system.damping()));
         let minv = lu.solve(Mat::<f64>::identity(n, n));
         // State: x (n), v (n), pulse generators (2 per dof), held forces (1 per dof, constant
-        // between samples), filters (order per channel).
-        let dim = 5 * n + 2 * n * order;
+        // between samples), the element's internal states (n per pole), filters (order per
+        // channel).
+        let structure = 5 * n + states.len() * n;
+        let dim = structure + 2 * n * order;
         let mut a = Mat::<f64>::zeros(dim, dim);
         for i in 0..n {
             a[(i, n + i)] = 1.0;
@@ -98,7 +161,19 @@ impl Simulator {
                 a[(n + i, 4 * n + j)] = minv[(i, j)];
             }
         }
-        anti_alias.fill_state_matrix(&mut a, n, sample_rate);
+        for (s, (residue, p)) in states.residues().iter().zip(states.poles_rad()).enumerate() {
+            // ẇ = v − p w, and the force A w on the structure.
+            let ma = lu.solve(residue);
+            let w = 5 * n + s * n;
+            for i in 0..n {
+                a[(w + i, n + i)] = 1.0;
+                a[(w + i, w + i)] = -p;
+                for j in 0..n {
+                    a[(n + i, w + j)] = -ma[(i, j)];
+                }
+            }
+        }
+        anti_alias.fill_state_matrix(&mut a, n, structure, sample_rate);
         Ok(Self {
             n,
             sample_rate,
@@ -107,6 +182,7 @@ impl Simulator {
             responses: vec![Response::Displacement; n],
             base: a,
             dim,
+            structure,
             cache: Vec::new(),
         })
     }
@@ -125,7 +201,8 @@ impl Simulator {
     /// Records velocity or acceleration instead of displacement on the response channels:
     /// `kinds` holds one [`Response`] for all channels or one per degree of freedom (none:
     /// displacement). Velocity is the state `v`; acceleration is
-    /// $a = M^{-1}(f - C v - K x)$ at the sample instant (with a held force, the force from
+    /// $a = M^{-1}(f - C v - K x)$ (less $M^{-1} \sum_j A_j w_j$ with internal states) at the
+    /// sample instant (with a held force, the force from
     /// that sample on). With an anti-alias filter the filter's input is that signal, so the
     /// recorded velocity is exactly the derivative of the filtered displacement. Records
     /// carry their kinds ([`Record::responses`]).
@@ -165,7 +242,7 @@ impl Simulator {
                 .collect();
             self.anti_alias.connect(
                 &mut self.base,
-                self.n,
+                self.structure,
                 self.sample_rate,
                 self.n + c,
                 &inputs,
@@ -182,13 +259,13 @@ impl Simulator {
 
     /// The structure's states and weights whose sum is response `c` before any filter:
     /// displacement `x_c`, velocity `v_c`, or acceleration, the row `n + c` of `A` over the
-    /// structure's and force generators' states.
+    /// structure's states (force generators and internal states included).
     fn response_inputs(&self, c: usize) -> Vec<(usize, f64)> {
         let n = self.n;
         match self.responses[c] {
             Response::Displacement => vec![(c, 1.0)],
             Response::Velocity => vec![(n + c, 1.0)],
-            Response::Acceleration => (0..5 * n)
+            Response::Acceleration => (0..self.structure)
                 .map(|u| (u, self.base[(n + c, u)]))
                 .filter(|&(_, w)| w != 0.0)
                 .collect(),
@@ -218,7 +295,7 @@ impl Simulator {
                     Some(c) => self.input_scale(c),
                     None => 1.0,
                 };
-                vec![(5 * n + channel * order + order - 2, scale)]
+                vec![(self.structure + channel * order + order - 2, scale)]
             }
             AntiAlias::None if channel < n => {
                 vec![(2 * n + 2 * channel, 1.0), (4 * n + channel, 1.0)]

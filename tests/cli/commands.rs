@@ -1044,6 +1044,50 @@ fn simulate_refuses_sizes_past_its_limits() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// `simulate --states` writes records of an element with an internal state (the JSON says
+/// which), `identify --model auto` finds that state in them, and bad states are refused with
+/// the option or the parameter named.
+#[test]
+fn simulate_with_states_round_trips() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let states = "20:4e4,0;0,3e4";
+    let head = ["simulate", "--json", "--out", out];
+    let o = run(&[&head[..], &["--noise", "0.02", "--states", states]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["records"], 16);
+    assert_eq!(v["states"]["poles_hz"][0], 20.0);
+    let residues = serde_json::json!([[[4e4, 0.0], [0.0, 3e4]]]);
+    assert_eq!(v["states"]["residues"], residues);
+    let files = csv_files(dir.path());
+    let id = identify_json(&["--band", "8,49", "--model", "auto"], &files);
+    assert_eq!(id["model"]["family"], "states:1", "{}", id["model"]);
+    let pole = id["model"]["poles_hz"][0].as_f64().unwrap();
+    assert!((pole - 20.0).abs() < 1.0, "{pole}");
+    let cases = [
+        (vec!["--states", "20:1,2"], "--states"),
+        (vec!["--states", "-20:4e4,0;0,3e4"], "state pole"),
+        (vec!["--states", "20:4e4"], "state residue size"),
+        (
+            vec!["--states", "20:-6e4,0;0,-6e4"],
+            "decay with internal states",
+        ),
+        (
+            vec!["--kind", "random", "--cubic", "1e9,1e9", "--states", states],
+            "--states",
+        ),
+    ];
+    for (extra, says) in cases {
+        let o = run(&[&head[..], &extra[..]].concat());
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        let v: Value = serde_json::from_slice(&o.stdout).expect("JSON error");
+        assert_eq!(v["error"], "invalid_argument", "{extra:?}: {v}");
+        let message = v["message"].as_str().unwrap();
+        assert!(message.contains(says), "{extra:?}: {message}");
+    }
+}
+
 /// Argument errors (clap's and the tool's own) print `{"error": "invalid_argument", …}` on
 /// stdout and exit 2 when `--json` is given, for every subcommand; the input they quote is
 /// bounded.

@@ -25,6 +25,7 @@ mod responses;
 mod ross_elements;
 mod screening;
 mod seed_rig;
+mod simulated_states;
 mod statistics;
 mod timings;
 mod welch_choice;

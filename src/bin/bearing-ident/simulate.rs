@@ -1,13 +1,14 @@
 //! `bearing-ident simulate`: records of a given system (impacts, random forcing, or a shaker:
-//! multisine, stepped sine, sweep), with optional nonlinear terms integrated by RK4, written as
-//! CSV files. The test itself is the library's [`Setup`]: this file reads its options and
-//! writes what it makes.
+//! multisine, stepped sine, sweep), with an element's optional internal states, or optional
+//! nonlinear terms integrated by RK4, written as CSV files. The test itself is the library's
+//! [`Setup`]: this file reads its options and writes what it makes.
 
 use bearing_ident::Choice;
 use std::path::PathBuf;
 
 use bearing_ident::io::{self, CsvLayout};
 use bearing_ident::job::response_columns;
+use bearing_ident::model::rows;
 use bearing_ident::simulate::{Kind, NonlinearSimulator, Setup, seed_rig};
 use bearing_ident::{Coefficients, Record};
 
@@ -73,6 +74,18 @@ pub struct SimulateArgs {
     /// Stiffness matrix (N/m), same form.
     #[arg(long, requires_all = ["mass", "damping"])]
     stiffness: Option<String>,
+    /// Internal states of the element (a seal, tilting pads, a magnetic bearing), one
+    /// `POLE_HZ:RESIDUE` per pole, poles separated by `|`, each residue matrix (N/m) in the
+    /// `--mass` form, e.g. "12:3e4,0;0,2e4|35:1e4,0;0,1e4". A pole f adds states w,
+    /// `ẇ = ẋ − 2πf w`, and the force `A w`: `H(ω) = K + iωC − ω²M + Σ A iω/(iω + 2πf)`,
+    /// stiffness rising by A and a damping hump around f. Simulated exactly; not with
+    /// nonlinear terms.
+    #[arg(
+        long,
+        value_name = "POLE_HZ:A11,A12;A21,A22|…",
+        allow_hyphen_values = true
+    )]
+    states: Option<String>,
     /// Impacts per degree of freedom.
     #[arg(long, default_value_t = defaults().impacts)]
     impacts: usize,
@@ -138,6 +151,9 @@ fn setup(args: &SimulateArgs) -> Result<Setup, Failure> {
     s.periods = args.periods;
     s.sweep_time = args.sweep_time;
     s.response.clone_from(&args.response);
+    if let Some(states) = &args.states {
+        s.set("states", states)?;
+    }
     let n = &args.nonlinear;
     s.nonlinear.coulomb.clone_from(&n.coulomb);
     s.nonlinear.coulomb_planar = n.coulomb_planar;
@@ -204,6 +220,18 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
                 .chain(&layout.displacements)
                 .collect::<Vec<_>>(),
         });
+        if !setup.states.is_empty() {
+            let residues: Vec<_> = setup
+                .states
+                .residues()
+                .iter()
+                .map(|a| rows(a.as_ref()))
+                .collect();
+            v["states"] = serde_json::json!({
+                "poles_hz": setup.states.poles_hz(),
+                "residues": residues,
+            });
+        }
         if setup.nonlinear.any() {
             let sim = setup
                 .nonlinear

@@ -46,8 +46,14 @@ impl Engine {
             )?))
         } else {
             Engine::Linear(
-                Simulator::new(system, setup.rate, samples, AntiAlias::default())?
-                    .responding(&setup.response)?,
+                Simulator::with_states(
+                    system,
+                    &setup.states,
+                    setup.rate,
+                    samples,
+                    AntiAlias::default(),
+                )?
+                .responding(&setup.response)?,
             )
         })
     }

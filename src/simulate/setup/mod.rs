@@ -1,6 +1,7 @@
 //! A simulated test as the `simulate` command describes one ([`Setup`]): the kind of
-//! excitation, its sizes and frequencies, measurement noise, what the responses record, and
-//! optional nonlinear terms; [`Setup::run`] makes its records for a given system. The command
+//! excitation, its sizes and frequencies, measurement noise, what the responses record, an
+//! element's internal states, and optional nonlinear terms; [`Setup::run`] makes its records
+//! for a given system. The command
 //! line and the Python package both run this one description.
 
 mod forcing;
@@ -9,7 +10,7 @@ mod terms;
 use crate::error::{Error, Result, excerpt};
 use crate::model::Coefficients;
 use crate::records::{Record, Response};
-use crate::simulate::{ImpactTest, MAX_SAMPLES, slowest_decay};
+use crate::simulate::{ElementStates, ImpactTest, MAX_SAMPLES};
 use crate::tolerance::SIMULATED_DECAY_NEPERS;
 
 pub use terms::NonlinearTerms;
@@ -118,8 +119,8 @@ pub struct Setup {
     /// `rate`: sampling rate (Hz); default 6700.
     pub rate: f64,
     /// `duration`: record length (s). Default: impacts and sweeps, long enough for the
-    /// response to decay to 1e-7; random, 60 s; stepped sine, 1 s kept; multisine,
-    /// `period × periods`.
+    /// response (internal states included) to decay to 1e-7; random, 60 s; stepped sine, 1 s
+    /// kept; multisine, `period × periods`.
     pub duration: Option<f64>,
     /// `pulse`: half-sine pulse duration (s); default 0.002.
     pub pulse: f64,
@@ -136,6 +137,10 @@ pub struct Setup {
     /// `response`: what the response channels record, one kind for all or one per degree of
     /// freedom; default (none) displacement.
     pub response: Vec<Response>,
+    /// `states`: the element's internal states, `POLE_HZ:A11,A12;A21,A22|POLE_HZ:…` (see
+    /// [`ElementStates`]), simulated exactly with the system (not with nonlinear terms);
+    /// none by default.
+    pub states: ElementStates,
     /// The nonlinear terms (`coulomb`, `coulomb-planar`, `cubic`, `quadratic-damping`,
     /// `smoothing`, `oversampling`); none by default.
     pub nonlinear: NonlinearTerms,
@@ -160,6 +165,7 @@ impl Default for Setup {
             periods: 8,
             sweep_time: 1.0,
             response: Vec::new(),
+            states: ElementStates::default(),
             nonlinear: NonlinearTerms::default(),
         }
     }
@@ -177,7 +183,7 @@ pub struct Simulated {
 
 impl Setup {
     /// The long names [`Setup::set`] takes, in the `simulate` command's spelling.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 22] = [
         "kind",
         "simultaneous",
         "records",
@@ -193,6 +199,7 @@ impl Setup {
         "periods",
         "sweep-time",
         "response",
+        "states",
         "coulomb",
         "coulomb-planar",
         "cubic",
@@ -207,7 +214,8 @@ impl Setup {
     ///
     /// # Errors
     /// [`Error::UnknownName`] for a name not among [`Setup::NAMES`], a kind or response not
-    /// among their names; [`Error::InvalidOption`] for a value that does not parse.
+    /// among their names; [`Error::InvalidOption`] for a value that does not parse;
+    /// [`Error::InvalidParameter`] for `states` out of range ([`ElementStates::new`]).
     pub fn set(&mut self, name: &str, value: &str) -> Result<()> {
         let key = name.replace('_', "-");
         let Some(&option) = Self::NAMES.iter().find(|n| **n == key) else {
@@ -254,6 +262,7 @@ impl Setup {
                 let kinds = value.split(',').map(|k| k.trim().parse::<Response>());
                 self.response = kinds.collect::<Result<_>>()?;
             }
+            "states" => self.states = value.parse()?,
             "coulomb" => n.coulomb = numbers()?,
             "coulomb-planar" => n.coulomb_planar = Some(number()?),
             "cubic" => n.cubic = numbers()?,
@@ -273,15 +282,17 @@ impl Setup {
     /// [`Error::InvalidOption`] naming the option: a rate that is not finite and positive, a
     /// count of 0 (`impacts`, `records`, `periods`), nonlinear terms with impacts,
     /// `simultaneous` with a kind other than multisine or random, `freqs` that do not fit the
-    /// kind; [`Error::TooLarge`] for sizes past [`MAX_SAMPLES`] and the simulator's other
-    /// limits, or a mode too slow to decay within them; the simulators' own refusals (a mass
-    /// that is not positive definite, a system that does not decay).
+    /// kind, `states` with nonlinear terms; [`Error::TooLarge`] for sizes past [`MAX_SAMPLES`]
+    /// and the simulator's other limits, or a mode too slow to decay within them; the
+    /// simulators' own refusals (a mass that is not positive definite, a system that does not
+    /// decay, with its internal states if any: [`ElementStates::slowest_decay`]).
     pub fn run(&self, system: &Coefficients) -> Result<Simulated> {
         self.check()?;
         let base = ImpactTest::seed_rig();
-        // Time for the slowest mode to decay to 1e-7 (e^{-16.1}); a mass that is not positive
-        // definite or a mode that does not decay is an error naming the matrix.
-        let decay_s = SIMULATED_DECAY_NEPERS / slowest_decay(system)?;
+        // Time for the slowest mode (internal states included) to decay to 1e-7 (e^{-16.1}); a
+        // mass that is not positive definite or a mode that does not decay is an error naming
+        // the matrix (or the states).
+        let decay_s = SIMULATED_DECAY_NEPERS / self.states.slowest_decay(system)?;
         let decay_samples = decay_s * self.rate;
         let derived = self.duration.is_none() && matches!(self.kind, Kind::Impact | Kind::Sweep);
         if derived && (decay_samples.is_nan() || decay_samples > MAX_SAMPLES as f64) {
@@ -312,7 +323,7 @@ impl Setup {
             ..base
         };
         let records = match self.kind {
-            Kind::Impact => test.run_responding(system, &self.response)?,
+            Kind::Impact => test.run_with_states(system, &self.states, &self.response)?,
             Kind::Multisine | Kind::SteppedSine | Kind::Sweep => {
                 forcing::driven_records(self, system, decay_s)?
             }
@@ -325,8 +336,8 @@ impl Setup {
     }
 
     /// Refuses, naming the option, what would write nothing or fail later under another name:
-    /// a count of 0, a rate that is not a finite positive number, nonlinear terms with impacts,
-    /// `simultaneous` with a kind it does not apply to.
+    /// a count of 0, a rate that is not a finite positive number, nonlinear terms with impacts
+    /// or with internal states, `simultaneous` with a kind it does not apply to.
     fn check(&self) -> Result<()> {
         let refuse = |option, message: String| Err(Error::InvalidOption { option, message });
         if !(self.rate.is_finite() && self.rate > 0.0) {
@@ -340,6 +351,11 @@ impl Setup {
             let message = "nonlinear terms need a forced test: --excitation random, multisine, \
                            stepped-sine or sweep (impacts give too little time at each amplitude)";
             return refuse("kind", message.into());
+        }
+        if self.nonlinear.any() && !self.states.is_empty() {
+            let message = "--states are integrated by the exact linear simulator: they do not \
+                           combine with nonlinear terms";
+            return refuse("states", message.into());
         }
         if self.simultaneous && !matches!(self.kind, Kind::Multisine | Kind::Random) {
             let message = "--simultaneous drives every direction at once with independent \
