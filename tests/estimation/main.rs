@@ -23,6 +23,7 @@ mod properties;
 mod quality;
 mod recovery;
 mod responses;
+mod ross_elements;
 mod screening;
 mod seed_rig;
 mod simulated_states;
