@@ -9,7 +9,7 @@
 //! truth. Then try the command line on the same plan:
 //!
 //! ```text
-//! cargo run --release --example campaign
+//! cargo run --release -p bearing-ident-examples --example campaign
 //! cargo run --release --features cli -- campaign examples/campaign/plan.toml --plot examples/campaign/report
 //! ```
 
@@ -62,7 +62,7 @@ fn at_probes(record: &Record) -> Result<Record> {
 }
 
 fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/campaign");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaign");
     for (seed, (name, _, c_sfd)) in POINTS.iter().enumerate() {
         // The dry structure rings for seconds (ζ ≈ 1.3 %): 8 s records at 1 kHz, the same
         // for every condition so that the baseline's lines are the points' lines.

@@ -2,9 +2,9 @@
 //! three runs per speed (baseline, mass at disk 1, mass at disk 2), the bearings' K(Ω), C(Ω)
 //! recovered from the probes at the bearings and compared with the truth.
 //!
-//! Run with `cargo run --release --example field_two_disk`. It prints, per bearing and speed,
-//! the identified k_xx, k_xy, c_xx with their error bars against the truth, and the largest
-//! error of the noise-free and the noisy (1 %) identifications.
+//! Run with `cargo run --release -p bearing-ident-examples --example field_two_disk`. It prints,
+//! per bearing and speed, the identified k_xx, k_xy, c_xx with their error bars against the
+//! truth, and the largest error of the noise-free and the noisy (1 %) identifications.
 
 use bearing_ident::field::{
     self, BeamRotor, BearingCoefficients, BearingSite, Direction, Disk, Imbalance, ImbalanceRuns,

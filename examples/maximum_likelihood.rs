@@ -1,6 +1,6 @@
 //! Maximum likelihood on periodic records, against IVF and the Cramér–Rao bound.
 //!
-//! Run: `cargo run --release --example maximum_likelihood`
+//! Run: `cargo run --release -p bearing-ident-examples --example maximum_likelihood`
 //!
 //! Simulates the seed's rig driven by a multisine in each direction (16 periods of 1 s at
 //! 1000 samples/s, lines 8–49 Hz), adds a displacement-probe noise floor (1.0 × the RMS), and

@@ -1,7 +1,7 @@
 //! A squeeze film damper with a dry-friction end seal: identified linearly, then with the
 //! friction as a nonlinear term (the reverse path, `docs/method.md` section 4).
 //!
-//! Run: `cargo run --release --example nonlinear_friction`
+//! Run: `cargo run --release -p bearing-ident-examples --example nonlinear_friction`
 //!
 //! The rig is the seed's (4.7 kg, K ≈ 150 kN/m); its damping stands for the film's. The end
 //! seal rubs with a friction force of 20 N along x and 15 N along y, opposing the velocity on

@@ -1,10 +1,10 @@
 //! Quick start: simulate the seed's test rig, identify it, compare with the truth.
 //!
-//! Run with `cargo run --release --example quickstart` (optionally `-- NOISE`, e.g. `-- 0.05`
-//! for a 5 % noise floor). It simulates 8 impacts per direction on the 2-DOF rig of Diaz & San
-//! Andrés (1999), 6700 samples/s for 1.2 s, identifies M, C and K over 8–49 Hz by least squares
-//! and by the instrumental-variable filter, and prints both against the true values, with the
-//! natural frequencies and the fit diagnostics.
+//! Run with `cargo run --release -p bearing-ident-examples --example quickstart` (optionally
+//! `-- NOISE`, e.g. `-- 0.05` for a 5 % noise floor). It simulates 8 impacts per direction on
+//! the 2-DOF rig of Diaz & San Andrés (1999), 6700 samples/s for 1.2 s, identifies M, C and K
+//! over 8–49 Hz by least squares and by the instrumental-variable filter, and prints both
+//! against the true values, with the natural frequencies and the fit diagnostics.
 
 use bearing_ident::simulate::{ImpactTest, seed_rig};
 use bearing_ident::{Coefficients, Identification, Identifier, Method};

@@ -118,6 +118,7 @@
 pub mod campaign;
 pub mod choice;
 pub mod conditioning;
+pub mod element;
 pub mod error;
 pub mod excitation;
 #[cfg(any(feature = "uff", feature = "ross"))]

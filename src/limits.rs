@@ -29,6 +29,38 @@ pub const MAX_VALUES: u64 = 1 << 28;
 /// few kilobytes to a few megabytes, and JSON is parsed whole.
 pub const MAX_JSON_BYTES: u64 = 1 << 24;
 
+/// Opens a file for one of the readers. A folder is refused in words, where the system would
+/// say only "Is a directory" at the first read, naming the files to give instead when the
+/// reader takes many (`pattern`, e.g. `*.csv`: the folder's `records/*.csv`).
+///
+/// # Errors
+/// [`Error::Io`] naming the path: a folder, or a file that cannot be opened.
+///
+/// # Examples
+/// ```
+/// let dir = std::env::temp_dir();
+/// let e = bearing_ident::limits::open(&dir, Some("*.csv")).unwrap_err();
+/// assert_eq!(e.kind(), "io_error");
+/// let hint = format!("a folder, not a file: give its files: {}", dir.join("*.csv").display());
+/// assert!(e.to_string().ends_with(&hint));
+/// ```
+pub fn open(path: &Path, pattern: Option<&str>) -> Result<std::fs::File> {
+    let io = |message: String| Error::Io {
+        path: excerpt(&path.display().to_string()),
+        message,
+    };
+    if path.is_dir() {
+        return Err(io(match pattern {
+            Some(pattern) => format!(
+                "a folder, not a file: give its files: {}",
+                excerpt(&path.join(pattern).display().to_string())
+            ),
+            None => "a folder, not a file".to_owned(),
+        }));
+    }
+    std::fs::File::open(path).map_err(|e| io(e.to_string()))
+}
+
 /// Reads the whole text of a JSON file, at most [`MAX_JSON_BYTES`] of it; invalid UTF-8 is
 /// replaced (the JSON parser then names it).
 ///
@@ -48,7 +80,7 @@ pub fn read_json_text(path: impl AsRef<Path>) -> Result<String> {
         path: excerpt(&path.display().to_string()),
         message: e.to_string(),
     };
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = open(path, None)?;
     let mut bytes = Vec::new();
     file.take(MAX_JSON_BYTES + 1)
         .read_to_end(&mut bytes)
@@ -119,6 +151,22 @@ mod tests {
         assert!(e.to_string().contains("big.json"), "{e}");
         file.set_len(3).unwrap();
         assert_eq!(read_json_text(&path).unwrap().len(), 3);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_folder_is_refused_in_words_by_every_reader() {
+        let dir = std::env::temp_dir().join(format!("limits-folder-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = open(&dir, Some("*.csv")).unwrap_err();
+        assert_eq!(e.kind(), "io_error");
+        let text = e.to_string();
+        assert!(text.ends_with(&format!("give its files: {}", dir.join("*.csv").display())));
+        assert!(!text.contains("os error"), "{text}");
+        let e = read_json_text(&dir).unwrap_err();
+        assert!(e.to_string().ends_with(": a folder, not a file"), "{e}");
+        let e = open(&dir.join("none.csv"), Some("*.csv")).unwrap_err();
+        assert!(e.to_string().contains("none.csv"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -278,6 +278,15 @@ impl Coefficients {
         Ok(modes)
     }
 
+    /// Every coefficient times `factor`.
+    pub(crate) fn scaled(&self, factor: f64) -> Coefficients {
+        Coefficients {
+            mass: &self.mass * faer::Scale(factor),
+            damping: &self.damping * faer::Scale(factor),
+            stiffness: &self.stiffness * faer::Scale(factor),
+        }
+    }
+
     /// `self − baseline`, element by element: the bearing's coefficients from the lubricated
     /// system's and the dry structure's (`K_b = K_s − K_h`, `C_b = C_s − C_h`, `M_b = M_s − M_h`).
     ///

@@ -43,8 +43,10 @@ __all__ = [
 class BearingIdentError(Exception):
     """An error of ``bearing-ident``: ``kind`` is the CLI's JSON ``error`` string.
 
-    Each kind has its own subclass (``BadBandError`` for ``bad_band``, …), so a caller may
-    catch one kind or all of them.
+    Each kind has its own subclass (``BadBandError`` for ``bad_band``, ``IoError`` for
+    ``io_error``, …), so a caller may catch one kind or all of them. The earlier names
+    ``IoErrorError`` and ``PlotErrorError`` are the same classes as ``IoError`` and
+    ``PlotError``, kept for one release.
 
     >>> import bearing_ident as bi
     >>> try:
@@ -63,7 +65,10 @@ class BearingIdentError(Exception):
 
 
 def _class_name(kind: str) -> str:
-    return "".join(part.capitalize() for part in kind.split("_")) + "Error"
+    """The exception class of an error kind: its words capitalised, ``Error`` after them unless
+    the kind ends in it (``bad_band`` → ``BadBandError``, ``io_error`` → ``IoError``)."""
+    name = "".join(part.capitalize() for part in kind.split("_"))
+    return name if name.endswith("Error") else name + "Error"
 
 
 _ERRORS: dict[str, type[BearingIdentError]] = {}
@@ -76,6 +81,11 @@ for _kind in _native.ERROR_KINDS:
     globals()[_cls.__name__] = _cls
     __all__.append(_cls.__name__)
     _ERRORS[_kind] = _cls
+
+# The earlier names of the kinds that end in ``error`` (``IoErrorError``, ``PlotErrorError``):
+# the same classes, kept for one release.
+_OLD_NAMES = {_cls.__name__ + "Error": _cls for _cls in _ERRORS.values() if _cls.kind.endswith("_error")}
+globals().update(_OLD_NAMES)
 
 
 def _error(kind: str, message: str) -> BearingIdentError:

@@ -22,14 +22,14 @@ class InconsistentRecordsError(BearingIdentError): ...  # kind 'inconsistent_rec
 class BadBandError(BearingIdentError): ...  # kind 'bad_band'
 class RankDeficientError(BearingIdentError): ...  # kind 'rank_deficient'
 class NotConvergedError(BearingIdentError): ...  # kind 'not_converged'
-class IoErrorError(BearingIdentError): ...  # kind 'io_error'
+class IoError(BearingIdentError): ...  # kind 'io_error'
 class RecordTooShortError(BearingIdentError): ...  # kind 'record_too_short'
 class InvalidArgumentError(BearingIdentError): ...  # kind 'invalid_argument'
 class SingularError(BearingIdentError): ...  # kind 'singular'
 class BadCoefficientsError(BearingIdentError): ...  # kind 'bad_coefficients'
 class BaselineMismatchError(BearingIdentError): ...  # kind 'baseline_mismatch'
 class MlNeedsRepeatsError(BearingIdentError): ...  # kind 'ml_needs_repeats'
-class PlotErrorError(BearingIdentError): ...  # kind 'plot_error'
+class PlotError(BearingIdentError): ...  # kind 'plot_error'
 class DeadChannelError(BearingIdentError): ...  # kind 'dead_channel'
 class TooLargeError(BearingIdentError): ...  # kind 'too_large'
 class BadBaselineError(BearingIdentError): ...  # kind 'bad_baseline'
@@ -40,6 +40,10 @@ class UnderdeterminedError(BearingIdentError): ...  # kind 'underdetermined'
 class BadRecordError(BearingIdentError): ...  # kind "bad_record"
 class UnclearExcitationError(BearingIdentError): ...  # kind 'unclear_excitation'
 class InternalError(BearingIdentError): ...  # kind 'internal'
+
+# The earlier names, kept for one release: the same classes.
+IoErrorError = IoError
+PlotErrorError = PlotError
 
 class Record:
     force: npt.NDArray[np.floating[Any]]

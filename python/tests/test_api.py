@@ -381,3 +381,19 @@ def test_result_arrays_equal_its_json():
     assert set(result.timings_ms) == set(d["timings_ms"])
     plain = bi.identify(bi.simulate("impact", impacts=2), band=(8, 49), uncertainty="none")
     assert plain.K_std is None and plain.to_dict()["K_std"] is None
+
+
+def test_exception_names_are_the_kinds_without_a_doubled_suffix(tmp_path):
+    """`io_error` is `IoError`, `bad_band` `BadBandError`; the earlier doubled names are the
+    same classes for one release. A folder given as a record file is an `IoError` that names
+    the files to give."""
+    assert bi._class_name("io_error") == "IoError"
+    assert bi._class_name("plot_error") == "PlotError"
+    assert bi._class_name("bad_band") == "BadBandError"
+    assert not any(name.endswith("ErrorError") for name in bi.__all__)
+    assert bi.IoErrorError is bi.IoError and bi.PlotErrorError is bi.PlotError
+    with pytest.raises(bi.IoError, match="give its files: .*records/\\*\\.csv"):
+        (tmp_path / "records").mkdir()
+        bi.read_csv([str(tmp_path / "records")])
+    with pytest.raises(bi.IoErrorError):
+        bi.read_csv(["/no/such/file.csv"])

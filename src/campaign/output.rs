@@ -11,7 +11,7 @@ use super::point::Value;
 use super::run::{Campaign, Fit, PointResult};
 use crate::error::{Error, Result};
 use crate::model::Coefficients;
-use crate::text::significant as sig;
+use crate::text::{Align, significant as sig};
 
 /// The blocks in the CSV's column order (`k…`, `c…`, `m…`), by letter.
 /// One block of a coefficient set.
@@ -210,7 +210,10 @@ impl Campaign {
     /// The text table: one row per point with its conditions, its baseline point when a plan
     /// has baselines (`dry*`: that point's files identified again at this point's settings),
     /// the diagonal coefficients `± σ` (the bearing's own when it has a baseline) and its
-    /// warning kinds or error.
+    /// warning kinds or error, split into blocks of whole coefficient groups when wider than
+    /// [`TABLE_WIDTH`](crate::text::TABLE_WIDTH); then, under `warnings`, each point's
+    /// warnings with their sentences (`dry: reference_mismatch: M_xx = … is +6.8 σ from the
+    /// reference …`).
     pub fn to_table(&self) -> String {
         let mut header: Vec<String> = vec!["point".into()];
         header.extend(
@@ -275,24 +278,8 @@ impl Campaign {
             }
             rows_out.push(row);
         }
-        let widths: Vec<usize> = (0..rows_out[0].len())
-            .map(|c| {
-                rows_out
-                    .iter()
-                    .map(|r| r.get(c).map_or(0, |s| s.chars().count()))
-                    .max()
-                    .unwrap_or(0)
-            })
-            .collect();
-        let mut s = String::new();
-        for row in &rows_out {
-            let cells: Vec<String> = row
-                .iter()
-                .zip(&widths)
-                .map(|(cell, w)| format!("{cell:<w$}"))
-                .collect();
-            let _ = writeln!(s, "{}", cells.join("  ").trim_end());
-        }
+        let keys = rows_out[0].len() - 3 * n - 1;
+        let mut s = crate::text::table(&rows_out, keys, &[n, n, n, 1], Align::Left, 0);
         if again {
             let _ = writeln!(
                 s,
@@ -306,6 +293,18 @@ impl Campaign {
                 self.reused,
                 self.points.len()
             );
+        }
+        // What each warning kind of the table says, point by point.
+        let mut said = false;
+        for p in &self.points {
+            let Ok(fit) = &p.result else { continue };
+            for (kind, sentence) in fit.warning_kinds.iter().zip(&fit.warnings) {
+                if !said {
+                    let _ = writeln!(s, "\nwarnings");
+                    said = true;
+                }
+                let _ = writeln!(s, "  {}: {kind}: {sentence}", p.name);
+            }
         }
         s
     }

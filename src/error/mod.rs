@@ -37,7 +37,7 @@ pub use quote::{QUOTE_CHARS, bounded, excerpt, excerpt_bytes};
 #[cfg(feature = "csv")]
 pub use subject::CsvLimitKind;
 pub use subject::{BaselineField, Block, Channel, Factorization, Quantity, SpectrumKind};
-pub use warning::Warning;
+pub use warning::{NoiseBiasBasis, Warning};
 
 /// Everything that can go wrong in `bearing-ident`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -3,6 +3,22 @@
 use super::{Block, Channel};
 use crate::frf::Estimator;
 
+/// What a [`Warning::NoiseBias`] carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NoiseBiasBasis {
+    /// The difference between the fits on H1 and on H2 of the same spectra: the records do not
+    /// show which channel is noisy, and the truth lies between the two.
+    Bracket,
+    /// Welch segments show noise entering as the forces do: were it the force channels'
+    /// measurement noise, H1 would move by the difference; an excitation the force channels
+    /// do not measure would leave it exact, and segments cannot tell the two apart.
+    ForceSide,
+    /// H1 was compensated for the force measurement noise the records show: the difference is
+    /// what one standard error of that noise estimate moves the fit by.
+    Compensation,
+}
+
 /// Something a user should know about an identification that did not stop it.
 ///
 /// Warnings travel with the result (see
@@ -379,20 +395,22 @@ pub enum Warning {
         /// Its predicted bias in standard deviations.
         sigmas: f64,
     },
-    /// H1 and H2 on the same spectra give fits further apart than half a random standard
-    /// deviation on some coefficient: noise on the force channels biases H1's impedance up
-    /// by the forces' noise-to-signal ratio, noise on the responses biases H2's down, and the
-    /// truth lies between. The difference of the two fits is carried in the error bars.
+    /// The noise on the channels leaves a coefficient uncertain by more than a random
+    /// standard deviation, carried in the error bars. Noise on the force channels biases H1's
+    /// impedance up by the forces' noise-to-signal ratio, noise on the responses biases H2's
+    /// down; what is carried depends on what the records show ([`NoiseBiasBasis`]).
     NoiseBias {
         /// The estimator the coefficients come from ([`Estimator::H1`] or [`Estimator::H2`]).
         estimator: Estimator,
+        /// What the carried difference is.
+        basis: NoiseBiasBasis,
         /// The coefficient whose difference is largest in standard deviations.
         block: Block,
         /// Row of that coefficient.
         row: usize,
         /// Column of that coefficient.
         col: usize,
-        /// The other estimator's fit minus this one's, relative to this one's value.
+        /// The other fit minus this one, relative to this one's value.
         relative: f64,
         /// That difference in random standard deviations.
         sigmas: f64,
@@ -483,6 +501,14 @@ pub enum Warning {
         /// segments or periods) or `"ml cost"` (the likelihood's own cost).
         source: &'static str,
     },
+    /// The constant coefficients misfit, and a frequency-dependent family fits: the element's
+    /// stiffness and damping change with frequency (`--model auto`).
+    FrequencyDependent {
+        /// The smallest family that fits (`states:1`, `poly:2`, …).
+        family: String,
+        /// Its poles (Hz), if any.
+        poles_hz: Vec<f64>,
+    },
 }
 
 impl Warning {
@@ -534,6 +560,7 @@ impl Warning {
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
             Warning::ModelMisfit { .. } => "model_misfit",
+            Warning::FrequencyDependent { .. } => "frequency_dependent",
             Warning::NotDecayed { .. } => "not_decayed",
             Warning::LeakageBias { .. } => "leakage_bias",
             Warning::NoiseBias { .. } => "noise_bias",

@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use super::Warning;
+use super::{NoiseBiasBasis, Warning};
 use crate::Choice;
 use crate::frf::Estimator;
 
@@ -303,27 +303,47 @@ impl fmt::Display for Warning {
             ),
             Warning::NoiseBias {
                 estimator,
+                basis,
                 block,
                 row,
                 col,
                 relative,
                 sigmas,
-            } => {
-                let other = match estimator {
-                    Estimator::H2 => "H1",
-                    _ => "H2",
-                };
-                write!(
+            } => match basis {
+                NoiseBiasBasis::Bracket => {
+                    let other = match estimator {
+                        Estimator::H2 => "H1",
+                        _ => "H2",
+                    };
+                    write!(
+                        f,
+                        "{} and {other} on the same spectra differ by {:+.3} % on \
+                         {block}[{row}][{col}] ({sigmas:.1} σ): noise on the force channels \
+                         biases H1, on the responses H2, and the truth lies between; the \
+                         difference is carried in the error bars (`--estimator hv` when both \
+                         channels are about equally noisy)",
+                        estimator.name().to_uppercase(),
+                        100.0 * relative
+                    )
+                }
+                NoiseBiasBasis::ForceSide => write!(
                     f,
-                    "{} and {other} on the same spectra differ by {:+.3} % on \
-                     {block}[{row}][{col}] ({sigmas:.1} σ): noise on the force channels biases \
-                     H1, on the responses H2, and the truth lies between; the difference is \
-                     carried in the error bars (`--estimator hv` when both channels are about \
-                     equally noisy)",
-                    estimator.name().to_uppercase(),
+                    "the segments show noise entering as the forces do: were it the force \
+                     channels' measurement noise, H1 would be off by {:+.3} % on \
+                     {block}[{row}][{col}] ({sigmas:.1} σ), were it an excitation they do not \
+                     measure, H1 is exact; the difference is carried in the error bars \
+                     (`--force-noise measurement` when the load cell is the noisy channel; \
+                     repeated periods tell the two apart)",
+                    -100.0 * relative
+                ),
+                NoiseBiasBasis::Compensation => write!(
+                    f,
+                    "H1 is compensated for the force measurement noise the records show; one \
+                     standard error of that noise moves {block}[{row}][{col}] by {:+.3} % \
+                     ({sigmas:.1} σ), carried in the error bars",
                     100.0 * relative
-                )
-            }
+                ),
+            },
             Warning::LeakageBias {
                 spacing_hz,
                 block,
@@ -423,6 +443,18 @@ impl fmt::Display for Warning {
                  outside the model, more degrees of freedom, a residual or nonlinear term, or \
                  check the response kind (`--response`)"
             ),
+            Warning::FrequencyDependent { family, poles_hz } => {
+                let poles: Vec<String> = poles_hz.iter().map(|p| format!("{p:.3} Hz")).collect();
+                let poles = match poles.is_empty() {
+                    true => String::new(),
+                    false => format!(" (poles at {})", poles.join(", ")),
+                };
+                write!(
+                    f,
+                    "the misfit is what a frequency-dependent element leaves: `{family}`{poles} \
+                     fits within the noise; `--model auto` identifies it"
+                )
+            }
         }
     }
 }

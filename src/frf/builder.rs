@@ -132,9 +132,10 @@ pub struct FrfBuilder {
     /// then each response channel's: the power of the period means, for the noise the periods
     /// show ([`FrfBuilder::noise_floor`]).
     pub(super) period_means: Vec<f64>,
-    /// The force noise the H1 finishes take off `S_ff` ([`FrfBuilder::compensate_force_noise`]);
-    /// cleared when records come in or go out.
-    pub(super) compensation: Option<NoiseFloor>,
+    /// The noise the records show ([`FrfBuilder::estimate_noise`]); the H1 finishes take its
+    /// force share off `S_ff` when it is [`NoiseFloor::compensated`]. Cleared when records come
+    /// in or go out.
+    pub(super) noise: Option<NoiseFloor>,
 }
 
 impl FrfBuilder {
@@ -170,7 +171,7 @@ impl FrfBuilder {
             level: None,
             sets: OnceLock::new(),
             period_means: Vec::new(),
-            compensation: None,
+            noise: None,
         }
     }
 
@@ -327,7 +328,7 @@ impl FrfBuilder {
             totals.fill(zero);
         }
         self.period_means.fill(0.0);
-        self.compensation = None;
+        self.noise = None;
         for g in &self.gathered {
             if let Contribution::Cross {
                 sff,
@@ -529,7 +530,7 @@ impl FrfBuilder {
             }
         };
         self.sets.take();
-        self.compensation = None;
+        self.noise = None;
         self.gathered.push(Gathered {
             label: record.label().to_owned(),
             dominant: record.dominant_force(),

@@ -128,7 +128,7 @@ impl FrfBuilder {
     /// The cross-spectral estimate from the totals (or weighted partials), line by line, H1
     /// compensated for the force noise ([`FrfBuilder::compensate_force_noise`]) if asked.
     pub(super) fn finish_cross(&self, plan: &Plan, weights: Option<&[f64]>) -> Frf {
-        let compensation = self.compensation.as_ref().map(|c| &c.force[..]);
+        let compensation = self.compensation().map(|c| &c.force[..]);
         self.finish_cross_as(plan, weights, self.estimator, compensation)
     }
 

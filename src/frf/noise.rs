@@ -28,17 +28,30 @@
 //!   compensated. The standard errors come from the fit, scaled by its own reduced χ² when that
 //!   is above 1 (noise that is not flat, overlapping segments).
 //!
-//! # Compensation
-//! With the force noise known, $G = S_{xf} (S_{ff} - A N_f)^{-1}$ is unbiased for both
-//! noises ([`FrfBuilder::compensate_force_noise`]): the diagonal of $S_{ff}$ loses the noise
-//! power the records show, and every finish of the builder (the full data, the leave-one-out
-//! replicates, the band refits) uses it. Its uncertainty is what the noise estimate's standard
-//! error moves the fit by ([`FrfBuilder::finish_compensated`] with the estimate raised by one
-//! standard error).
+//! # Force measurement noise or an unmeasured excitation
+//! The segments' force-side term is any noise that enters as the forces do: the force
+//! channels' measurement noise, but equally an excitation they do not measure (a second force
+//! on the rig, the distortion of a nonlinear element), which leaves H1 exact. Second-order
+//! spectra cannot tell the two apart. Periods can: a measurement's noise scatters from period
+//! to period, while a periodic drive, its distortion and the rig's response to them repeat.
 //!
-//! On a clean load cell the force noise comes out near zero and H1 is left as it was; on
-//! 10 % force noise over white random forcing (noise-free responses) the regression found
-//! 100–104 % of the simulated force noise power, and 0.3 % of it on noise-free forces.
+//! # Compensation
+//! With the force measurement noise known, $G = S_{xf} (S_{ff} - A N_f)^{-1}$ is unbiased
+//! for both noises: the diagonal of $S_{ff}$ loses the noise power the records show, and every
+//! finish of the builder (the full data, the leave-one-out replicates, the band refits) uses
+//! it ([`FrfBuilder::estimate_noise`]). Its uncertainty is what the noise estimate's standard
+//! error moves the fit by (a finish compensated for the estimate raised by one
+//! standard error). Periods are always compensated. Over segments the force-side noise is
+//! compensated only when the user says it is the load cell's ([`ForceNoise::Measurement`]):
+//! otherwise H1 is left as it is and what compensation would change is carried in the error
+//! bars. On a clean load cell the force-side noise is near zero and nothing is carried: the
+//! usual case of noisy probes, where the H1/H2 bracket would have carried the probes' noise
+//! too.
+//!
+//! On 10 % force noise over white random forcing (noise-free responses) the segments' fit
+//! found 100–104 % of the simulated force noise power, and 0.3 % of it on noise-free forces;
+//! on a cubic spring driven by random forces it took the distortion for force-side noise of
+//! about half the forces' power, as it must.
 
 use faer::linalg::solvers::{DenseSolveCore, Solve};
 use faer::{Mat, c64};
@@ -67,6 +80,62 @@ impl NoiseSource {
     }
 }
 
+/// What the noise the records show on the force side is taken for, and so whether H1 is
+/// compensated for it ([`FrfBuilder::estimate_noise`]).
+///
+/// Noise on a force channel's measurement biases H1; an excitation the force channels do not
+/// measure (another force on the rig, flow-induced forces, a nonlinear element's distortion)
+/// leaves H1 exact (under random forcing, H1 is then the best linear approximation). Over
+/// Welch segments the two give the same spectra, so the records cannot tell them apart;
+/// repeated periods can (a measurement's noise scatters from period to period, a periodic
+/// drive and its distortion repeat), and periods are always compensated.
+///
+/// # Examples
+/// ```
+/// use bearing_ident::frf::ForceNoise;
+/// assert_eq!("measurement".parse::<ForceNoise>()?, ForceNoise::Measurement);
+/// assert_eq!(ForceNoise::default(), ForceNoise::Auto);
+/// # Ok::<(), bearing_ident::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum ForceNoise {
+    /// Compensate where the records show the force channels' measurement noise for what it
+    /// is (periods); over Welch segments compensate for nothing and carry in the error bars
+    /// what compensation would change.
+    #[default]
+    Auto,
+    /// The force-side noise of Welch segments is the force channels' measurement noise (a
+    /// noisy load cell, no other force on the rig, a linear element): compensate for it too.
+    Measurement,
+}
+
+impl crate::Choice for ForceNoise {
+    const OPTION: &'static str = "force-noise";
+    const ALL: &'static [ForceNoise] = &[ForceNoise::Auto, ForceNoise::Measurement];
+
+    /// `"auto"` or `"measurement"` (the command line's `--force-noise` values).
+    fn name(self) -> &'static str {
+        match self {
+            ForceNoise::Auto => "auto",
+            ForceNoise::Measurement => "measurement",
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            ForceNoise::Auto => {
+                "compensate H1 for the force noise repeated periods show; over segments, carry it"
+            }
+            ForceNoise::Measurement => {
+                "the force-side noise of segments is the load cell's: compensate H1 for it"
+            }
+        }
+    }
+}
+
+crate::choice::choice_text!(ForceNoise);
+
 /// The measurement noise of each force and response channel that the records show (see the
 /// [module](self) docs): per band line and channel, the noise power per average, with its
 /// standard error, and per channel the band's noise-to-signal power ratio for reports.
@@ -82,7 +151,11 @@ impl NoiseSource {
 /// let records: Vec<_> = (0..4)
 ///     .map(|r| add_noise(&sim.random_record(format!("r{r}"), 20.0, r)?, 0.05, &mut rng))
 ///     .collect::<Result<_, _>>()?;
-/// let id = Identifier::new(8.0, 49.0).estimator(bearing_ident::Estimator::H1).identify(&records)?;
+/// let id = Identifier::new(8.0, 49.0)
+///     .estimator(bearing_ident::Estimator::H1)
+///     .segmentation(bearing_ident::Segmentation::Welch { len: 2048 })
+///     .window(bearing_ident::Window::Hann)
+///     .identify(&records)?;
 /// let noise = id.noise_floor().expect("shown by the segments");
 /// assert_eq!(noise.source(), NoiseSource::Segments);
 /// // 5 % of each channel's RMS, spread to Nyquist: far below the forces' own power.
@@ -92,6 +165,7 @@ impl NoiseSource {
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseFloor {
     source: NoiseSource,
+    compensated: bool,
     n: usize,
     /// Per plan line `l`, `[l * n + c]`: the force channels' noise power per average.
     pub(crate) force: Vec<f64>,
@@ -111,6 +185,11 @@ impl NoiseFloor {
     /// What showed the noise.
     pub fn source(&self) -> NoiseSource {
         self.source
+    }
+
+    /// Whether H1 was compensated for the force noise (see [`ForceNoise`]).
+    pub fn compensated(&self) -> bool {
+        self.compensated
     }
 
     /// Per force channel, the noise power over the signal power in the band (the median over
@@ -190,21 +269,30 @@ impl FrfBuilder {
         }
     }
 
-    /// Estimates the noise ([`FrfBuilder::noise_floor`]) and, when the records show it, has
-    /// every later H1 finish of this builder subtract the force channels' share from `S_ff`
-    /// (see the [module](self) docs). Records pushed or removed afterwards undo it.
-    pub fn compensate_force_noise(&mut self) -> Option<&NoiseFloor> {
+    /// Estimates the noise ([`FrfBuilder::noise_floor`]) for H1 and keeps it; when it is force
+    /// measurement noise for what the records or `force_noise` say (periods always, Welch
+    /// segments with [`ForceNoise::Measurement`]), every later H1 finish of this builder
+    /// subtracts the force channels' share from `S_ff` (see the [module](self) docs). Records
+    /// pushed or removed afterwards undo it.
+    pub fn estimate_noise(&mut self, force_noise: ForceNoise) -> Option<&NoiseFloor> {
         if self.estimator != super::Estimator::H1 {
             return None;
         }
-        let floor = self.noise_floor()?;
-        self.compensation = Some(floor);
-        self.compensation.as_ref()
+        let mut floor = self.noise_floor()?;
+        floor.compensated =
+            floor.source == NoiseSource::Periods || force_noise == ForceNoise::Measurement;
+        self.noise = Some(floor);
+        self.noise.as_ref()
     }
 
-    /// The noise floor the finishes are compensated for, if any.
+    /// The noise estimated by [`FrfBuilder::estimate_noise`], if any.
+    pub(crate) fn noise(&self) -> Option<&NoiseFloor> {
+        self.noise.as_ref()
+    }
+
+    /// The noise floor the H1 finishes are compensated for, if any.
     pub(crate) fn compensation(&self) -> Option<&NoiseFloor> {
-        self.compensation.as_ref()
+        self.noise.as_ref().filter(|n| n.compensated)
     }
 
     /// Periods: the scatter of each channel's spectrum about its period mean, line by line.
@@ -294,6 +382,7 @@ impl NoiseFloor {
             Self::ratios(n, &response, &response_std, response_auto);
         NoiseFloor {
             source,
+            compensated: false,
             n,
             force,
             force_std,
@@ -321,6 +410,9 @@ struct Residuals {
     gain: Vec<f64>,
     /// `[l * n + i]`: $\sum_j |\Delta G_{ij}/\Delta f|^2 P_j$.
     leakage: Vec<f64>,
+    /// `[l * n + i]`: what response channel `i`'s (flat) noise becomes at the line, the
+    /// square of the known channel characteristics divided out there (1 without any).
+    floor: Vec<f64>,
     force_auto: Vec<f64>,
     response_auto: Vec<f64>,
 }
@@ -349,6 +441,7 @@ impl Residuals {
             unexplained: vec![0.0; lines * n],
             gain: vec![0.0; lines * nn],
             leakage: vec![0.0; lines * n],
+            floor: vec![1.0; lines * n],
             force_auto: vec![0.0; lines * n],
             response_auto: vec![0.0; lines * n],
         };
@@ -382,10 +475,19 @@ impl Residuals {
                 out.unexplained[l * n + i] = (sxx[d] - explained[d]).re.max(0.0);
                 out.force_auto[l * n + i] = sff[d].re / averages;
                 out.response_auto[l * n + i] = sxx[d].re / averages;
+                // A force's flat noise, like a response's, is scaled at the line by the square
+                // of the known characteristic divided out of its channel.
+                let corrected = |c: usize| {
+                    plan.corrections
+                        .get(l * 2 * n + c)
+                        .map_or(1.0, |z| z.norm_sqr())
+                };
+                out.floor[l * n + i] = corrected(n + i);
                 for j in 0..n {
                     // [S⁻¹]_jj per average is A [S_ff⁻¹]_jj.
                     let kept = 1.0 - force_noise[j] * averages * plain[j * (n + 1)].re;
-                    out.gain[(l * n + i) * n + j] = g[i + j * n].norm_sqr() * kept.max(0.0);
+                    out.gain[(l * n + i) * n + j] =
+                        g[i + j * n].norm_sqr() * kept.max(0.0) * corrected(j);
                 }
             }
             gs[l * nn..(l + 1) * nn].copy_from_slice(&g);
@@ -418,7 +520,7 @@ impl Residuals {
         let regressor = |row: usize, col: usize| -> f64 {
             let i = row % n;
             match col {
-                c if c < n => f64::from(u8::from(c == i)),
+                c if c < n => f64::from(u8::from(c == i)) * self.floor[row],
                 c if c < 2 * n => self.gain[row * n + (c - n)],
                 _ => self.leakage[row],
             }

@@ -303,8 +303,7 @@ impl Replicates<'_> {
         // number of averages.
         let compensation = self
             .builder
-            .compensation
-            .as_ref()
+            .compensation()
             .filter(|_| self.builder.estimator == Estimator::H1)
             .map(|c| &c.force[..]);
         let averages = frf.averages as f64;

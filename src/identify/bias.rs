@@ -4,7 +4,7 @@
 //! coefficient it is kept on the result and carried in the error bars; it is named in a
 //! warning when it is large against them or the user can remove it.
 
-use crate::error::Warning;
+use crate::error::{NoiseBiasBasis, Warning};
 #[cfg(doc)]
 use crate::frf::NoiseFloor;
 use crate::frf::{Frf, FrfBuilder};
@@ -74,7 +74,7 @@ impl Settings {
         let relative = value(&bias.bias) / value(model);
         // Leakage is budget unless large; a truncation the user can remove (an exponential
         // window) is named as soon as it is carried.
-        if source == BiasSource::Leakage && sigmas <= BIAS_WARN_SIGMAS {
+        if source == BiasSource::Leakage && !news(&bias.bias, std, fit) {
             return Some(bias);
         }
         warnings.push(match source {
@@ -107,16 +107,22 @@ impl Settings {
     /// Noise of power $N_f$ on the forces turns H1's impedance into $(I + N_f S_{ff}^{-1}) Z$,
     /// too stiff, too heavy and too damped by the forces' noise-to-signal ratio; noise on the
     /// responses biases H2 the other way. Neither the replicates' scatter nor the model check
-    /// sees this (it is the same in every segment).
-    /// - Where the periods or segments show the split ([`NoiseFloor`]), H1 was compensated for
-    ///   the force noise they show; what is left is the uncertainty of that estimate: the
-    ///   change of the fit when the force noise is raised by one standard error of it
-    ///   ([`NoiseFloor`]'s), always carried.
-    /// - Where they do not (H2, whole records, too few averages or lines), the whole bracket,
-    ///   the difference between the fits on H1 and on H2 of the same spectra, the bias of the
-    ///   estimator in use were all the noise on the channel it assumes clean, is carried once
-    ///   it passes [`BIAS_SIGMAS`]. The other fit is made on the same lines as `frf` (after the
-    ///   coherence selection) with the same method.
+    /// sees this (it is the same in every segment). By what the records show ([`NoiseFloor`]):
+    /// - H1 compensated for the force measurement noise the periods (or, by the user's word,
+    ///   the segments) show: the change of the fit when that noise is raised by one standard
+    ///   error of its estimate, always carried ([`NoiseBiasBasis::Compensation`]).
+    /// - Segments that show force-side noise, left uncompensated (it may be an excitation the
+    ///   force channels do not measure): the change compensation for it would make, carried
+    ///   past [`BIAS_SIGMAS`]
+    ///   ([`NoiseBiasBasis::ForceSide`]); nothing when the force side shows no noise, the
+    ///   usual clean load cell.
+    /// - Otherwise (H2, whole records, too few averages or lines): the whole bracket, the
+    ///   difference between the fits on H1 and on H2 of the same spectra, the bias of the
+    ///   estimator in use were all the noise on the channel it assumes clean, carried past
+    ///   [`BIAS_SIGMAS`] ([`NoiseBiasBasis::Bracket`]).
+    ///
+    /// The other fit is made on the same lines as `frf` (after the coherence selection) with
+    /// the same method.
     pub(super) fn noise_bracket(
         &self,
         frf: &Frf,
@@ -131,9 +137,16 @@ impl Settings {
         if self.method == Method::Ml {
             return None;
         }
-        let (other, compensated) = match builder.compensation() {
-            Some(floor) => (builder.finish_compensated(&floor.force_raised())?, true),
-            None => (builder.finish_bracket()?, false),
+        let (other, basis) = match builder.noise() {
+            Some(floor) if floor.compensated() => (
+                builder.finish_compensated(&floor.force_raised())?,
+                NoiseBiasBasis::Compensation,
+            ),
+            Some(floor) => (
+                builder.finish_compensated(&floor.force)?,
+                NoiseBiasBasis::ForceSide,
+            ),
+            None => (builder.finish_bracket()?, NoiseBiasBasis::Bracket),
         };
         let other = other.ok()?;
         let kept = frf.freqs_hz();
@@ -149,13 +162,14 @@ impl Settings {
             faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| (b[(i, j)] - a[(i, j)]).abs());
         let bracket = Coefficients::from_stacked(bracket.as_ref()).ok()?;
         let (block, row, col, sigmas) = worst_in(&bracket, random)?;
-        if !compensated && sigmas <= BIAS_SIGMAS {
+        if basis != NoiseBiasBasis::Compensation && sigmas <= BIAS_SIGMAS {
             return None;
         }
-        if sigmas > BIAS_WARN_SIGMAS {
+        if news(&bracket, random, fit) {
             let value = |c: &Coefficients| element(c, block, row, col);
             warnings.push(Warning::NoiseBias {
                 estimator: self.estimator,
+                basis,
                 block,
                 row,
                 col,
@@ -166,6 +180,22 @@ impl Settings {
         }
         Some(bracket)
     }
+}
+
+/// Whether a carried `bias` is news: past [`BIAS_WARN_SIGMAS`] of the random standard
+/// deviation `random` on some coefficient, that deviation taken as at least the fit's own
+/// first-order one (a jackknife over four records has three degrees of freedom: judged by it
+/// alone, a bias a little under the threshold would be warned about on one seed in five).
+fn news(bias: &Coefficients, random: &Coefficients, fit: &Fit) -> bool {
+    let steadier = match fit.std_dev() {
+        Some(first_order) => {
+            let (a, b) = (random.stacked(), first_order.stacked());
+            let max = faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].max(b[(i, j)]));
+            Coefficients::from_stacked(max.as_ref()).unwrap_or_else(|_| random.clone())
+        }
+        None => random.clone(),
+    };
+    worst_in(bias, &steadier).is_some_and(|w| w.3 > BIAS_WARN_SIGMAS)
 }
 
 /// The element `[row][col]` of `block` of `c`.

@@ -52,8 +52,9 @@ pub use timings::Timings;
 pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 
 use crate::conditioning::ConditionLimits;
+use crate::element::ModelSpec;
 use crate::error::Result;
-use crate::frf::{Assignment, ChannelTransfers, Estimator};
+use crate::frf::{Assignment, ChannelTransfers, Estimator, ForceNoise};
 use crate::gate::FitGate;
 use crate::solve::ml::MlOptions;
 use crate::solve::{IvfOptions, Method};
@@ -95,6 +96,8 @@ pub struct Identifier {
     calibration: Calibration,
     transfers: ChannelTransfers,
     drop_periods: usize,
+    force_noise: ForceNoise,
+    model: ModelSpec,
 }
 
 impl Identifier {
@@ -123,6 +126,8 @@ impl Identifier {
             calibration: Calibration::default(),
             transfers: ChannelTransfers::new(),
             drop_periods: 0,
+            force_noise: ForceNoise::default(),
+            model: ModelSpec::default(),
         }
     }
 
@@ -187,6 +192,65 @@ impl Identifier {
     /// Condition-number thresholds. Valid `1 ≤ warn ≤ refuse`; default `1e3` and `1e8`.
     pub fn condition_limits(mut self, limits: ConditionLimits) -> Self {
         self.limits = limits;
+        self
+    }
+
+    /// What the force-side noise H1's records show is taken for ([`ForceNoise`]): the noise
+    /// repeated periods show on the forces is their measurement noise and compensated for
+    /// always; over Welch segments only with [`ForceNoise::Measurement`] (default
+    /// [`ForceNoise::Auto`]: carried in the error bars).
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::frf::ForceNoise;
+    /// use bearing_ident::simulate::{AntiAlias, Simulator, add_noise, seed_rig};
+    /// use bearing_ident::{Estimator, Identifier, Segmentation, Window};
+    /// use rand::SeedableRng;
+    /// let mut sim = Simulator::new(&seed_rig(), 500.0, 32_768, AntiAlias::default())?;
+    /// let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+    /// let records: Vec<_> = (0..4)
+    ///     .map(|r| add_noise(&sim.random_record(format!("r{r}"), 20.0, r)?, 0.05, &mut rng))
+    ///     .collect::<Result<_, _>>()?;
+    /// let id = Identifier::new(8.0, 49.0)
+    ///     .estimator(Estimator::H1)
+    ///     .segmentation(Segmentation::Welch { len: 2048 })
+    ///     .window(Window::Hann);
+    /// let auto = id.clone().identify(&records)?;
+    /// assert!(!auto.noise_floor().unwrap().compensated());
+    /// let told = id.force_noise(ForceNoise::Measurement).identify(&records)?;
+    /// assert!(told.noise_floor().unwrap().compensated());
+    /// // 5 % noise on a force white to 250 Hz: H1's mass 0.2 % heavier uncompensated.
+    /// let m = |id: &bearing_ident::Identification| id.coefficients().mass()[(0, 0)];
+    /// assert!(m(&auto) / m(&told) - 1.0 > 0.001);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn force_noise(mut self, force_noise: ForceNoise) -> Self {
+        self.force_noise = force_noise;
+        self
+    }
+
+    /// The element model fitted beside the constant coefficients ([`ModelSpec`]; default
+    /// `kcm`, the constant `K`, `C`, `M` of the chosen method): a frequency-dependent family
+    /// by name, or [`ModelSpec::Auto`], the smallest the model check accepts. The families are
+    /// fitted by weighted least squares on the impedance ([`crate::element`]); when one other
+    /// than `kcm` is chosen, [`Identification::coefficients`] are its constant part, with its
+    /// standard deviations, model check and modes. Not with an exponential window, and only
+    /// `kcm` with maximum likelihood.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::element::{Family, ModelSpec};
+    /// use bearing_ident::{Identifier, simulate::{ImpactTest, seed_rig}};
+    /// let records = ImpactTest { per_direction: 4, noise: 0.03, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).model(ModelSpec::Auto).identify(&records)?;
+    /// let model = id.model().expect("asked for");
+    /// assert_eq!(model.family(), Family::Kcm);
+    /// assert_eq!(model.selection()[0].family, Family::Kc); // tried first, refused
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn model(mut self, model: ModelSpec) -> Self {
+        self.model = model;
         self
     }
 

@@ -64,15 +64,16 @@
 
 use faer::c64;
 
+use crate::element::fit::{Data, fit_data};
+use crate::element::{Family, FamilyFit};
 use crate::error::{Result, Warning};
 use crate::frf::Frf;
 use crate::model::Coefficients;
 use crate::solve::ml::MlReport;
 use crate::statistics::chi2_upper_tail;
-use crate::tolerance::{
-    FAMILY_FIT_ITERATIONS, FAMILY_FIT_TOLERANCE, MIN_RUNS_LINES, MODEL_CHECK_FLOOR, MODEL_MISFIT_P,
-    RUNS_MIN_RATIO,
-};
+#[cfg(doc)]
+use crate::tolerance::MODEL_CHECK_FLOOR;
+use crate::tolerance::{MIN_RUNS_LINES, MODEL_MISFIT_P, RUNS_MIN_RATIO};
 
 /// What the model check found.
 ///
@@ -188,14 +189,8 @@ impl ModelCheck {
         fitted: &Coefficients,
         runs_stride: usize,
     ) -> Result<(Self, Option<Warning>)> {
-        let n = frf.dofs();
-        let lines = frf.line_count();
-        let nu = match frf.estimator().is_cross_spectral() {
-            false => 2.0 * (frf.averages() as f64 - 1.0),
-            true => 2.0 * (frf.averages() as f64 - n as f64),
-        };
-        let with_variance = lines > 0 && (0..lines).all(|k| frf.impedance_variance(k).is_some());
-        if !with_variance || nu <= 0.0 {
+        let data = Data::of(frf);
+        if data.nu <= 0.0 {
             let reason = if frf.estimator().is_cross_spectral() {
                 "no pure error: as many averages as inputs, or an FRF given ready-made"
             } else {
@@ -203,45 +198,64 @@ impl ModelCheck {
             };
             return Ok((ModelCheck::untested(reason), None));
         }
-        let p = 3 * n * n;
-        let terms_of = Terms::of(frf);
-        let fitted = &family_fit(&terms_of, fitted, nu);
+        match fit_data(&data, Family::Kcm, None, Some(fitted)) {
+            Ok(fit) => Self::of_family(&data, &fit, frf.freqs_hz(), runs_stride),
+            Err(_) => Ok((
+                ModelCheck::untested("the model family's own fit is singular"),
+                None,
+            )),
+        }
+    }
+
+    /// The replicate test of a model family's own fit `fit` to `data` (whose lines are
+    /// `freqs_hz`): the statistic on its residuals, with `dof = 2·terms − parameters`, and the
+    /// runs test at every `runs_stride`-th line.
+    ///
+    /// # Errors
+    /// None in practice: the χ² tail of a positive number of degrees of freedom.
+    pub(crate) fn of_family(
+        data: &Data,
+        fit: &FamilyFit,
+        freqs_hz: &[f64],
+        runs_stride: usize,
+    ) -> Result<(Self, Option<Warning>)> {
+        let nn = data.n * data.n;
+        let lines = data.lines();
+        if data.nu <= 0.0 {
+            return Ok((ModelCheck::untested("no pure error"), None));
+        }
         let mut line_ratios = Vec::with_capacity(lines);
         // The residual signs of every element's real and imaginary part, over the lines.
-        let mut signs: Vec<Vec<bool>> = vec![Vec::with_capacity(lines); 2 * n * n];
+        let mut signs: Vec<Vec<bool>> = vec![Vec::with_capacity(lines); 2 * nn];
         let (mut total, mut terms) = (0.0, 0usize);
         for k in 0..lines {
-            let model = fitted.impedance_at(frf.freqs_hz()[k]);
             let (mut line, mut line_terms) = (0.0, 0usize);
-            for j in 0..n {
-                for i in 0..n {
-                    let Some((h, var, above_floor)) = terms_of.at(k, i, j) else {
-                        continue;
-                    };
-                    let e: c64 = h - model[(i, j)];
-                    // A residual whose scatter is at the floor is the fit's precision, not
-                    // noise: its sign says nothing of the model.
-                    if k % runs_stride.max(1) == 0 && above_floor {
-                        let element = 2 * (j * n + i);
-                        signs[element].push(e.re >= 0.0);
-                        signs[element + 1].push(e.im >= 0.0);
-                    }
-                    let t = e.norm_sqr() / var;
-                    line += nu * (2.0 * t / nu).ln_1p();
-                    line_terms += 1;
+            for e in 0..nn {
+                let var = data.var[k * nn + e];
+                if !var.is_finite() {
+                    continue;
                 }
+                let r: c64 = fit.residual(data, k, e);
+                // A residual whose scatter is at the floor is the fit's precision, not
+                // noise: its sign says nothing of the model.
+                if k % runs_stride.max(1) == 0 && data.above_floor[k * nn + e] {
+                    signs[2 * e].push(r.re >= 0.0);
+                    signs[2 * e + 1].push(r.im >= 0.0);
+                }
+                line += data.term(r.norm_sqr() / var);
+                line_terms += 1;
             }
             total += line;
             terms += line_terms;
             line_ratios.push((line_terms > 0).then(|| line / (2 * line_terms) as f64));
         }
-        let dof = (2 * terms) as f64 - p as f64;
+        let dof = (2 * terms) as f64 - fit.family().size(data.n) as f64;
         let worst = line_ratios
             .iter()
             .enumerate()
             .filter_map(|(k, r)| r.filter(|r| r.is_finite()).map(|r| (k, r)))
             .max_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(k, _)| frf.freqs_hz()[k]);
+            .map(|(k, _)| freqs_hz[k]);
         let (Some(worst), true) = (worst, dof > 0.0 && total.is_finite()) else {
             return Ok((
                 ModelCheck::untested("no pure error: too few lines with a measured scatter"),
@@ -331,111 +345,6 @@ impl ModelCheck {
         });
         (check, warning)
     }
-}
-
-/// The measured impedance and its pure-error variance, element by element and line by
-/// line, with the variance floored at [`MODEL_CHECK_FLOOR`] of the line's `‖H‖`.
-struct Terms<'a> {
-    frf: &'a Frf,
-    /// Per line, `ω` (rad/s).
-    omega: Vec<f64>,
-    /// Per line, the floor of the variances.
-    floor: Vec<f64>,
-}
-
-impl<'a> Terms<'a> {
-    fn of(frf: &'a Frf) -> Self {
-        let n = frf.dofs();
-        let floor = (0..frf.line_count())
-            .map(|k| {
-                let h = frf.impedance(k);
-                let norm = (0..n * n)
-                    .map(|e| h[(e % n, e / n)].norm_sqr())
-                    .sum::<f64>();
-                MODEL_CHECK_FLOOR * MODEL_CHECK_FLOOR * norm
-            })
-            .collect();
-        let omega = frf
-            .freqs_hz()
-            .iter()
-            .map(|f| 2.0 * std::f64::consts::PI * f)
-            .collect();
-        Terms { frf, omega, floor }
-    }
-
-    /// Element `(i, j)` at line `k`: the measured impedance, its (floored) variance and
-    /// whether the measured variance is above the floor; `None` where the variance is not a
-    /// positive finite number (the term is left out).
-    fn at(&self, k: usize, i: usize, j: usize) -> Option<(c64, f64, bool)> {
-        let v = self.frf.impedance_variance(k)?[(i, j)];
-        let var = v.max(self.floor[k]);
-        (var > 0.0 && var.is_finite())
-            .then(|| (self.frf.impedance(k)[(i, j)], var, v > self.floor[k]))
-    }
-}
-
-/// The model family's own best fit to the measured impedance, the one the check judges: for
-/// each element `(i, j)`, the `K_ij`, `M_ij`, `C_ij` that minimise the statistic's sum
-/// $\sum_k \nu \ln(1 + 2t_k/\nu)$, $t_k = |\bar H_{k,ij} - (K - \omega_k^2 M + i\omega_k C)|^2 / v_k$,
-/// by iteratively reweighted least squares from `start` (weights
-/// $1/(v_k (1 + 2t_k/\nu))$; the real part fits `K`, `M`, the imaginary part `C`). The
-/// impedance is linear in the coefficients and each element has its own three, so each
-/// iteration is a 2 × 2 and a 1 × 1 weighted least-squares problem per element.
-///
-/// The coefficients an estimator returns weight the lines otherwise (IVF weights the flexibility
-/// identity, not the impedance's pure error): their prediction error is largest against the
-/// pure error at the lines where that error is smallest (a resonance's, whose impedance is
-/// small), and a right model would be judged by that weighting instead of by the data.
-fn family_fit(terms: &Terms<'_>, start: &Coefficients, nu: f64) -> Coefficients {
-    let n = terms.frf.dofs();
-    let (mut m, mut c, mut k) = (
-        start.mass().to_owned(),
-        start.damping().to_owned(),
-        start.stiffness().to_owned(),
-    );
-    for j in 0..n {
-        for i in 0..n {
-            for _ in 0..FAMILY_FIT_ITERATIONS {
-                // Normal equations of Re H = K − ω²M (unknowns K, M) and Im H = ωC.
-                let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-                let (mut cc, mut cb) = (0.0, 0.0);
-                for (l, &w) in terms.omega.iter().enumerate() {
-                    let Some((h, var, _)) = terms.at(l, i, j) else {
-                        continue;
-                    };
-                    let model = c64::new(k[(i, j)] - w * w * m[(i, j)], w * c[(i, j)]);
-                    let t = (h - model).norm_sqr() / var;
-                    let weight = 1.0 / (var * (1.0 + 2.0 * t / nu));
-                    let x = -w * w;
-                    a11 += weight;
-                    a12 += weight * x;
-                    a22 += weight * x * x;
-                    b1 += weight * h.re;
-                    b2 += weight * x * h.re;
-                    cc += weight * w * w;
-                    cb += weight * w * h.im;
-                }
-                let det = a11 * a22 - a12 * a12;
-                if !(det > 0.0 && det.is_finite() && cc > 0.0 && cc.is_finite()) {
-                    break;
-                }
-                let next = (
-                    (a22 * b1 - a12 * b2) / det,
-                    (a11 * b2 - a12 * b1) / det,
-                    cb / cc,
-                );
-                if !(next.0.is_finite() && next.1.is_finite() && next.2.is_finite()) {
-                    break;
-                }
-                let change = (next.0 - k[(i, j)]).abs() / next.0.abs().max(f64::MIN_POSITIVE);
-                (k[(i, j)], m[(i, j)], c[(i, j)]) = next;
-                if change < FAMILY_FIT_TOLERANCE {
-                    break;
-                }
-            }
-        }
-    }
-    Coefficients::new(m, c, k).unwrap_or_else(|_| start.clone())
 }
 
 /// $\Phi(Z)$ of the runs test over `signs` (one sequence per element part; see the module

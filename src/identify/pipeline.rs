@@ -21,9 +21,10 @@ use super::screen::{
     kept_records, observe, out_of_scale, reported, screen_batch, without_interference,
 };
 use super::timings::{Untimed, timed};
-use super::{Identification, Identifier, ModelCheck, Settings, Timings};
+use super::{Budget, Identification, Identifier, ModelCheck, Settings, Timings};
 #[cfg(doc)]
 use super::{NonConvergence, Screening, Uncertainty};
+use crate::element::{ModelSpec, select};
 
 impl Identifier {
     /// Runs the identification.
@@ -357,11 +358,17 @@ impl Settings {
         if builder.records() == 0 {
             return Err(Error::NoRecords);
         }
-        // H1 from periods or Welch segments: the force noise the records show is taken off
-        // (once: a first fit on the same spectra may have estimated it already).
-        if builder.compensation().is_none() {
-            timed(&mut t.noise, || builder.compensate_force_noise().is_some());
+        // H1 from periods or Welch segments: the noise the records show, the force
+        // measurement noise taken off where it is that (once: a first fit on the same spectra
+        // may have estimated it already).
+        if builder.noise().is_none() {
+            timed(&mut t.noise, || {
+                builder.estimate_noise(self.force_noise).is_some()
+            });
         }
+        let builder = &*builder;
+        // Kept for the error: a record far out of scale that the screening found (and kept).
+        let suspect = screened.iter().find_map(out_of_scale);
         let frf = timed(&mut t.frf, || {
             let frf = builder.finish(&self.assignment)?;
             let excitations = match self.estimator {
@@ -370,8 +377,6 @@ impl Settings {
             };
             Ok((frf, excitations))
         });
-        // Kept for the error: a record far out of scale that the screening found (and kept).
-        let suspect = screened.iter().find_map(out_of_scale);
         let outcome = frf.and_then(|(frf, excitations)| {
             self.conclude(frf, Some(builder), excitations, screened, t, start)
         });
@@ -464,6 +469,7 @@ impl Settings {
         })?;
         warnings.extend(misfit);
         let solve_start = Instant::now();
+        let windowed = fit.coefficients().clone();
         let fit = self.corrected(fit)?;
         warnings.extend(self.gate_warnings(&frf, fit_r2.as_ref(), fit.coefficients(), builder));
         t.solve += solve_start.elapsed();
@@ -504,10 +510,74 @@ impl Settings {
                 mode_std(fit.coefficients(), &cov, b.calibration_directions()).ok()
             })
         });
+        // The element model: a family other than kcm asked for, or the smallest the model
+        // check accepts; with the default kcm, a misfit that a frequency-dependent family
+        // would explain is named.
+        let (mut fit, mut model_check, mut modes_std) = (fit, model_check, modes_std);
+        let element = if self.model != ModelSpec::default() {
+            let (element, found) = timed(&mut t.model_check, || {
+                select(&frf, self.model, self.runs_stride(&frf), Some(&windowed))
+            })?;
+            if !element.is_kcm() {
+                let constant = element.constant_part()?;
+                let std = element.constant_part_std();
+                if let (Some(std), Some(_)) = (&std, bars.budget.as_ref()) {
+                    let b = element.check().birge_factor();
+                    let random = std.scaled(1.0 / b);
+                    let model = std.scaled((1.0 - 1.0 / (b * b)).max(0.0).sqrt());
+                    let calibration = self.calibration.std_dev(&constant)?;
+                    let budget = Budget::of_parts(random, model, calibration);
+                    bars.std_dev = Some(budget.combined()?);
+                    bars.budget = Some(budget);
+                    bars.interval_factor = crate::statistics::t975(0);
+                    bars.uncertainty = super::Uncertainty::Sandwich;
+                }
+                fit = fit.replaced(constant, bars.std_dev.clone());
+                model_check = element.check().clone();
+                modes_std = None;
+                // The constant part's checks give way to the model's: its misfit, and its
+                // modes, those of the internal states' state space.
+                warnings.retain(|w| {
+                    !matches!(
+                        w,
+                        Warning::ModelMisfit { .. } | Warning::UnstableMode { .. }
+                    )
+                });
+                warnings.extend(found);
+                warnings.extend(element.modes().unwrap_or_default().iter().filter_map(|m| {
+                    (m.damping_ratio < 0.0).then_some(Warning::UnstableMode {
+                        frequency_hz: m.natural_frequency_hz,
+                        damping_ratio: m.damping_ratio,
+                    })
+                }));
+            }
+            Some(element)
+        } else {
+            if model_check.verdict == super::model_check::Verdict::Misfit {
+                let hint = timed(&mut t.model_check, || {
+                    select(
+                        &frf,
+                        ModelSpec::Auto,
+                        self.runs_stride(&frf),
+                        Some(&windowed),
+                    )
+                });
+                if let Some((element, _)) = hint.ok().filter(|(e, _)| {
+                    !e.is_kcm() && e.check().verdict == super::model_check::Verdict::Fits
+                }) {
+                    warnings.push(Warning::FrequencyDependent {
+                        family: element.family().to_string(),
+                        poles_hz: element.poles_hz(),
+                    });
+                }
+            }
+            None
+        };
         t.total = start.elapsed();
         Ok(Identification {
             ml,
-            noise_floor: builder.and_then(|b| b.compensation().cloned()),
+            model: element,
+            noise_floor: builder.and_then(|b| b.noise().cloned()),
             band: self.band,
             window: self.window,
             segmentation: if builder.is_some() {

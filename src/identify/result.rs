@@ -19,7 +19,9 @@ use super::{Budget, ModelCheck, Timings, Uncertainty};
 #[derive(Debug, Clone, PartialEq)]
 pub struct Identification {
     pub(super) ml: Option<MlReport>,
-    /// The noise the periods or segments showed, H1 compensated for its force share.
+    /// The element model asked for (`None` for the default constant coefficients).
+    pub(super) model: Option<crate::element::ElementModel>,
+    /// The noise the periods or segments showed for H1.
     pub(super) noise_floor: Option<crate::frf::NoiseFloor>,
     pub(super) band: Band,
     pub(super) window: Window,
@@ -50,10 +52,10 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// The measurement noise of the force and response channels that the records showed
-    /// (repeated periods, or Welch segments fitted over the band), when H1's impedance was
-    /// compensated for the force channels' share of it ([`crate::frf::NoiseFloor`]); `None`
-    /// for other estimators and segmentations, or when the records could not show it.
+    /// The noise on the force and response channels that the records showed (repeated
+    /// periods, or Welch segments fitted over the band) for H1, and whether H1 was compensated
+    /// for the force channels' share ([`crate::frf::NoiseFloor`]); `None` for other
+    /// estimators and segmentations, or when the records could not show it.
     ///
     /// # Examples
     /// ```
@@ -203,12 +205,26 @@ impl Identification {
         .ok()
     }
 
-    /// Natural frequencies and damping ratios of the identified system.
+    /// Natural frequencies and damping ratios of the identified system: of its constant
+    /// coefficients, or of the element model other than `kcm` when one was chosen
+    /// ([`ElementModel::modes`](crate::element::ElementModel::modes): the internal states'
+    /// state space).
     ///
     /// # Errors
     /// As [`Coefficients::modes`].
     pub fn modes(&self) -> Result<Vec<Mode>> {
-        self.coefficients().modes()
+        match self.model.as_ref().filter(|m| !m.is_kcm()) {
+            Some(model) => model.modes(),
+            None => self.coefficients().modes(),
+        }
+    }
+
+    /// The element model: the family asked for with [`Identifier::model`](super::Identifier::model),
+    /// or the one [`ModelSpec::Auto`](crate::element::ModelSpec::Auto) chose, with every
+    /// family tried; `None` for the default constant coefficients. When its family is not
+    /// `kcm`, [`Identification::coefficients`] are its constant part.
+    pub fn model(&self) -> Option<&crate::element::ElementModel> {
+        self.model.as_ref()
     }
 
     /// What the maximum-likelihood loop did (method ml only): iterations, the cost and its

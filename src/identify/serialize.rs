@@ -24,7 +24,12 @@ use super::{Budget, Identification, ModelCheck, Uncertainty, Verdict};
 /// [`Identification::predicted_bias`]), `period` and `periods_dropped`; `model_check` (`statistic`, `expected`, `dof`, `p_value`, `runs_p_value`, `verdict`
 /// `fits`/`misfit`/`untested`, `reason`), `budget` (`random`, `model`, `calibration`, each
 /// with `M_std`, `C_std`, `K_std`; null without error bars; the top-level `*_std` are the
-/// combined standard uncertainties), `natural_frequencies_hz_std`, `damping_ratios_std`.
+/// combined standard uncertainties), `noise` (H1 over periods or Welch segments: `source`
+/// `periods`/`segments`, `compensated`, `force_ratio`, `force_ratio_std`, `response_ratio`,
+/// `response_ratio_std`, each channel's noise over signal power in the band; null otherwise;
+/// see [`Identification::noise_floor`]), `model` (the element model asked for, null for the
+/// default: see [`ElementModel`](crate::element::ElementModel)'s serialization),
+/// `natural_frequencies_hz_std`, `damping_ratios_std`.
 impl serde::Serialize for Identification {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use crate::model::rows;
@@ -120,6 +125,8 @@ impl serde::Serialize for Identification {
         // The model check, the uncertainty budget, the derived quantities' error bars.
         m.serialize_entry("model_check", &self.model_check)?;
         m.serialize_entry("budget", &self.budget)?;
+        m.serialize_entry("noise", &self.noise_floor)?;
+        m.serialize_entry("model", &self.model)?;
         m.serialize_entry(
             "natural_frequencies_hz_std",
             &self.natural_frequencies_hz_std(),
@@ -168,5 +175,154 @@ impl serde::Serialize for Budget {
         m.serialize_entry("model", &part(&self.model))?;
         m.serialize_entry("calibration", &part(&self.calibration))?;
         m.end()
+    }
+}
+
+/// `{source, compensated, force_ratio, force_ratio_std, response_ratio, response_ratio_std}`.
+impl serde::Serialize for crate::frf::NoiseFloor {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(6))?;
+        m.serialize_entry("source", self.source().name())?;
+        m.serialize_entry("compensated", &self.compensated())?;
+        m.serialize_entry("force_ratio", self.force_ratio())?;
+        m.serialize_entry("force_ratio_std", self.force_ratio_std())?;
+        m.serialize_entry("response_ratio", self.response_ratio())?;
+        m.serialize_entry("response_ratio_std", self.response_ratio_std())?;
+        m.end()
+    }
+}
+
+/// `{family, order, selection: [{model, statistic, dof, p_value, runs_p_value, criterion,
+/// verdict, reason}], poles_hz, poles_hz_std, matrices: [{name, value, std}], modes: [{
+/// natural_frequency_hz, damping_ratio}], verdict, effective (2 DOF: {frequency_hz, K_eff,
+/// C_eff, K_eff_std, C_eff_std, crossover_hz, crossover_hz_std}, else null), curve:
+/// {frequency_hz, K, C, K_std, C_std}}`, the
+/// matrices as rows and the curve one matrix per line; `order` is the number of states or the
+/// polynomial degree (0 for `kc`, `kcm`).
+impl serde::Serialize for crate::element::ElementModel {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use crate::element::Family;
+        use crate::model::rows;
+        use serde::ser::SerializeMap;
+        use serde_json_free::{Candidate, Matrix};
+        let family = self.family();
+        let per = family.parameters_per_element();
+        let fit = self.fit();
+        let matrices: Vec<Matrix> = (0..per)
+            .map(|b| Matrix {
+                name: family.parameter_name(b),
+                value: rows(fit.matrix(b).as_ref()),
+                std: fit.matrix_std(b).map(|m| rows(m.as_ref())),
+            })
+            .collect();
+        let selection: Vec<Candidate> = self
+            .selection()
+            .iter()
+            .map(|c| Candidate {
+                model: c.family.to_string(),
+                statistic: c.statistic,
+                dof: c.dof,
+                p_value: c.p_value,
+                runs_p_value: c.runs_p_value,
+                criterion: c.criterion,
+                verdict: c.verdict,
+                reason: c.reason.clone(),
+            })
+            .collect();
+        let curve = self.curve();
+        let per_line = |v: &[faer::Mat<f64>]| -> Vec<Vec<Vec<f64>>> {
+            v.iter().map(|m| rows(m.as_ref())).collect()
+        };
+        let modes: Vec<crate::model::Mode> = self.modes().unwrap_or_default();
+        let mut m = s.serialize_map(Some(10))?;
+        m.serialize_entry("family", &family.to_string())?;
+        m.serialize_entry(
+            "order",
+            &match family {
+                Family::Poly { degree } => degree,
+                Family::States { poles } => poles,
+                _ => 0,
+            },
+        )?;
+        m.serialize_entry("selection", &selection)?;
+        m.serialize_entry("poles_hz", &self.poles_hz())?;
+        m.serialize_entry("poles_hz_std", &self.poles_hz_std())?;
+        m.serialize_entry("matrices", &matrices)?;
+        m.serialize_entry("modes", &modes)?;
+        m.serialize_entry("verdict", self.check().verdict.name())?;
+        #[derive(serde::Serialize)]
+        struct EffectiveOut {
+            frequency_hz: Vec<f64>,
+            #[serde(rename = "K_eff")]
+            k: Vec<f64>,
+            #[serde(rename = "C_eff")]
+            c: Vec<f64>,
+            #[serde(rename = "K_eff_std")]
+            k_std: Vec<f64>,
+            #[serde(rename = "C_eff_std")]
+            c_std: Vec<f64>,
+            crossover_hz: Option<f64>,
+            crossover_hz_std: Option<f64>,
+        }
+        m.serialize_entry(
+            "effective",
+            &self.effective().map(|e| EffectiveOut {
+                frequency_hz: e.frequency_hz,
+                k: e.stiffness,
+                c: e.damping,
+                k_std: e.stiffness_std,
+                c_std: e.damping_std,
+                crossover_hz: e.crossover_hz,
+                crossover_hz_std: e.crossover_hz_std,
+            }),
+        )?;
+        #[derive(serde::Serialize)]
+        struct CurveOut {
+            frequency_hz: Vec<f64>,
+            #[serde(rename = "K")]
+            k: Vec<Vec<Vec<f64>>>,
+            #[serde(rename = "C")]
+            c: Vec<Vec<Vec<f64>>>,
+            #[serde(rename = "K_std")]
+            k_std: Vec<Vec<Vec<f64>>>,
+            #[serde(rename = "C_std")]
+            c_std: Vec<Vec<Vec<f64>>>,
+        }
+        m.serialize_entry(
+            "curve",
+            &CurveOut {
+                frequency_hz: curve.frequency_hz.clone(),
+                k: per_line(&curve.stiffness),
+                c: per_line(&curve.damping),
+                k_std: per_line(&curve.stiffness_std),
+                c_std: per_line(&curve.damping_std),
+            },
+        )?;
+        m.end()
+    }
+}
+
+/// The serialized shapes of [`ElementModel`](crate::element::ElementModel)'s parts.
+mod serde_json_free {
+    /// One coefficient matrix by name.
+    #[derive(serde::Serialize)]
+    pub(super) struct Matrix {
+        pub(super) name: String,
+        pub(super) value: Vec<Vec<f64>>,
+        pub(super) std: Option<Vec<Vec<f64>>>,
+    }
+
+    /// One family of the selection.
+    #[derive(serde::Serialize)]
+    pub(super) struct Candidate {
+        pub(super) model: String,
+        pub(super) statistic: Option<f64>,
+        pub(super) dof: Option<f64>,
+        pub(super) p_value: Option<f64>,
+        pub(super) runs_p_value: Option<f64>,
+        pub(super) criterion: Option<f64>,
+        pub(super) verdict: &'static str,
+        pub(super) reason: Option<String>,
     }
 }

@@ -7,8 +7,9 @@
 //! options, limits) and do not check them again.
 
 use crate::conditioning::ConditionLimits;
+use crate::element::ModelSpec;
 use crate::error::{Error, Result};
-use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, Frf, FrfBuilder};
+use crate::frf::{Assignment, Band, ChannelTransfers, Estimator, ForceNoise, Frf, FrfBuilder};
 use crate::gate::FitGate;
 use crate::screening::Checks;
 use crate::solve::ml::MlOptions;
@@ -78,6 +79,8 @@ pub struct Settings {
     pub(super) gate: FitGate,
     pub(super) calibration: Calibration,
     pub(super) transfers: ChannelTransfers,
+    pub(super) force_noise: ForceNoise,
+    pub(super) model: ModelSpec,
     /// Periods left out at the start of every record (periodic records only; 0 otherwise).
     pub(super) drop_periods: usize,
 }
@@ -115,6 +118,29 @@ impl Settings {
             });
         }
         let window = id.window.check()?;
+        if id.model != ModelSpec::default() {
+            if window.decay_per_s().is_some_and(|a| a > 0.0) {
+                return Err(Error::InvalidOption {
+                    option: "model",
+                    message: format!(
+                        "--model {}: the families other than kcm are fitted to the records' own \
+                         impedance, which an exponential window changes in a way they cannot \
+                         follow; use the records without it",
+                        id.model
+                    ),
+                });
+            }
+            if id.method == Method::Ml {
+                return Err(Error::InvalidOption {
+                    option: "model",
+                    message: format!(
+                        "--model {} with --method ml: maximum likelihood fits kcm only; the other \
+                         families are fitted by weighted least squares on the impedance",
+                        id.model
+                    ),
+                });
+            }
+        }
         id.ivf.check()?;
         id.gate.check()?;
         id.transfers.check(id.dofs)?;
@@ -162,6 +188,8 @@ impl Settings {
             gate: id.gate,
             calibration: id.calibration.clone(),
             transfers: id.transfers.clone(),
+            force_noise: id.force_noise,
+            model: id.model,
             drop_periods: match id.segmentation {
                 Segmentation::Periods { .. } => id.drop_periods,
                 _ => 0,

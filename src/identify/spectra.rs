@@ -169,8 +169,8 @@ impl Spectra {
 
 /// [`Spectra::quick_fit`]'s stages, by `settings`, on `builder`.
 fn quick(settings: &Settings, builder: &mut FrfBuilder) -> Result<QuickFit> {
-    if builder.compensation().is_none() {
-        builder.compensate_force_noise();
+    if builder.noise().is_none() {
+        builder.estimate_noise(settings.force_noise);
     }
     let frf = builder.finish(&settings.assignment)?;
     let (frf, _) = settings.select_coherent(frf);

@@ -113,10 +113,7 @@ impl CsvReader {
     pub fn read(&mut self, path: impl AsRef<std::path::Path>) -> Result<Record> {
         let path = path.as_ref();
         let label = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| Error::Io {
-            path: label.clone(),
-            message: e.to_string(),
-        })?;
+        let file = crate::limits::open(path, Some("*.csv"))?;
         let bytes = file.metadata().map_or(0, |m| m.len());
         self.read_limited(file, &label, bytes, LIMITS)
     }

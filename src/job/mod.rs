@@ -393,6 +393,8 @@ impl Job {
             .drop_periods(o.drop_periods)
             .fit_gate(FitGate { min_r2: o.min_r2 })
             .uncertainty(o.uncertainty())
+            .force_noise(o.force_noise)
+            .model(o.model)
             .on_non_convergence(if o.allow_unconverged {
                 NonConvergence::Warn
             } else {

@@ -3,9 +3,10 @@
 
 use std::path::PathBuf;
 
+use crate::element::ModelSpec;
 use crate::error::{Error, Result, excerpt};
 use crate::excitation::Excitation;
-use crate::frf::Estimator;
+use crate::frf::{Estimator, ForceNoise};
 use crate::identify::Uncertainty;
 use crate::solve::Method;
 use crate::spectra::Window;
@@ -132,6 +133,10 @@ pub struct Options {
     pub step_tolerance_hz: f64,
     /// `reject-bad-records`: leave out the records screening finds faulty (else warn only).
     pub reject_bad_records: bool,
+    /// `force-noise`: what H1's force-side noise is taken for ([`ForceNoise`]); default auto.
+    pub force_noise: ForceNoise,
+    /// `model`: the element model ([`ModelSpec`]); default `kcm`.
+    pub model: ModelSpec,
     /// `min-coherence`: drop lines where the multiple coherence of any output is below this;
     /// default 0.
     pub min_coherence: f64,
@@ -173,13 +178,15 @@ pub struct Options {
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 23] = [
+    pub const NAMES: [&'static str; 25] = [
         "band",
         "method",
         "excitation",
         "estimator",
         "window",
         "uncertainty",
+        "force-noise",
+        "model",
         "bootstrap-draws",
         "seed",
         "force-gate",
@@ -208,6 +215,8 @@ impl Options {
             estimator: None,
             window: None,
             uncertainty: Uncertainty::Auto,
+            force_noise: ForceNoise::Auto,
+            model: ModelSpec::Family(crate::element::Family::Kcm),
             bootstrap_draws: 200,
             seed: 0,
             force_gate_s: None,
@@ -274,6 +283,8 @@ impl Options {
             "estimator" => self.estimator = Some(value.parse()?),
             "window" => self.window = Some(value.parse()?),
             "uncertainty" => self.uncertainty = value.parse()?,
+            "force-noise" => self.force_noise = value.parse()?,
+            "model" => self.model = value.parse()?,
             "bootstrap-draws" => self.bootstrap_draws = count()?,
             "seed" => self.seed = value.trim().parse().map_err(|_| invalid("a seed"))?,
             "force-gate" => self.force_gate_s = Some(number()?),
@@ -343,6 +354,8 @@ mod tests {
             ("estimator", "h2"),
             ("window", "exp:0.1"),
             ("uncertainty", "bootstrap"),
+            ("force-noise", "measurement"),
+            ("model", "auto"),
             ("bootstrap-draws", "30"),
             ("seed", "7"),
             ("force-gate", "0.01"),

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, figure_html, page_head, page_tail, write_file};
+use super::html::{Kind, create_dir, esc, figure_html, page_head, page_tail, write_file};
 use super::{ReportOptions, significant as sig};
 use crate::Choice;
 use crate::campaign::{Campaign, Value};
@@ -22,7 +22,8 @@ use crate::error::{Error, Result, excerpt};
 ///
 /// # Errors
 /// [`Error::InvalidOption`] (`x`) for a condition the plan does not have or a plan without
-/// conditions; [`Error::Io`] if a file cannot be written; [`Error::Plot`] if a figure fails.
+/// conditions; [`Error::Io`] if a file cannot be written, or the directory holds an
+/// `index.html` that is not a campaign's report; [`Error::Plot`] if a figure fails.
 pub fn campaign_report(
     campaign: &Campaign,
     dir: &Path,
@@ -54,7 +55,7 @@ pub fn campaign_report(
                 ),
             })?,
     };
-    create_dir(dir)?;
+    create_dir(dir, Kind::Campaign)?;
     let mut written = Vec::new();
     for (block, file, _) in BLOCKS {
         let svg = super::campaign(campaign, block, x, &options.figure)?;
@@ -119,7 +120,7 @@ const BLOCKS: [(char, &str, &str); 3] = [
 
 fn page(campaign: &Campaign, x: usize, options: &ReportOptions) -> String {
     let mut h = String::new();
-    page_head(&mut h, options);
+    page_head(&mut h, options, Kind::Campaign);
     let conditions = &campaign.plan.conditions;
     let _ = writeln!(
         h,

@@ -3,7 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file};
+use super::html::{
+    Kind, create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file,
+};
 use super::{ReportOptions, significant as sig};
 use crate::error::Result;
 use crate::field::{FieldIdentification, SpeedCoefficients};
@@ -48,8 +50,9 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// the figure (shown from its file) and `options.text` folded at the end. Returns the files written, `index.html` last.
 ///
 /// # Errors
-/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if the figure
-/// fails.
+/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written, or the
+/// directory holds an `index.html` that is not a field identification's report;
+/// [`Error::Plot`](crate::Error::Plot) if the figure fails.
 ///
 /// # Examples
 /// ```
@@ -67,7 +70,8 @@ pub fn field_cells(c: &SpeedCoefficients, plus_minus: &str) -> [String; 8] {
 /// #     residual: at(3, 1.0), added: [at(2, 0.0), at(5, 2.0)], noise: 0.0, repeats: 1, seed: 1 }
 /// #     .simulate(&rotor, brg)?;
 /// let id = field::identify(&rotor, &tests)?;
-/// let dir = std::env::temp_dir().join("bearing-ident-field-report-doc");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = bearing_ident::plot::field_report(&id, &dir, &Default::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
@@ -79,7 +83,7 @@ pub fn field_report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    create_dir(dir)?;
+    create_dir(dir, Kind::Field)?;
     let svg = super::field(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("field.svg"), &svg)?];
     written.push(write_file(&dir.join("index.html"), &page(id, options))?);
@@ -88,7 +92,7 @@ pub fn field_report(
 
 fn page(id: &FieldIdentification, options: &ReportOptions) -> String {
     let mut h = String::new();
-    page_head(&mut h, options);
+    page_head(&mut h, options, Kind::Field);
     let probes: Vec<String> = id
         .probes()
         .iter()

@@ -63,7 +63,9 @@ impl Default for ReportOptions {
 /// [`ReportOptions::checks`].
 ///
 /// # Errors
-/// [`Error::Io`] if the directory or a file cannot be written; as the figure functions.
+/// [`Error::Io`] if the directory or a file cannot be written, or the directory holds an
+/// `index.html` that is not an identification's report (another kind's report is not
+/// overwritten); as the figure functions.
 ///
 /// # Examples
 /// ```
@@ -72,7 +74,8 @@ impl Default for ReportOptions {
 /// use bearing_ident::simulate::{ImpactTest, seed_rig};
 /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
 /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
-/// let dir = std::env::temp_dir().join("bearing-ident-doc-report");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = plot::report(&id, &records, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 8);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
@@ -85,7 +88,7 @@ pub fn report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    create_dir(dir)?;
+    create_dir(dir, Kind::Identification)?;
     let fig = &options.figure;
     let chosen: Vec<Record> = pick_records(records, options.checks.as_ref(), options.max_records)
         .into_iter()
@@ -158,14 +161,18 @@ pub(super) fn figure_html(
     );
 }
 
-/// Every report's page up to its first section: the document head with the style, the title,
-/// and the context lines.
-pub(super) fn page_head(h: &mut String, options: &ReportOptions) {
+/// Every report's page up to its first section: the document head with the style and the
+/// report's kind ([`Kind::MARK`]), the title, and the context lines.
+pub(super) fn page_head(h: &mut String, options: &ReportOptions, kind: Kind) {
     let _ = write!(
         h,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>{0}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
-        esc(&options.title)
+         {mark}{kind}{end}\n<title>{0}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n\
+         <h1>{0}</h1>\n",
+        esc(&options.title),
+        mark = Kind::MARK,
+        kind = kind.name(),
+        end = Kind::MARK_END,
     );
     for line in &options.context {
         let _ = writeln!(h, "<p>{}</p>", esc(line));
@@ -184,20 +191,92 @@ pub(super) fn page_tail(h: &mut String, options: &ReportOptions) {
     let _ = writeln!(h, "</body>\n</html>");
 }
 
-/// Creates the report's folder (and its parents).
-pub(super) fn create_dir(dir: &Path) -> Result<()> {
-    let path = || crate::error::excerpt(&dir.display().to_string());
+/// The kind of a report. Its page says it in its head
+/// (`<meta name="generator" content="bearing-ident KIND report">`), so that a folder holding
+/// a report of another kind is refused rather than overwritten, its figures left beside the
+/// new page.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Kind {
+    /// [`report`]: an identification.
+    Identification,
+    /// [`nonlinear_report`](super::nonlinear_report): a reverse-path identification.
+    Nonlinear,
+    /// [`field_report`](super::field_report): a field identification.
+    Field,
+    /// `campaign_report`: a campaign (each point's own report in `points/NAME/`).
+    Campaign,
+}
+
+impl Kind {
+    const ALL: [Kind; 4] = [
+        Kind::Identification,
+        Kind::Nonlinear,
+        Kind::Field,
+        Kind::Campaign,
+    ];
+    /// The page's mark of its kind, before the kind's name.
+    const MARK: &'static str = "<meta name=\"generator\" content=\"bearing-ident ";
+    /// The mark's end, after the kind's name.
+    const MARK_END: &'static str = " report\">";
+
+    /// The kind's name, as the page's mark and the messages say it.
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Identification => "identification",
+            Kind::Nonlinear => "nonlinear identification",
+            Kind::Field => "field identification",
+            Kind::Campaign => "campaign",
+        }
+    }
+
+    /// `a` or `an`, before [`Kind::name`].
+    fn article(self) -> &'static str {
+        match self {
+            Kind::Identification => "an",
+            _ => "a",
+        }
+    }
+
+    /// The kind a page says it is, if it says one.
+    fn of_page(head: &str) -> Option<Kind> {
+        let after = &head[head.find(Self::MARK)? + Self::MARK.len()..];
+        let name = &after[..after.find(Self::MARK_END)?];
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+/// Creates the folder of a report of `kind` (and its parents). A folder whose `index.html` is
+/// not a report of that kind (another command's report, or a page this crate did not write) is
+/// refused: writing there would mix two reports.
+pub(super) fn create_dir(dir: &Path, kind: Kind) -> Result<()> {
+    let refuse = |message: String| Error::Io {
+        path: crate::error::excerpt(&dir.display().to_string()),
+        message,
+    };
     // Said in words: the system's "File exists" does not tell which is wrong.
     if dir.exists() && !dir.is_dir() {
-        return Err(Error::Io {
-            path: path(),
-            message: "is a file, not a folder for the report".to_owned(),
-        });
+        return Err(refuse("is a file, not a folder for the report".to_owned()));
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
-        path: path(),
-        message: e.to_string(),
-    })
+    let page = dir.join("index.html");
+    if page.is_file() {
+        use std::io::Read as _;
+        let mut head = Vec::new();
+        // The mark is in the page's first lines; a page's head is read, not the whole page.
+        let read = std::fs::File::open(&page).and_then(|f| f.take(4096).read_to_end(&mut head));
+        read.map_err(|e| refuse(format!("index.html: {e}")))?;
+        let holds = match Kind::of_page(&String::from_utf8_lossy(&head)) {
+            Some(found) if found == kind => None,
+            Some(found) => Some(format!("{} {} report", found.article(), found.name())),
+            None => Some("an index.html that is not a report of this tool".to_owned()),
+        };
+        if let Some(holds) = holds {
+            return Err(refuse(format!(
+                "holds {holds}; give the {} report another folder, or empty this one",
+                kind.name()
+            )));
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|e| refuse(e.to_string()))
 }
 
 /// The warnings of a result as a list (or that there are none), every report's same section.
@@ -255,7 +334,7 @@ fn page(
     let co = id.coefficients();
     let n = co.dofs();
     let names = options.figure.axis_names(n);
-    page_head(&mut h, options);
+    page_head(&mut h, options, Kind::Identification);
     // Contents.
     let _ = writeln!(
         h,
@@ -487,6 +566,42 @@ mod tests {
     fn write_failure_is_an_io_error() {
         let e = write_file(Path::new("/nonexistent-dir/x.svg"), "x").unwrap_err();
         assert_eq!(e.kind(), "io_error");
+    }
+
+    #[test]
+    fn a_page_says_its_kind_and_is_read_back() {
+        for kind in Kind::ALL {
+            let mut h = String::new();
+            page_head(&mut h, &ReportOptions::default(), kind);
+            assert_eq!(Kind::of_page(&h), Some(kind), "{h}");
+        }
+        assert_eq!(Kind::of_page("<html><title>mine</title>"), None);
+        let unknown = format!("{}something else{}", Kind::MARK, Kind::MARK_END);
+        assert_eq!(Kind::of_page(&unknown), None);
+    }
+
+    #[test]
+    fn a_folder_with_another_kind_of_report_is_refused() {
+        let dir = std::env::temp_dir().join(format!("html-kind-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        create_dir(&dir, Kind::Field).unwrap();
+        let mut page = String::new();
+        page_head(&mut page, &ReportOptions::default(), Kind::Field);
+        write_file(&dir.join("index.html"), &page).unwrap();
+        create_dir(&dir, Kind::Field).unwrap();
+        let e = create_dir(&dir, Kind::Identification).unwrap_err();
+        assert_eq!(e.kind(), "io_error");
+        assert!(
+            e.to_string().ends_with(
+                "holds a field identification report; give the identification report another \
+                 folder, or empty this one"
+            ),
+            "{e}"
+        );
+        write_file(&dir.join("index.html"), "<html>mine</html>").unwrap();
+        let e = create_dir(&dir, Kind::Field).unwrap_err();
+        assert!(e.to_string().contains("not a report of this tool"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -3,7 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::html::{create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file};
+use super::html::{
+    Kind, create_dir, esc, figure_html, page_head, page_tail, warnings_list, write_file,
+};
 use super::{ReportOptions, coefficient_rows, significant as sig};
 use crate::Choice;
 use crate::error::Result;
@@ -16,8 +18,9 @@ use crate::nonlinear::NonlinearIdentification;
 /// written.
 ///
 /// # Errors
-/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written; [`Error::Plot`](crate::Error::Plot) if a figure
-/// fails.
+/// [`Error::Io`](crate::Error::Io) if the directory or a file cannot be written, or the
+/// directory holds an `index.html` that is not a nonlinear identification's report;
+/// [`Error::Plot`](crate::Error::Plot) if a figure fails.
 ///
 /// # Examples
 /// ```
@@ -32,7 +35,8 @@ use crate::nonlinear::NonlinearIdentification;
 /// let id = ReversePath::new(8.0, 36.0, &[Regressor::Cubic])
 ///     .segment_len(256)
 ///     .identify(&[Record::new("cubic", fs, vec![f], vec![x])?])?;
-/// let dir = std::env::temp_dir().join("bearing-ident-nonlinear-report-doc");
+/// let tmp = tempfile::tempdir().unwrap();
+/// let dir = tmp.path().join("report");
 /// let written = nonlinear_report(&id, &dir, &ReportOptions::default())?;
 /// assert_eq!(written.len(), 2);
 /// let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
@@ -44,7 +48,7 @@ pub fn nonlinear_report(
     dir: &Path,
     options: &ReportOptions,
 ) -> Result<Vec<PathBuf>> {
-    create_dir(dir)?;
+    create_dir(dir, Kind::Nonlinear)?;
     let svg = super::nonlinear(id, &options.figure)?;
     let mut written = vec![write_file(&dir.join("nonlinear.svg"), &svg)?];
     let html = page(id, options);
@@ -56,7 +60,7 @@ fn page(id: &NonlinearIdentification, options: &ReportOptions) -> String {
     let mut h = String::new();
     let n = id.coefficients().dofs();
     let names = options.figure.axis_names(n);
-    page_head(&mut h, options);
+    page_head(&mut h, options, Kind::Nonlinear);
     let freqs = id.freqs_hz();
     let _ = writeln!(
         h,

@@ -207,6 +207,21 @@ impl Fit {
         })
     }
 
+    /// The fit with other coefficients and standard deviations (an element model's constant
+    /// part); no covariance.
+    pub(crate) fn replaced(
+        &self,
+        coefficients: Coefficients,
+        std_dev: Option<Coefficients>,
+    ) -> Fit {
+        Fit {
+            coefficients,
+            std_dev,
+            covariance: None,
+            ..self.clone()
+        }
+    }
+
     /// Covariance of column `j` of `Θ = [M; C; K]` (`3n × 3n`, rows and columns ordered
     /// `M_0j … M_(n-1)j, C_0j …, K_0j …`), for every `j`; least squares and IVF only. Columns
     /// are independent in this first-order (sandwich) model.

@@ -1722,3 +1722,157 @@ fn leakage_patterns_in_small_residuals_are_no_misfit() {
     let kinds = v["warning_kinds"].as_array().unwrap();
     assert!(!kinds.iter().any(|k| k == "model_misfit"), "{kinds:?}");
 }
+
+/// A folder given where record files are expected is refused, naming the files to give.
+#[test]
+fn a_folder_of_records_is_refused_naming_its_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let records = tmp.path().join("records");
+    simulate(&records, &["--impacts", "1"]);
+    let out = run(&["identify", "--band", "8,49", records.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let want = format!(
+        "a folder, not a file: give its files: {}",
+        records.join("*.csv").display()
+    );
+    assert!(err.contains(&want), "{err}");
+    assert!(!err.contains("os error"), "{err}");
+    expect_failure(
+        &[
+            "identify",
+            "--json",
+            "--band",
+            "8,49",
+            records.to_str().unwrap(),
+        ],
+        "io_error",
+    );
+}
+
+/// A report folder that holds another command's report is refused, and left as it was; the
+/// same command writes its report there again.
+#[test]
+fn a_report_folder_of_another_command_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let files = simulate(&tmp.path().join("records"), &["--impacts", "2"]);
+    let report = tmp.path().join("report");
+    let identify = || {
+        let mut args = vec![
+            "identify",
+            "--band",
+            "8,49",
+            "--plot",
+            report.to_str().unwrap(),
+        ];
+        args.extend(files.iter().map(String::as_str));
+        run(&args)
+    };
+    assert!(identify().status.success());
+    assert!(identify().status.success(), "the same kind again");
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let mark = "<meta name=\"generator\" content=\"bearing-ident identification report\">";
+    assert!(page.contains(mark));
+    let field = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/field");
+    let out = run(&[
+        "field",
+        "--rotor",
+        field.join("ROTOR.json").to_str().unwrap(),
+        "--tests",
+        field.join("TESTS_bearings.json").to_str().unwrap(),
+        "--plot",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(
+            "holds an identification report; give the field identification report another \
+             folder, or empty this one"
+        ),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(report.join("index.html")).unwrap(),
+        page
+    );
+    assert!(!report.join("field.svg").exists());
+    // A page this tool did not write is not overwritten either.
+    let other = tmp.path().join("site");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("index.html"), "<html>mine</html>").unwrap();
+    let mut args = vec![
+        "identify",
+        "--band",
+        "8,49",
+        "--plot",
+        other.to_str().unwrap(),
+    ];
+    args.extend(files.iter().map(String::as_str));
+    let out = run(&args);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a report of this tool"));
+}
+
+/// The text tables are at most 120 characters wide: the identification's (3 DOF, per
+/// frequency), the demo's and the field table; sentences (warnings) aside.
+#[test]
+fn text_tables_are_at_most_120_characters_wide() {
+    let tmp = tempfile::tempdir().unwrap();
+    let files = simulate(
+        &tmp.path().join("r3"),
+        &[
+            "--impacts",
+            "2",
+            "--noise",
+            "0.02",
+            "--mass",
+            "4,0,0;0,4.5,0;0,0,5",
+            "--damping",
+            "40,0,0;0,45,0;0,0,50",
+            "--stiffness",
+            "1.5e5,0,0;0,1.6e5,0;0,0,1.7e5",
+        ],
+    );
+    let mut args = vec![
+        "identify",
+        "--band",
+        "8,49",
+        "--per-frequency",
+        "--force",
+        "fx,fy,fz",
+        "--disp",
+        "x,y,z",
+    ];
+    args.extend(files.iter().map(String::as_str));
+    let field = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/field");
+    let (rotor, tests) = (field.join("ROTOR.json"), field.join("TESTS_inboard.json"));
+    let field_args = [
+        "field",
+        "--rotor",
+        rotor.to_str().unwrap(),
+        "--tests",
+        tests.to_str().unwrap(),
+    ];
+    for (what, args) in [
+        ("identify", args.as_slice()),
+        ("demo", &["demo"][..]),
+        ("field", &field_args[..]),
+    ] {
+        let out = run(args);
+        assert!(out.status.success(), "{what}: {out:?}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        let wide: Vec<&str> = text
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("warning: "))
+            .filter(|l| l.chars().count() > bearing_ident::text::TABLE_WIDTH)
+            .collect();
+        assert!(wide.is_empty(), "{what}: {wide:#?}\n{text}");
+        if what == "identify" {
+            assert!(
+                text.contains("K_zz (N/m)") && text.contains("C_xx (N·s/m)"),
+                "{text}"
+            );
+        }
+    }
+}

@@ -5,11 +5,11 @@
 use crate::common;
 use bearing_ident::Choice;
 
-use bearing_ident::frf::{Assignment, Band, FrfBuilder};
+use bearing_ident::frf::{Assignment, Band, ForceNoise, FrfBuilder};
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::records::Record;
 use bearing_ident::simulate::{AntiAlias, Simulator, seed_rig};
-use bearing_ident::{Coefficients, Estimator, Identifier, Segmentation, Window};
+use bearing_ident::{Coefficients, Estimator, Identification, Identifier, Segmentation, Window};
 use rand::SeedableRng;
 use rand::rngs::StdRng;
 use rand_distr::{Distribution, Normal};
@@ -71,16 +71,16 @@ fn identify(record: &Record, estimator: Estimator) -> Coefficients {
         .clone()
 }
 
-/// The identification of the records (H1 compensated for the force noise the segments show).
-fn identified(record: &Record) -> Coefficients {
+/// The identification of the records by H1, the segments' force-side noise taken for what
+/// `force_noise` says.
+fn identified(record: &Record, force_noise: ForceNoise) -> Identification {
     Identifier::new(8.0, 49.0)
         .estimator(Estimator::H1)
         .segmentation(Segmentation::Welch { len: 8000 })
         .window(Window::Hann)
+        .force_noise(force_noise)
         .identify(std::slice::from_ref(record))
         .unwrap()
-        .coefficients()
-        .clone()
 }
 
 /// Errors (relative, diagonal M, C, K) measured on one seed, 240 s at 1000 S/s, Welch 8000
@@ -139,16 +139,37 @@ fn each_estimator_is_unbiased_under_its_noise() {
             .iter()
             .all(|&v| v < -0.03)
     );
-    // The identification's H1 is compensated for the force noise the segments show: unbiased
-    // under force noise, response noise and both.
+    // Told that the force-side noise is the load cell's, the identification compensates H1
+    // for what the segments show: unbiased under force noise, response noise and both.
     for (lf, lx) in [(0.3, 0.0), (0.0, 0.3), (0.3, 0.3)] {
-        let err = diag_errors(&identified(&noisy(&clean, lf, lx, 5)), &truth);
+        let id = identified(&noisy(&clean, lf, lx, 5), ForceNoise::Measurement);
+        let err = diag_errors(id.coefficients(), &truth);
         eprintln!("compensated H1, noise ({lf}, {lx}): {err:+.4?}");
         assert!(
             mk(err).iter().all(|v| v.abs() < 5e-3),
             "({lf}, {lx}): {err:?}"
         );
     }
+    // By default it does not (the segments cannot tell the load cell's noise from an
+    // unmeasured excitation): H1 as it is, what compensation would change carried in the
+    // error bars, which cover the bias.
+    let id = identified(&noisy(&clean, 0.3, 0.0, 5), ForceNoise::Auto);
+    assert!(!id.noise_floor().unwrap().compensated());
+    let (k, sd) = (
+        id.coefficients().stiffness(),
+        id.std_dev().unwrap().stiffness(),
+    );
+    for i in 0..2 {
+        let t = truth.stiffness()[(i, i)];
+        assert!(k[(i, i)] / t - 1.0 > 0.03, "{}", k[(i, i)]);
+        assert!(
+            (k[(i, i)] - t).abs() < 1.96 * sd[(i, i)],
+            "{} ± {}",
+            k[(i, i)],
+            sd[(i, i)]
+        );
+    }
+    assert!(id.warnings().iter().any(|w| w.kind() == "noise_bias"));
 }
 
 /// Per-frequency `K(ω)`, `C(ω)` under displacement noise (H1, unbiased): the error bars from

@@ -12,6 +12,7 @@ mod estimators;
 mod excitations;
 mod field;
 mod fit_gate;
+mod honesty;
 mod kinds;
 mod ml;
 mod ml_records;

@@ -64,13 +64,17 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         )?;
     }
     if !args.json {
-        print_out(format_args!(
-            "Demo: the seed's rig (Diaz & San Andrés 1999), {} impacts per direction, {} samples/s \
-             for {} s, noise {:.1} %, identified over 8–49 Hz by IVF.\n\n",
+        let intro = format!(
+            "the seed's rig (Diaz & San Andrés 1999), {} impacts per direction, {} samples/s \
+             for {} s, noise {:.1} %, identified over 8–49 Hz by IVF.",
             test.per_direction,
             test.sample_rate,
             test.duration_s,
             100.0 * args.noise
+        );
+        print_out(format_args!(
+            "{}\n",
+            bearing_ident::text::wrap("Demo:", &intro, 2)
         ))?;
     }
     emit(&id, &context, Some(&truth), args.json)

@@ -9,6 +9,7 @@ use std::time::Instant;
 use bearing_ident::Error;
 use bearing_ident::field::{self, FieldIdentification, FieldTests, RotorModel};
 use bearing_ident::plot::{field_cells, significant as sig};
+use bearing_ident::text::{self, Align};
 
 use crate::failure::{Failure, print_out};
 
@@ -76,7 +77,8 @@ pub fn field(args: &FieldArgs) -> Result<(), Failure> {
 }
 
 /// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known), the
-/// condition number and the noise gain; the model residual; the warnings.
+/// condition number and the noise gain (split into a `K` and a `C` block when wider than
+/// [`TABLE_WIDTH`](bearing_ident::text::TABLE_WIDTH)); the model residual; the warnings.
 pub fn table(id: &FieldIdentification) -> String {
     let mut out = String::new();
     let probes: Vec<String> = id
@@ -93,33 +95,28 @@ pub fn table(id: &FieldIdentification) -> String {
     let names = ["xx", "xy", "yx", "yy"];
     for b in id.bearings() {
         let _ = writeln!(out, "\nbearing {} (node {})", b.tag, b.node);
-        let _ = write!(out, "{:>10} {:>9} {:>9}", "Ω rad/s", "cond", "gain");
-        for n in names {
-            let _ = write!(out, " {:>20}", format!("K_{n} N/m"));
-        }
-        for n in names {
-            let _ = write!(out, " {:>20}", format!("C_{n} N·s/m"));
-        }
-        out.push('\n');
+        let mut header: Vec<String> = vec!["Ω rad/s".into(), "cond".into(), "gain".into()];
+        header.extend(names.map(|n| format!("K_{n} N/m")));
+        header.extend(names.map(|n| format!("C_{n} N·s/m")));
+        let mut rows = vec![header];
+        let mut singular = false;
         for (s, &w) in id.speeds_rad_s().iter().enumerate() {
-            let _ = write!(
-                out,
-                "{:>10} {:>9}",
-                sig(w, 6),
-                sig(b.condition_number[s], 3)
-            );
+            let mut row = vec![sig(w, 6), sig(b.condition_number[s], 3)];
             match &b.coefficients[s] {
                 None => {
-                    let _ = write!(out, " {:>9}  singular pair: K, C not given", "—");
+                    singular = true;
+                    row.extend(std::iter::repeat_n("—".to_owned(), 9));
                 }
                 Some(c) => {
-                    let _ = write!(out, " {:>9}", sig(c.noise_gain, 3));
-                    for cell in field_cells(c, "±") {
-                        let _ = write!(out, " {cell:>20}");
-                    }
+                    row.push(sig(c.noise_gain, 3));
+                    row.extend(field_cells(c, "±"));
                 }
             }
-            out.push('\n');
+            rows.push(row);
+        }
+        out.push_str(&text::table(&rows, 3, &[4, 4], Align::Right, 0));
+        if singular {
+            let _ = writeln!(out, "— singular pair: K, C not given at that speed");
         }
     }
     let residual: Vec<String> = id
@@ -127,7 +124,12 @@ pub fn table(id: &FieldIdentification) -> String {
         .iter()
         .map(|r| r.map_or("—".to_owned(), |r| sig(r, 2)))
         .collect();
-    let _ = writeln!(out, "\nmodel residual per speed: {}", residual.join(" "));
+    out.push('\n');
+    out.push_str(&text::wrap(
+        "model residual per speed:",
+        &residual.join(" "),
+        2,
+    ));
     for w in id.warnings() {
         let _ = writeln!(out, "warning: {w}");
     }

@@ -5,7 +5,9 @@
 
 use std::path::PathBuf;
 
+use bearing_ident::element::ModelSpec;
 use bearing_ident::excitation::Excitation;
+use bearing_ident::frf::ForceNoise;
 use bearing_ident::io::CsvLayout;
 use bearing_ident::job::{Channels, Job, Options, Outcome, Progress, read_first};
 use bearing_ident::quality::ImpactChecks;
@@ -52,10 +54,24 @@ pub struct IdentifyArgs {
     #[arg(long)]
     window: Option<String>,
     /// Error bars: `auto` is the jackknife over paired sets or records when there are at least
-    /// 3 of them, else the first-order sandwich; `bootstrap` draws `--bootstrap-draws`
-    /// resamples of the sets or records (seeded by `--seed`).
+    /// 3 of them, else (and for periodic records) the first-order sandwich from the replicates'
+    /// own scatter; `bootstrap` draws `--bootstrap-draws` resamples of the sets or records
+    /// (seeded by `--seed`).
     #[arg(long, value_parser = choice::<Uncertainty>(), default_value = "auto")]
     uncertainty: Uncertainty,
+    /// H1's force-side noise: `auto` compensates for the force measurement noise repeated
+    /// periods show and, over Welch segments (which cannot tell the load cell's noise from a
+    /// force it does not measure or a nonlinear distortion), carries what compensation would
+    /// change; `measurement` says the segments' force-side noise is the load cell's and
+    /// compensates for it too.
+    #[arg(long, value_parser = choice::<ForceNoise>(), default_value = "auto")]
+    force_noise: ForceNoise,
+    /// Element model: `kcm` (constant K, C, M; the default), `kc`, `poly:P` (K(ω), C(ω)
+    /// polynomials of degree P), `states:N` (K, C, M and N internal states, the model of seals,
+    /// tilting pads, magnetic bearings), or `auto`: the smallest family the model check
+    /// accepts (JSON `model`).
+    #[arg(long, default_value = "kcm")]
+    model: ModelSpec,
     /// Bootstrap resamples.
     #[arg(long, default_value_t = 200)]
     bootstrap_draws: usize,
@@ -204,6 +220,8 @@ fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure>
     o.estimator = args.estimator;
     o.window = args.window.as_deref().map(str::parse).transpose()?;
     o.uncertainty = args.uncertainty;
+    o.force_noise = args.force_noise;
+    o.model = args.model;
     o.bootstrap_draws = args.bootstrap_draws;
     o.seed = args.seed;
     o.force_gate_s = args.force_gate;

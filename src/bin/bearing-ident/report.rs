@@ -7,6 +7,7 @@ use bearing_ident::Choice;
 use bearing_ident::job::{Facts, Timings};
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::plot::{coefficient_rows, significant as sig};
+use bearing_ident::text::{self, Align};
 use bearing_ident::{Coefficients, Identification};
 
 /// Facts about the run that the identification itself does not hold.
@@ -144,8 +145,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
     let n = co.dofs();
     let axes = axis_labels(&c.axes, n);
     let freqs = id.freqs_hz();
-    let _ = writeln!(
-        out,
+    let run = format!(
         "{} records, {} DOF, {} samples/s; excitation {}{} (crest factor {:.1}); estimator {}{}; method {}",
         c.files.len(),
         n,
@@ -161,9 +161,9 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         },
         id.method().name(),
     );
-    let _ = writeln!(
-        out,
-        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages; window {}\n",
+    out.push_str(&text::wrap("", &run, 2));
+    let band = format!(
+        "band {:.2}–{:.2} Hz: {} lines used, {:.3}–{:.3} Hz; {} averages; window {}",
         id.band().low_hz(),
         id.band().high_hz(),
         freqs.len(),
@@ -180,6 +180,8 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
                 format!("; force gate {} s + {} s taper", g.open_s(), g.taper_s())
             })
     );
+    out.push_str(&text::wrap("", &band, 2));
+    out.push('\n');
     if !id.frf().unexcited_hz().is_empty() {
         let _ = writeln!(
             out,
@@ -257,6 +259,9 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         let _ = writeln!(out, "  multiple coherence: min {c:.4} over the lines used");
     }
     model_check_lines(&mut out, id);
+    if let Some(model) = id.model() {
+        element_model_lines(&mut out, &axes, model);
+    }
     let r2 = id.fit_r2();
     let _ = write!(out, "  flexibility fit r²:");
     for (i, ai) in axes.iter().enumerate() {
@@ -290,35 +295,93 @@ fn model_check_lines(out: &mut String, id: &Identification) {
     };
 }
 
-/// The per-line diagonal coefficients as a table (the JSON has every element).
+/// The element model: its family and poles, the residues on the diagonal, and every family
+/// tried with its verdict.
+fn element_model_lines(
+    out: &mut String,
+    axes: &[String],
+    model: &bearing_ident::element::ElementModel,
+) {
+    let poles: Vec<String> = model
+        .poles_hz()
+        .iter()
+        .zip(
+            model
+                .poles_hz_std()
+                .unwrap_or_default()
+                .iter()
+                .chain(std::iter::repeat(&f64::NAN)),
+        )
+        .map(|(p, s)| format!("{p:.3} ± {s:.3} Hz"))
+        .collect();
+    let _ = writeln!(
+        out,
+        "  element model: {}{} (the coefficients above are its constant part)",
+        model.family(),
+        if poles.is_empty() {
+            String::new()
+        } else {
+            format!(", poles {}", poles.join(", "))
+        }
+    );
+    let fit = model.fit();
+    let family = model.family();
+    for b in 3..family.parameters_per_element() {
+        if !matches!(family, bearing_ident::element::Family::States { .. }) {
+            break;
+        }
+        let (a, sa) = (fit.matrix(b), fit.matrix_std(b));
+        let cells: Vec<String> = axes
+            .iter()
+            .enumerate()
+            .map(|(i, ax)| {
+                let s = sa.as_ref().map_or(f64::NAN, |m| m[(i, i)]);
+                format!(
+                    "{}_{ax}{ax} {} ± {}",
+                    family.parameter_name(b),
+                    sig(a[(i, i)], 5),
+                    sig(s, 2)
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "    {} N/m", cells.join(", "));
+    }
+    let tried: Vec<String> = model
+        .selection()
+        .iter()
+        .map(|c| match (c.statistic, c.dof) {
+            (Some(s), Some(d)) => format!("{} {} (χ²/expected {:.2})", c.family, c.verdict, s / d),
+            _ => format!("{} {}", c.family, c.verdict),
+        })
+        .collect();
+    let _ = writeln!(out, "    families: {}", tried.join("; "));
+}
+
+/// The per-line diagonal coefficients as a table (the JSON has every element), split into
+/// blocks of whole degrees of freedom when wider than
+/// [`TABLE_WIDTH`](bearing_ident::text::TABLE_WIDTH).
 fn per_frequency_lines(out: &mut String, axes: &[String], pf: &PerFrequency) {
     let _ = writeln!(out, "\nPer frequency (diagonal; ± one standard deviation)");
-    let _ = write!(out, "  {:>9}", "f (Hz)");
+    let mut header = vec!["f (Hz)".to_owned()];
     for a in axes {
-        let _ = write!(
-            out,
-            " {:>24} {:>22}",
-            format!("K_{a}{a} (N/m)"),
-            format!("C_{a}{a} (N·s/m)")
-        );
+        header.push(format!("K_{a}{a} (N/m)"));
+        header.push(format!("C_{a}{a} (N·s/m)"));
     }
-    let _ = writeln!(out);
+    let mut rows = vec![header];
+    let pm = |v: f64, s: Option<f64>| match s {
+        Some(s) => format!("{} ± {}", sig(v, 6), sig(s, 2)),
+        None => sig(v, 6),
+    };
     for (k, f) in pf.freqs_hz().iter().enumerate() {
-        let _ = write!(out, "  {f:>9.3}");
+        let mut row = vec![format!("{f:.3}")];
         for i in 0..axes.len() {
-            let pm = |v: f64, s: Option<f64>| match s {
-                Some(s) => format!("{} ± {}", sig(v, 6), sig(s, 2)),
-                None => sig(v, 6),
-            };
             let ks = pf.stiffness_std(k).map(|s| s[(i, i)]);
             let cs = pf.damping_std(k).map(|s| s[(i, i)]);
-            let _ = write!(
-                out,
-                " {:>24} {:>22}",
-                pm(pf.stiffness(k)[(i, i)], ks),
-                pm(pf.damping(k)[(i, i)], cs)
-            );
+            row.push(pm(pf.stiffness(k)[(i, i)], ks));
+            row.push(pm(pf.damping(k)[(i, i)], cs));
         }
-        let _ = writeln!(out);
+        rows.push(row);
     }
+    let groups = vec![2; axes.len()];
+    out.push_str(&text::table(&rows, 1, &groups, Align::Right, 2));
 }

@@ -108,6 +108,20 @@ impl Budget {
         &self.calibration_directions
     }
 
+    /// A budget of given components, the calibration's sources not known one by one.
+    pub(in crate::identify) fn of_parts(
+        random: Coefficients,
+        model: Coefficients,
+        calibration: Coefficients,
+    ) -> Budget {
+        Budget {
+            random,
+            model,
+            calibration,
+            calibration_directions: Vec::new(),
+        }
+    }
+
     /// Adds a predicted bias (absolute, per coefficient) to the model component in
     /// quadrature: $\sigma_m \leftarrow \sqrt{\sigma_m^2 + b^2}$.
     ///

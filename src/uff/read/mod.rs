@@ -32,10 +32,7 @@ use binary::{BinaryHeader, binary_header, binary_values};
 pub fn read(path: impl AsRef<Path>) -> Result<Vec<Function>> {
     let path = path.as_ref();
     let label = excerpt(&path.display().to_string());
-    let file = std::fs::File::open(path).map_err(|e| Error::Io {
-        path: label.clone(),
-        message: e.to_string(),
-    })?;
+    let file = crate::limits::open(path, Some("*.uff"))?;
     parse_from(BufReader::new(file), &label)
 }
 
