@@ -235,6 +235,23 @@ class Identification:
         identification, ``baseline``, and ``total``."""
         return dict(self._json()["timings_ms"])
 
+    @property
+    def model(self) -> dict | None:
+        """The element model asked for with ``model=`` (``"auto"``, ``"kc"``, ``"kcm"``,
+        ``"poly:P"``, ``"states:N"``), ``None`` without: ``family``, ``order``, the
+        ``selection`` table (every family tried with its statistic, criterion and verdict),
+        ``poles_hz`` and ``poles_hz_std``, ``matrices`` and ``residues`` (``value``, ``std``),
+        ``modes`` of the rig with the element, ``effective`` (2 DOF: ``K_eff``, ``C_eff`` and the
+        crossover) and ``curve``: the model's ``K(ω)``, ``C(ω)`` per line with ``K_std``,
+        ``C_std``, as ``(lines, n, n)`` arrays beside ``frequency_hz``."""
+        model = self.to_dict().get("model")
+        if model is None:
+            return None
+        curve = model["curve"]
+        for key in ("frequency_hz", "K", "C", "K_std", "C_std"):
+            curve[key] = np.array(curve[key], dtype=float)
+        return model
+
     def to_dict(self) -> dict:
         """The result as the CLI's ``identify --json`` prints it (a fresh copy)."""
         return _json.loads(_json.dumps(self._json()))
@@ -396,7 +413,8 @@ def identify(
     ``jackknife``, ``bootstrap``), ``window`` (``rect``, ``hann``, ``exp:END``), ``nperseg``,
     ``period``, ``force_gate``, ``min_coherence``, ``min_r2``, ``reject_bad_records``,
     ``bootstrap_draws``, ``seed``, ``tolerance``, ``max_iterations``, ``allow_unconverged``,
-    ``step_tolerance``, ``baseline``. The records are identified exactly as the command
+    ``step_tolerance``, ``baseline``, ``model`` (the element model: ``kcm`` by default,
+    ``kc``, ``poly:P``, ``states:N`` or ``auto``; see :attr:`Identification.model`). The records are identified exactly as the command
     identifies the same records read from files. The GIL is released while the crate works,
     reading C-ordered float64 arrays in place: do not write to the records' arrays from
     another thread meanwhile (see :class:`Record`).

@@ -114,6 +114,22 @@ def test_result_arrays_and_truth():
     assert result.timings_ms["total"] >= result.timings_ms["read"]
 
 
+def test_the_element_model_is_chosen_and_its_curve_is_arrays():
+    records = bi.simulate("impact", impacts=3, noise=0.02, seed=4)
+    assert bi.identify(records, band=(8, 49)).model is None
+    result = bi.identify(records, band=(8, 49), model="auto")
+    model = result.model
+    assert model["family"] == "kcm"
+    assert [c["model"] for c in model["selection"]][:2] == ["kc", "kcm"]
+    curve = model["curve"]
+    lines = curve["frequency_hz"].shape[0]
+    assert curve["K"].shape == (lines, 2, 2) and curve["C_std"].shape == (lines, 2, 2)
+    # kcm's K(ω) = Re H + ω²M is its constant K on every line.
+    np.testing.assert_allclose(curve["K"][0], result.K, rtol=1e-9, atol=1e-6)
+    with pytest.raises(bi.InvalidArgumentError):
+        bi.identify(records, band=(8, 49), model="states:x")
+
+
 def test_float32_and_strided_inputs_are_read_as_they_are():
     records = bi.simulate("impact", impacts=2, noise=0.01)
     base = bi.identify(records, band=(8, 49))

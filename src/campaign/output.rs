@@ -106,11 +106,19 @@ impl Campaign {
         out
     }
 
+    /// Whether some point's identification fitted an element model (a `model` column).
+    fn has_models(&self) -> bool {
+        self.points
+            .iter()
+            .any(|p| p.result.as_ref().is_ok_and(|f| family(f).is_some()))
+    }
+
     /// The coefficients by point as CSV: `name`, each condition (`name [unit]`), `baseline`
     /// (the point subtracted, if any), then `kxx, kxx_std, kxy, …, myy, myy_std` (the
     /// bearing's own when there is a baseline, else the system's; empty for a point that
-    /// failed or a term without error bar), then `status` (`ok`, `warnings`, or
-    /// `error:KIND`).
+    /// failed or a term without error bar), `model` (the element model's family chosen, when a
+    /// point asked for one: `identify = { model = "auto" }`), then `status` (`ok`,
+    /// `warnings`, or `error:KIND`).
     pub fn to_csv(&self) -> String {
         let n = self
             .points
@@ -129,6 +137,10 @@ impl Campaign {
                     let _ = write!(s, ",{letter}{r}{c},{letter}{r}{c}_std");
                 }
             }
+        }
+        let models = self.has_models();
+        if models {
+            s.push_str(",model");
         }
         s.push_str(",status\n");
         for (i, p) in self.points.iter().enumerate() {
@@ -158,6 +170,9 @@ impl Campaign {
                             }
                         }
                     }
+                    if models {
+                        let _ = write!(s, ",{}", family(fit).unwrap_or_default());
+                    }
                     let status = if fit.warning_kinds.is_empty() {
                         "ok"
                     } else {
@@ -166,7 +181,7 @@ impl Campaign {
                     let _ = writeln!(s, ",{status}");
                 }
                 other => {
-                    s.push_str(&",".repeat(6 * n * n));
+                    s.push_str(&",".repeat(6 * n * n + usize::from(models)));
                     let status = match other {
                         Err(e) => format!("error:{}", e.kind),
                         Ok(_) => "error:inconsistent_records".to_owned(),
@@ -209,7 +224,7 @@ impl Campaign {
 
     /// The text table: one row per point with its conditions, its baseline point when a plan
     /// has baselines (`dry*`: that point's files identified again at this point's settings),
-    /// the diagonal coefficients `± σ` (the bearing's own when it has a baseline) and its
+    /// the element model's family when a point asked for one, the diagonal coefficients `± σ` (the bearing's own when it has a baseline) and its
     /// warning kinds or error, split into blocks of whole coefficient groups when wider than
     /// [`TABLE_WIDTH`](crate::text::TABLE_WIDTH); then, under `warnings`, each point's
     /// warnings with their sentences (`dry: reference_mismatch: M_xx = … is +6.8 σ from the
@@ -225,6 +240,10 @@ impl Campaign {
         let baselines = self.plan.points.iter().any(|p| p.baseline.is_some());
         if baselines {
             header.push("baseline".into());
+        }
+        let models = self.has_models();
+        if models {
+            header.push("model".into());
         }
         let mut again = false;
         let n = self
@@ -261,6 +280,10 @@ impl Campaign {
                         }
                     }
                 });
+            }
+            if models {
+                let chosen = p.result.as_ref().ok().and_then(family);
+                row.push(chosen.unwrap_or_else(|| "-".into()));
             }
             match &p.result {
                 Ok(fit) => {
@@ -308,6 +331,13 @@ impl Campaign {
         }
         s
     }
+}
+
+/// The family of the element model a point's identification chose (`model.family` of its
+/// JSON), if it asked for one.
+fn family(fit: &Fit) -> Option<String> {
+    let family = fit.json.get("model")?.get("family")?.as_str()?;
+    Some(family.to_owned())
 }
 
 /// `value ± σ` of the diagonal terms of K, C, M (the reported set).

@@ -45,6 +45,23 @@ impl Family {
     /// Most internal states `states:N` takes.
     pub const MAX_POLES: usize = 4;
 
+    /// Whether the family's `K(ω)`, `C(ω)` change with frequency (`poly:P` with `P ≥ 1`,
+    /// `states:N`), so that constant `M`, `C`, `K` do not describe it.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::element::Family;
+    /// assert!(!Family::Kcm.is_frequency_dependent());
+    /// assert!(Family::States { poles: 1 }.is_frequency_dependent());
+    /// ```
+    pub fn is_frequency_dependent(self) -> bool {
+        match self {
+            Family::Kc | Family::Kcm => false,
+            Family::Poly { degree } => degree >= 1,
+            Family::States { poles } => poles >= 1,
+        }
+    }
+
     /// Real parameters per element of `H` (the poles, shared by every element, not counted).
     pub fn parameters_per_element(self) -> usize {
         match self {

@@ -1,7 +1,7 @@
 //! [`ElementModel`]: the family chosen (or asked for), its fit, its check, the candidates
 //! tried, and its `K(ω)`, `C(ω)` on the lines used ([`Curve`]).
 
-use faer::{Mat, c64};
+use faer::{Mat, MatRef, c64};
 
 use super::{Family, FamilyFit};
 use crate::error::Result;
@@ -78,6 +78,7 @@ pub struct ElementModel {
     pub(crate) check: ModelCheck,
     pub(crate) selection: Vec<Candidate>,
     pub(crate) curve: Curve,
+    pub(crate) others: Vec<FamilyFit>,
 }
 
 impl ElementModel {
@@ -103,9 +104,42 @@ impl ElementModel {
         &self.selection
     }
 
+    /// The fits of the other families the selection fitted, in its order (empty for a family
+    /// asked for by name): what a figure draws beside the chosen model.
+    pub fn other_fits(&self) -> &[FamilyFit] {
+        &self.others
+    }
+
     /// `K(ω)`, `C(ω)` of the model on the lines used.
     pub fn curve(&self) -> &Curve {
         &self.curve
+    }
+
+    /// `K(ω)`, `C(ω)` of the model, with standard deviations, at any frequencies `freqs_hz`
+    /// (the curve of [`curve`](Self::curve) is this on the lines used). Off the band the model
+    /// is extrapolated: its error bars say how far that can be trusted.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::element::ModelSpec;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).model(ModelSpec::Auto).identify(&records)?;
+    /// let model = id.model().expect("a model was asked for");
+    /// let curve = model.curve_at(&[10.0, 30.0]);
+    /// // The seed rig is a constant K, C, M system: its K(ω) is the same at every frequency.
+    /// let (k10, k30) = (curve.stiffness[0][(0, 0)], curve.stiffness[1][(0, 0)]);
+    /// assert!((k10 / k30 - 1.0).abs() < 1e-6);
+    /// assert!((k10 / 146.3e3 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn curve_at(&self, freqs_hz: &[f64]) -> Curve {
+        Curve::of(
+            &self.fit,
+            freqs_hz,
+            super::select::constant_mass(&self.fit).as_ref(),
+        )
     }
 
     /// The poles (Hz).
@@ -361,7 +395,7 @@ impl ElementModel {
 
 impl Curve {
     /// The curve of `fit` on `freqs_hz`, `M` the model's constant mass `mass`.
-    pub(crate) fn of(fit: &FamilyFit, freqs_hz: &[f64], mass: &Mat<f64>) -> Curve {
+    pub(crate) fn of(fit: &FamilyFit, freqs_hz: &[f64], mass: MatRef<'_, f64>) -> Curve {
         let n = fit.dofs();
         let mut curve = Curve {
             frequency_hz: freqs_hz.to_vec(),

@@ -199,16 +199,21 @@ pub fn select(
             c
         })
         .collect();
-    let (fit, check, warnings) = tried.swap_remove(chosen).1.expect("chosen is fitted");
+    let (fit, check, warnings) = tried.remove(chosen).1.expect("chosen is fitted");
+    let others = tried
+        .into_iter()
+        .filter_map(|(_, t)| t.map(|t| t.0))
+        .collect();
     let fit = fit.widened(check.birge_factor());
     let mass = constant_mass(&fit);
-    let curve = Curve::of(&fit, frf.freqs_hz(), &mass);
+    let curve = Curve::of(&fit, frf.freqs_hz(), mass.as_ref());
     Ok((
         ElementModel {
             fit,
             check,
             selection,
             curve,
+            others,
         },
         warnings,
     ))
@@ -275,7 +280,7 @@ fn unsupported(fit: &super::FamilyFit, frf: &Frf) -> Option<String> {
 }
 
 /// The mass the curve's `K(ω) = Re H + ω²M` takes: the fit's constant mass.
-fn constant_mass(fit: &super::FamilyFit) -> faer::Mat<f64> {
+pub(crate) fn constant_mass(fit: &super::FamilyFit) -> faer::Mat<f64> {
     let n = fit.dofs();
     match fit.family() {
         Family::Kc => faer::Mat::zeros(n, n),
@@ -456,7 +461,7 @@ pub(crate) mod tests {
         let id = identify(&records, ModelSpec::Family(Family::Kc));
         assert_eq!(id.model().unwrap().family(), Family::Kc);
         assert_eq!(id.model_check().verdict, Verdict::Misfit);
-        assert_eq!(id.coefficients().mass()[(0, 0)], 0.0);
+        assert_eq!(id.coefficients().mass()[(0, 0)].to_bits(), 0.0f64.to_bits());
         let e = Identifier::new(8.0, 14.0)
             .estimator(crate::Estimator::H1)
             .segmentation(Segmentation::Periods { len: 1000 })

@@ -27,7 +27,8 @@
 //!
 //! Two tables ([`Table`]):
 //! - [`Table::Constant`]: the fitted `M`, `C`, `K`, the same at 5 points evenly spread over the
-//!   band asked for ([`Identification::band`]);
+//!   band asked for ([`Identification::band`]); or, when a frequency-dependent element model
+//!   was fitted ([`Identification::model`]), that model's `K(ω)`, `C(ω)` at 21 points;
 //! - [`Table::PerFrequency`]: `K(ω)`, `C(ω)` of [`Identification::per_frequency`] at every
 //!   line used, with the fitted `M` (needs at least 5 lines).
 //!
@@ -54,6 +55,7 @@ use std::fmt::Write as _;
 
 use faer::MatRef;
 
+use crate::element::ElementModel;
 use crate::error::{Block, Error, Result};
 use crate::frf::Band;
 use crate::identify::Identification;
@@ -84,6 +86,10 @@ fn check_dofs(dofs: usize) -> Result<()> {
 /// (`MIN_RECOMMENDED_AXIS_POINTS`), interpolating sparser tables poorly.
 pub const MIN_POINTS: usize = 5;
 
+/// The points of a table of a frequency-dependent element model ([`BearingElement::model`]):
+/// enough that ROSS's interpolation between them follows the model's curve.
+pub const MODEL_POINTS: usize = 21;
+
 /// Which coefficients a [`BearingElement`] tabulates.
 ///
 /// # Examples
@@ -93,7 +99,9 @@ pub const MIN_POINTS: usize = 5;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Table {
-    /// The fitted `M`, `C`, `K` at [`MIN_POINTS`] points evenly spread over the band (default).
+    /// The fitted `M`, `C`, `K` at [`MIN_POINTS`] points evenly spread over the band (default);
+    /// when a frequency-dependent element model was fitted (`poly:P`, `states:N`), that model
+    /// at [`MODEL_POINTS`] points ([`BearingElement::model`]).
     #[default]
     Constant,
     /// `K(ω) = Re H + ω²M` and `C(ω) = Im H/ω` at every line used, with the fitted `M`
@@ -141,7 +149,10 @@ impl BearingElement {
     /// ```
     pub fn new(id: &Identification, node: usize, tag: &str, table: Table) -> Result<Self> {
         match table {
-            Table::Constant => Self::constant(id.coefficients(), id.band(), node, tag),
+            Table::Constant => match id.model().filter(|m| m.family().is_frequency_dependent()) {
+                Some(model) => Self::model(model, id.band(), None, node, tag),
+                None => Self::constant(id.coefficients(), id.band(), node, tag),
+            },
             Table::PerFrequency => {
                 let pf = id.per_frequency()?;
                 Self::per_frequency(&pf, id.coefficients().mass(), node, tag)
@@ -191,6 +202,76 @@ impl BearingElement {
             stiffness: vec![two(coefficients.stiffness()); MIN_POINTS],
             damping: vec![two(coefficients.damping()); MIN_POINTS],
             mass: vec![two(coefficients.mass()); MIN_POINTS],
+        }
+        .checked()
+    }
+
+    /// The element model's `K(ω)`, `C(ω)` ([`ElementModel::curve_at`]) at [`MODEL_POINTS`]
+    /// points evenly spread over `band`, with the model's constant `M`; with `baseline` (the
+    /// dry structure's constant `M`, `C`, `K`, as subtracted by
+    /// [`Identification::subtract_baseline`]) the bearing's own: the baseline's terms taken
+    /// off every point.
+    ///
+    /// # Errors
+    /// [`Error::ExportDofs`] unless the model (and the baseline) are 2 × 2;
+    /// [`Error::NonFiniteCoefficient`] for a term that is not finite.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::element::ModelSpec;
+    /// use bearing_ident::export::ross::{BearingElement, MODEL_POINTS};
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, ..ImpactTest::seed_rig() }.run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).model(ModelSpec::Auto).identify(&records)?;
+    /// let brg = BearingElement::model(id.model().unwrap(), id.band(), None, 0, "seal")?;
+    /// assert_eq!(brg.frequency_rad_s().len(), MODEL_POINTS);
+    /// assert!((brg.stiffness(10)[0][0] / 146.3e3 - 1.0).abs() < 1e-3);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn model(
+        model: &ElementModel,
+        band: Band,
+        baseline: Option<&Coefficients>,
+        node: usize,
+        tag: &str,
+    ) -> Result<Self> {
+        check_dofs(model.fit().dofs())?;
+        if let Some(b) = baseline {
+            check_dofs(b.dofs())?;
+        }
+        let (lo, hi) = (band.low_hz(), band.high_hz());
+        let last = (MODEL_POINTS - 1) as f64;
+        let freqs: Vec<f64> = (0..MODEL_POINTS)
+            .map(|p| lo + (hi - lo) * p as f64 / last)
+            .collect();
+        let curve = model.curve_at(&freqs);
+        let mass = model.constant_part()?;
+        let less = |m: Matrix2, base: Option<MatRef<'_, f64>>| match base {
+            Some(b) => {
+                let b = two(b);
+                [
+                    [m[0][0] - b[0][0], m[0][1] - b[0][1]],
+                    [m[1][0] - b[1][0], m[1][1] - b[1][1]],
+                ]
+            }
+            None => m,
+        };
+        Self {
+            node,
+            tag: tag.to_owned(),
+            frequency_rad_s: freqs.iter().map(|f| TWO_PI * f).collect(),
+            stiffness: curve
+                .stiffness
+                .iter()
+                .map(|k| less(two(k.as_ref()), baseline.map(|b| b.stiffness())))
+                .collect(),
+            damping: curve
+                .damping
+                .iter()
+                .map(|c| less(two(c.as_ref()), baseline.map(|b| b.damping())))
+                .collect(),
+            mass: vec![less(two(mass.mass()), baseline.map(|b| b.mass())); MODEL_POINTS],
         }
         .checked()
     }

@@ -194,7 +194,8 @@ impl serde::Serialize for crate::frf::NoiseFloor {
 }
 
 /// `{family, order, selection: [{model, statistic, dof, p_value, runs_p_value, criterion,
-/// verdict, reason}], poles_hz, poles_hz_std, matrices: [{name, value, std}], modes: [{
+/// verdict, reason}], poles_hz, poles_hz_std, matrices: [{name, value, std}], residues (the
+/// states' `A_j` among the matrices, empty for other families), modes: [{
 /// natural_frequency_hz, damping_ratio}], verdict, effective (2 DOF: {frequency_hz, K_eff,
 /// C_eff, K_eff_std, C_eff_std, crossover_hz, crossover_hz_std}, else null), curve:
 /// {frequency_hz, K, C, K_std, C_std}}`, the
@@ -235,7 +236,7 @@ impl serde::Serialize for crate::element::ElementModel {
             v.iter().map(|m| rows(m.as_ref())).collect()
         };
         let modes: Vec<crate::model::Mode> = self.modes().unwrap_or_default();
-        let mut m = s.serialize_map(Some(10))?;
+        let mut m = s.serialize_map(Some(12))?;
         m.serialize_entry("family", &family.to_string())?;
         m.serialize_entry(
             "order",
@@ -249,6 +250,12 @@ impl serde::Serialize for crate::element::ElementModel {
         m.serialize_entry("poles_hz", &self.poles_hz())?;
         m.serialize_entry("poles_hz_std", &self.poles_hz_std())?;
         m.serialize_entry("matrices", &matrices)?;
+        let residues: Vec<&Matrix> = matrices
+            .iter()
+            .skip(3)
+            .filter(|_| matches!(family, Family::States { .. }))
+            .collect();
+        m.serialize_entry("residues", &residues)?;
         m.serialize_entry("modes", &modes)?;
         m.serialize_entry("verdict", self.check().verdict.name())?;
         #[derive(serde::Serialize)]

@@ -338,8 +338,13 @@ fn page(
     // Contents.
     let _ = writeln!(
         h,
-        "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#model-check\">Model check</a> \
-         · <a href=\"#diagnostics\">Diagnostics</a>"
+        "<p><a href=\"#coefficients\">Coefficients</a> · <a href=\"#model-check\">Model check</a>{} \
+         · <a href=\"#diagnostics\">Diagnostics</a>",
+        if id.model().is_some() {
+            " · <a href=\"#element-model\">Element model</a>"
+        } else {
+            ""
+        }
     );
     for figure in figures {
         let _ = write!(h, " · <a href=\"#fig-{figure}\">{}</a>", figure.heading());
@@ -413,6 +418,9 @@ fn page(
         let _ = writeln!(h, "</table>");
     }
     model_check_and_budget(&mut h, id, &names);
+    if let Some(model) = id.model() {
+        element_model(&mut h, model, &names);
+    }
     // Diagnostics.
     let freqs = id.freqs_hz();
     let cond = id.conditioning();
@@ -495,6 +503,90 @@ fn page(
     }
     page_tail(&mut h, options);
     h
+}
+
+/// The element model: its family, poles and residues' diagonal with σ, the crossover of
+/// `C_eff`, and every family the selection tried with its numbers and verdict.
+fn element_model(h: &mut String, model: &crate::element::ElementModel, names: &[String]) {
+    let _ = writeln!(h, "<h2 id=\"element-model\">Element model</h2>");
+    let poles = model.poles_hz();
+    let poles_std = model.poles_hz_std().unwrap_or_default();
+    let pole_words: Vec<String> = poles
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let s = poles_std.get(k).map_or("—".to_string(), |s| sig(*s, 2));
+            format!("{} ± {s} Hz", sig(*p, 4))
+        })
+        .collect();
+    let _ = writeln!(
+        h,
+        "<p>Chosen: <b>{}</b>{}; the coefficients above are its constant part, the \
+         per-frequency figure draws its K(ω), C(ω) and the other families tried.</p>",
+        model.family(),
+        if pole_words.is_empty() {
+            String::new()
+        } else {
+            format!(", poles {}", pole_words.join(", "))
+        }
+    );
+    let family = model.family();
+    let fit = model.fit();
+    if family.poles() > 0 {
+        let _ = writeln!(
+            h,
+            "<table>\n<tr><th>residue</th><th>value (N/m)</th><th>±1σ</th></tr>"
+        );
+        for b in 3..family.parameters_per_element() {
+            let (a, sa) = (fit.matrix(b), fit.matrix_std(b));
+            for (i, ax) in names.iter().enumerate() {
+                let s = sa.as_ref().map_or("—".to_string(), |m| sig(m[(i, i)], 2));
+                let _ = writeln!(
+                    h,
+                    "<tr><td>{}</td><td>{}</td><td>{s}</td></tr>",
+                    esc(&format!("{}_{ax}{ax}", family.parameter_name(b))),
+                    sig(a[(i, i)], 5)
+                );
+            }
+        }
+        let _ = writeln!(h, "</table>");
+    }
+    if let Some(crossover) = model
+        .effective()
+        .and_then(|e| e.crossover_hz.map(|c| (c, e.crossover_hz_std)))
+    {
+        let (c, s) = crossover;
+        let _ = writeln!(
+            h,
+            "<p>Effective damping C_eff changes sign at {} ± {} Hz.</p>",
+            sig(c, 4),
+            s.map_or("—".to_string(), |s| sig(s, 2))
+        );
+    }
+    let _ = writeln!(
+        h,
+        "<table>\n<tr><th>family</th><th>χ²/expected</th><th>p</th><th>runs p</th>\
+         <th>criterion (BIC)</th><th>verdict</th></tr>"
+    );
+    let num = |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| sig(v, digits));
+    for c in model.selection() {
+        let ratio = c.statistic.zip(c.dof).map(|(s, d)| s / d);
+        let verdict = match &c.reason {
+            Some(reason) => format!("{}: {}", c.verdict, esc(reason)),
+            None => c.verdict.to_string(),
+        };
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{verdict}</td></tr>",
+            c.family,
+            num(ratio, 3),
+            c.p_value.map_or("—".to_string(), |p| format!("{p:.2e}")),
+            c.runs_p_value
+                .map_or("—".to_string(), |p| format!("{p:.2e}")),
+            num(c.criterion, 5),
+        );
+    }
+    let _ = writeln!(h, "</table>");
 }
 
 /// The model check's verdict and numbers, then the uncertainty budget per coefficient.
@@ -602,6 +694,37 @@ mod tests {
         let e = create_dir(&dir, Kind::Field).unwrap_err();
         assert!(e.to_string().contains("not a report of this tool"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// With `--model auto` the page has the element model's section with every family tried,
+    /// and the per-frequency figure draws the chosen model's curve and, dashed, the others.
+    #[test]
+    fn an_element_model_has_its_section_and_curves() {
+        use crate::Identifier;
+        use crate::element::ModelSpec;
+        use crate::simulate::{ImpactTest, seed_rig};
+        let records = ImpactTest {
+            per_direction: 2,
+            ..ImpactTest::seed_rig()
+        }
+        .run(&seed_rig())
+        .unwrap();
+        let id = Identifier::new(8.0, 49.0)
+            .model(ModelSpec::Auto)
+            .identify(&records)
+            .unwrap();
+        let model = id.model().unwrap();
+        let tried = model.selection().len();
+        assert_eq!(model.other_fits().len(), tried - 1);
+        let page = page(&id, &ReportOptions::default(), &[], records.len(), records.len());
+        assert!(page.contains("<h2 id=\"element-model\">Element model</h2>"));
+        assert!(page.contains("Chosen: <b>kcm</b>"));
+        assert!(page.contains("<tr><td>kc</td>"), "{page}");
+        let svg = crate::plot::per_frequency(&id, &Default::default()).unwrap();
+        // Per element and block: the measured values, each other family, the chosen model.
+        assert_eq!(svg.matches("class=\"series\"").count(), 4 * 2 * (tried + 1));
+        assert!(svg.contains("model kcm"));
+        assert!(svg.contains("K xx kc"));
     }
 
     #[test]

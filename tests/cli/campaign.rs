@@ -767,3 +767,62 @@ fn two_plane_geometry_recovers_the_bearing() {
     assert_eq!(refused["error"], "invalid_argument");
     assert!(refused["message"].as_str().unwrap().contains("--disp 4"));
 }
+
+/// A point that asks for an element model (`identify = { model = "auto" }`) gets the family
+/// chosen in the text table and in `coefficients.csv`; a point that does not is blank there.
+#[test]
+fn the_chosen_element_model_is_a_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    write_hits(&dir.join("a"), &system(140.0), 31, [1.0, 1.0]);
+    let plan = dir.join("plan.toml");
+    std::fs::write(
+        &plan,
+        "[identify]\nband = [8.0, 49.0]\n\
+         [[point]]\nname = \"plain\"\nfiles = \"a/*.csv\"\n\
+         [[point]]\nname = \"auto\"\nfiles = \"a/*.csv\"\nidentify = { model = \"auto\" }\n",
+    )
+    .unwrap();
+    let out_dir = dir.join("out");
+    let out = run(&[
+        "campaign".as_ref(),
+        plan.as_os_str(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    let header = table.lines().next().unwrap();
+    assert!(header.contains("model"), "{table}");
+    let row = |name: &str| {
+        table
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no row {name} in\n{table}"))
+            .to_owned()
+    };
+    assert!(row("auto ").contains(" kcm "), "{table}");
+    assert!(!row("plain ").contains(" kcm "), "{table}");
+    let csv = std::fs::read_to_string(out_dir.join("coefficients.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let at = header
+        .iter()
+        .position(|h| *h == "model")
+        .expect("a model column");
+    assert_eq!(header[at + 1], "status");
+    let cells = |line: usize| -> Vec<String> {
+        csv.lines()
+            .nth(line)
+            .unwrap()
+            .split(',')
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(cells(1)[at], "");
+    assert_eq!(cells(2)[at], "kcm");
+    assert_eq!(cells(2).len(), header.len());
+}

@@ -382,6 +382,70 @@ fn cli_ross_json_by_extension_and_per_frequency() {
     }
 }
 
+/// A frequency-dependent element model goes to ROSS as its curve: 21 points over the band,
+/// each the model's `K(ω)`, `C(ω)` (printed in the JSON's `model.curve` at the lines).
+#[test]
+fn cli_ross_of_a_frequency_dependent_model_is_its_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = simulate(dir.path(), &[]);
+    let path = dir.path().join("seal.json");
+    let out = bin()
+        .args([
+            "identify", "--band", "8,49", "--json", "--model", "poly:2", "--ross",
+        ])
+        .arg(&path)
+        .args(&files)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let result: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(result["model"]["family"], "poly:2");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let j = &json["BearingElement_brg1"];
+    let hz: Vec<f64> = j["frequency"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_f64().unwrap() / (2.0 * std::f64::consts::PI))
+        .collect();
+    assert_eq!(hz.len(), 21);
+    assert!((hz[0] - 8.0).abs() < 1e-9 && (hz[20] - 49.0).abs() < 1e-9);
+    // Each point is the model's curve there: between the lines of `model.curve` (1 Hz apart
+    // or closer), interpolated linearly, to the curvature of a parabola over a line spacing.
+    let curve = &result["model"]["curve"];
+    let lines: Vec<f64> = curve["frequency_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_f64().unwrap())
+        .collect();
+    let at = |key: &str, i: usize, j: usize, f: f64| {
+        let k = lines.partition_point(|&l| l < f).clamp(1, lines.len() - 1);
+        let (f0, f1) = (lines[k - 1], lines[k]);
+        let (v0, v1) = (
+            curve[key][k - 1][i][j].as_f64().unwrap(),
+            curve[key][k][i][j].as_f64().unwrap(),
+        );
+        v0 + (v1 - v0) * (f - f0) / (f1 - f0)
+    };
+    for (p, &f) in hz.iter().enumerate().filter(|(_, f)| **f >= lines[0]) {
+        let (k, c) = (at("K", 0, 0, f), at("C", 1, 1, f));
+        assert!(
+            (j["kxx"][p].as_f64().unwrap() / k - 1.0).abs() < 1e-5,
+            "kxx at {f} Hz"
+        );
+        assert!(
+            (j["cyy"][p].as_f64().unwrap() / c - 1.0).abs() < 1e-4,
+            "cyy at {f} Hz"
+        );
+    }
+    // The records are of a constant K: the curve stays on it.
+    for v in j["kxx"].as_array().unwrap() {
+        assert!((v.as_f64().unwrap() / 146.3e3 - 1.0).abs() < 1e-3, "{v}");
+    }
+}
+
 #[test]
 fn cli_ross_names_the_dof_count_of_a_three_dof_result() {
     let dir = tempfile::tempdir().unwrap();

@@ -33,8 +33,9 @@ pub struct ExportArgs {
     uff_encoding: UffEncoding,
     /// Write a ROSS 3.x bearing element to OUT (`.json`: JSON, else TOML), loadable with
     /// `ross.BearingElement.load(OUT)`: the fitted constant M, C, K at 5 points over the band
-    /// (the bearing's own, system − baseline, with `--baseline`), or with `--per-frequency`
-    /// K(ω), C(ω) at every line with the fitted M. 2-DOF results only.
+    /// (the bearing's own, system − baseline, with `--baseline`), a frequency-dependent
+    /// `--model` at 21 points, or with `--per-frequency` K(ω), C(ω) at every line with the
+    /// fitted M. 2-DOF results only.
     #[arg(long, value_name = "OUT")]
     ross: Option<PathBuf>,
     /// ROSS node of the bearing element (`n`).
@@ -116,11 +117,25 @@ pub fn write(
     }
     if let Some(path) = &args.ross {
         let (node, tag) = (args.ross_node, args.ross_tag.as_str());
-        let element = match (bearing, per_frequency) {
-            (None, false) => BearingElement::new(id, node, tag, Table::Constant)?,
-            (None, true) => BearingElement::new(id, node, tag, Table::PerFrequency)?,
-            (Some(b), false) => BearingElement::constant(b, id.band(), node, tag)?,
-            (Some(_), true) => return check(args, true, true, &[], None),
+        let model = id.model().filter(|m| m.family().is_frequency_dependent());
+        let element = match (bearing, per_frequency, model) {
+            (None, false, _) => BearingElement::new(id, node, tag, Table::Constant)?,
+            (None, true, _) => BearingElement::new(id, node, tag, Table::PerFrequency)?,
+            (Some(b), false, None) => BearingElement::constant(b, id.band(), node, tag)?,
+            (Some(b), false, Some(model)) => {
+                // The baseline's own: the system's constant part less the bearing's.
+                let system = id.coefficients();
+                let less = |a: faer::MatRef<'_, f64>, b: faer::MatRef<'_, f64>| {
+                    faer::Mat::from_fn(2, 2, |i, j| a[(i, j)] - b[(i, j)])
+                };
+                let baseline = Coefficients::new(
+                    less(system.mass(), b.mass()),
+                    less(system.damping(), b.damping()),
+                    less(system.stiffness(), b.stiffness()),
+                )?;
+                BearingElement::model(model, id.band(), Some(&baseline), node, tag)?
+            }
+            (Some(_), true, _) => return check(args, true, true, &[], None),
         };
         let json = path
             .extension()

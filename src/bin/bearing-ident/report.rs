@@ -346,15 +346,19 @@ fn element_model_lines(
             .collect();
         let _ = writeln!(out, "    {} N/m", cells.join(", "));
     }
-    let tried: Vec<String> = model
-        .selection()
-        .iter()
-        .map(|c| match (c.statistic, c.dof) {
-            (Some(s), Some(d)) => format!("{} {} (χ²/expected {:.2})", c.family, c.verdict, s / d),
-            _ => format!("{} {}", c.family, c.verdict),
-        })
-        .collect();
-    let _ = writeln!(out, "    families: {}", tried.join("; "));
+    let _ = writeln!(out, "    families tried:");
+    for c in model.selection() {
+        let _ = match (c.statistic, c.dof) {
+            (Some(s), Some(d)) => writeln!(
+                out,
+                "      {:<10} {} (χ²/expected {:.2})",
+                c.family.to_string(),
+                c.verdict,
+                s / d
+            ),
+            _ => writeln!(out, "      {:<10} {}", c.family.to_string(), c.verdict),
+        };
+    }
 }
 
 /// The per-line diagonal coefficients as a table (the JSON has every element), split into

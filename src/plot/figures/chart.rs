@@ -386,6 +386,8 @@ pub(crate) struct ScaledPanel {
     pub y: std::ops::Range<f64>,
     /// `unit` with its SI prefix.
     pub unit: String,
+    /// What the values were divided by.
+    pub scale: f64,
 }
 
 /// `points` and `model` (in `unit`) scaled together ([`ScaledPanel`]).
@@ -404,6 +406,7 @@ pub(crate) fn scaled_panel(
         model: model.iter().map(|&(f, v)| (f, v / scale)).collect(),
         y: (range.start / scale)..(range.end / scale),
         unit,
+        scale,
     }
 }
 
