@@ -122,6 +122,38 @@ fn random_records_are_identified_as_the_settings_reported() {
     }
 }
 
+/// Every piece of a run's work is in a named stage: the stages add up to at least 95 % of
+/// the total (the rest is the bookkeeping between them), for impact records and for random
+/// records whose Welch length is chosen from a first fit, in memory and from files. The
+/// best of five runs is taken, so that the machine preempting the run between two stages
+/// does not count as work outside them.
+#[test]
+fn stages_add_up_to_the_total() {
+    let dir = tempfile::tempdir().unwrap();
+    let random = noisy_random(6700.0, 40_000, 2, 0.02);
+    let paths = write(dir.path(), &random);
+    let job = Job::new(Options::new(5.0, 60.0), Channels::default());
+    let runs: [(&str, &dyn Fn() -> Outcome); 3] = [
+        ("impacts", &|| job.run_records(impacts()).unwrap()),
+        ("random", &|| job.run_records(random.clone()).unwrap()),
+        ("random files", &|| job.run_files(&paths).unwrap()),
+    ];
+    for (name, run) in runs {
+        let covered = (0..5)
+            .map(|_| {
+                let t = run().timings();
+                let parts: Duration = t.stages().iter().map(|(_, d)| *d).sum();
+                assert!(parts <= t.total(), "{name}: {t:?}");
+                parts.as_secs_f64() / t.total().as_secs_f64()
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            covered >= 0.95,
+            "{name}: the stages cover {covered:.3} of the total"
+        );
+    }
+}
+
 /// Sweep and stepped-sine files (the `simulate` command's defaults, 2 % noise) identified in
 /// the band 8–49 Hz with the excitation left to detection: read as what they are (the first
 /// file decides, the others streamed or, for stepped sine, gathered), identified exactly as

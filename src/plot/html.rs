@@ -716,7 +716,13 @@ mod tests {
         let model = id.model().unwrap();
         let tried = model.selection().len();
         assert_eq!(model.other_fits().len(), tried - 1);
-        let page = page(&id, &ReportOptions::default(), &[], records.len(), records.len());
+        let page = page(
+            &id,
+            &ReportOptions::default(),
+            &[],
+            records.len(),
+            records.len(),
+        );
         assert!(page.contains("<h2 id=\"element-model\">Element model</h2>"));
         assert!(page.contains("Chosen: <b>kcm</b>"));
         assert!(page.contains("<tr><td>kc</td>"), "{page}");
