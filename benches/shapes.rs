@@ -9,7 +9,17 @@
 //! - `three_dof`: 18 impact records × 8192 samples at 4096 samples/s, 3 DOF (6 channels),
 //!   20–250 Hz (461 lines), IVF with 4 iterations, without error bars and with the jackknife;
 //! - `random`: 2 random-excitation records × 40 000 samples on the seed's rig, H1 with Welch
-//!   segments of 4096 samples (Hann, 50 % overlap), 5–60 Hz.
+//!   segments of 4096 samples (Hann, 50 % overlap), 5–60 Hz;
+//! - `random_job`: the same records as the `identify` command takes them with nothing but the
+//!   band given ([`Job::run_records`]: excitation detected, Welch length chosen from a first
+//!   fit), beside the FFTs of every channel at the length the job ends up using, with the
+//!   job's own stages ([`Outcome::timings`](bearing_ident::job::Outcome::timings));
+//! - `random_files`: the same records written as two CSV files and identified from them
+//!   ([`Job::run_files`], the `identify` command's path), beside the floor of reading them (the
+//!   files parsed on two threads, as the job reads them) plus those FFTs.
+//!
+//! Each report also prints the sum of the stages over `total` (the bookkeeping between
+//! stages is the rest).
 
 mod common;
 use common::median;
@@ -18,11 +28,13 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use bearing_ident::excitation::welch_len;
+use bearing_ident::io::{CsvLayout, write_record};
+use bearing_ident::job::{Channels, Job, Options, read_file};
 use bearing_ident::model::Coefficients;
 use bearing_ident::simulate::{AntiAlias, ImpactTest, Simulator, add_noise, seed_rig};
 use bearing_ident::spectra::{Segmentation, SpectralEstimator, Window};
 use bearing_ident::{Estimator, Identifier, Record, Screening, Uncertainty};
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use faer::{c64, mat};
 use rand::SeedableRng;
 use rand::rngs::StdRng;
@@ -82,24 +94,42 @@ fn fft_floor(est: &mut SpectralEstimator, records: &[Record], segmentation: Segm
 
 /// Prints the median identify time, the floor, their ratio, and the median of each stage.
 fn report(name: &str, id: &Identifier, records: &[Record], floor: &mut dyn FnMut()) {
-    const RUNS: usize = 15;
     let identify = median(RUNS, || {
         black_box(id.identify(records).expect("identifies"));
     });
     let fft = median(RUNS, floor);
-    let mut stages: Vec<Vec<(&str, Duration)>> = Vec::new();
-    for _ in 0..RUNS {
-        let t = id.identify(records).expect("identifies").timings();
-        let mut row = t.stages().to_vec();
-        row.push(("total", t.total));
-        stages.push(row);
-    }
+    let stages: Vec<Vec<(&str, Duration)>> = (0..RUNS)
+        .map(|_| {
+            let t = id.identify(records).expect("identifies").timings();
+            let mut row = t.stages().to_vec();
+            row.push(("total", t.total));
+            row
+        })
+        .collect();
+    print_report(name, "identify", identify, "FFT floor", fft, &stages);
+}
+
+/// Repetitions behind each median of a report.
+const RUNS: usize = 15;
+
+/// Prints the median `what` time, the floor `fft`, their ratio, the median of each stage
+/// (`stages`: one row per run, `total` last), `total` over `spectra` and the stages' sum over
+/// `total`.
+fn print_report(
+    name: &str,
+    what: &str,
+    time: Duration,
+    floor_name: &str,
+    fft: Duration,
+    stages: &[Vec<(&str, Duration)>],
+) {
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let runs = stages.len();
     let medians: Vec<(&str, f64)> = (0..stages[0].len())
         .map(|k| {
             let mut v: Vec<Duration> = stages.iter().map(|row| row[k].1).collect();
             v.sort();
-            (stages[0][k].0, ms(v[RUNS / 2]))
+            (stages[0][k].0, ms(v[runs / 2]))
         })
         .collect();
     let stage = |name: &str| {
@@ -108,17 +138,27 @@ fn report(name: &str, id: &Identifier, records: &[Record], floor: &mut dyn FnMut
             .find(|(n, _)| *n == name)
             .map_or(0.0, |m| m.1)
     };
+    // The sum of the stages over the total, per run, its median.
+    let mut covered: Vec<f64> = stages
+        .iter()
+        .map(|row| {
+            let (total, parts) = row.split_last().expect("total last");
+            parts.iter().map(|p| ms(p.1)).sum::<f64>() / ms(total.1)
+        })
+        .collect();
+    covered.sort_by(f64::total_cmp);
     let stage_medians: Vec<String> = medians
         .iter()
         .map(|(name, ms)| format!("{name} {ms:.3}"))
         .collect();
     eprintln!(
-        "{name}: identify {:.3} ms, FFT floor {:.3} ms, ratio {:.2}; total / spectra {:.2}; \
-         stages (ms, medians): {}",
-        ms(identify),
+        "{name}: {what} {:.3} ms, {floor_name} {:.3} ms, ratio {:.2}; total / spectra {:.2}; \
+         stages / total {:.3}; stages (ms, medians): {}",
+        ms(time),
         ms(fft),
-        identify.as_secs_f64() / fft.as_secs_f64(),
+        time.as_secs_f64() / fft.as_secs_f64(),
         stage("total") / stage("spectra"),
+        covered[runs / 2],
         stage_medians.join(", ")
     );
 }
@@ -184,6 +224,131 @@ fn random(c: &mut Criterion) {
     report("random (H1, Welch)", &id, &records, &mut floor);
 }
 
+fn random_job(c: &mut Criterion) {
+    let records = random_records();
+    let job = Job::new(Options::new(5.0, 60.0), Channels::default());
+    let outcome = job.run_records(records.clone()).expect("identifies");
+    let len = outcome.segment_len().expect("cut into Welch segments");
+    let segmentation = Segmentation::Welch { len };
+    let mut est = SpectralEstimator::new(len, 6700.0, Window::Hann).expect("plan");
+    let mut group = c.benchmark_group("random_job");
+    group.sample_size(10);
+    group.bench_function("run_records", |b| {
+        b.iter_batched(
+            || records.clone(),
+            |r| black_box(job.run_records(r).unwrap()),
+            BatchSize::LargeInput,
+        )
+    });
+    group.bench_function("fft_only", |b| {
+        b.iter(|| black_box(fft_floor(&mut est, &records, segmentation)))
+    });
+    group.finish();
+    let runs: Vec<_> = (0..RUNS)
+        .map(|_| job.run_records(records.clone()).expect("identifies"))
+        .collect();
+    let mut compute: Vec<Duration> = runs.iter().map(|o| o.compute_time()).collect();
+    compute.sort();
+    let fft = median(RUNS, || {
+        black_box(fft_floor(&mut est, &records, segmentation));
+    });
+    let stages: Vec<Vec<(&str, Duration)>> = runs
+        .iter()
+        .map(|o| {
+            let t = o.timings();
+            let mut row = t.stages();
+            row.push(("total", t.total()));
+            row
+        })
+        .collect();
+    let name = format!(
+        "random_job (auto, {len} samples per segment{})",
+        if outcome.welch_choice().is_some_and(|c| c.record_limited) {
+            ", record-limited"
+        } else {
+            ""
+        }
+    );
+    print_report(
+        &name,
+        "compute",
+        compute[RUNS / 2],
+        "FFT floor",
+        fft,
+        &stages,
+    );
+}
+
+fn random_files(c: &mut Criterion) {
+    let records = random_records();
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let files: Vec<std::path::PathBuf> = records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let path = dir.path().join(format!("random-{i}.csv"));
+            write_record(&path, r, &CsvLayout::for_dofs(2)).expect("written");
+            path
+        })
+        .collect();
+    let job = Job::new(Options::new(5.0, 60.0), Channels::default());
+    let len = job
+        .run_files(&files)
+        .expect("identifies")
+        .segment_len()
+        .expect("cut into Welch segments");
+    let segmentation = Segmentation::Welch { len };
+    let mut est = SpectralEstimator::new(len, 6700.0, Window::Hann).expect("plan");
+    // The files parsed on two threads, as the job reads them, and the FFTs of what they hold.
+    let mut floor = || {
+        let read: Vec<Record> = std::thread::scope(|scope| {
+            let workers: Vec<_> = files
+                .iter()
+                .map(|f| scope.spawn(move || read_file(f, &Channels::default()).expect("read")))
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().expect("reader"))
+                .collect()
+        });
+        black_box(fft_floor(&mut est, &read, segmentation));
+    };
+    let mut group = c.benchmark_group("random_files");
+    group.sample_size(10);
+    group.bench_function("run_files", |b| {
+        b.iter(|| black_box(job.run_files(&files).unwrap()))
+    });
+    group.bench_function("read_and_fft", |b| b.iter(&mut floor));
+    group.finish();
+    let runs: Vec<_> = (0..RUNS)
+        .map(|_| {
+            let start = std::time::Instant::now();
+            let outcome = job.run_files(&files).expect("identifies");
+            (start.elapsed(), outcome)
+        })
+        .collect();
+    let mut wall: Vec<Duration> = runs.iter().map(|r| r.0).collect();
+    wall.sort();
+    let fft = median(RUNS, &mut floor);
+    let stages: Vec<Vec<(&str, Duration)>> = runs
+        .iter()
+        .map(|(_, o)| {
+            let t = o.timings();
+            let mut row = t.stages();
+            row.push(("total", t.total()));
+            row
+        })
+        .collect();
+    print_report(
+        &format!("random_files (auto, {len} samples per segment)"),
+        "run_files",
+        wall[RUNS / 2],
+        "read + FFT floor",
+        fft,
+        &stages,
+    );
+}
+
 fn seed(c: &mut Criterion) {
     let records = ImpactTest {
         noise: 0.05,
@@ -208,5 +373,5 @@ fn seed(c: &mut Criterion) {
     report("seed_rig (sandwich)", &id, &records, &mut floor);
 }
 
-criterion_group!(benches, seed, three_dof, random);
+criterion_group!(benches, seed, three_dof, random, random_job, random_files);
 criterion_main!(benches);

@@ -65,11 +65,13 @@ pub(crate) fn sum_sq_dev_scaled(x: &[f64], s: f64, c: f64) -> f64 {
 
 /// `max |x|` (0 for none; samples are finite).
 pub(crate) fn max_abs(x: &[f64]) -> f64 {
-    let m = fold(
-        x,
-        0.0,
-        |a: f64, v: f64| if v.abs() > a { v.abs() } else { a },
-    );
+    let m = simd(|| {
+        fold(
+            x,
+            0.0,
+            |a: f64, v: f64| if v.abs() > a { v.abs() } else { a },
+        )
+    });
     m.into_iter().fold(0.0, f64::max)
 }
 

@@ -197,12 +197,36 @@ impl Coefficients {
     /// [`Error::Singular`] if `H` is singular at that frequency (undamped resonance).
     pub fn flexibility_at(&self, freq_hz: f64) -> Result<Mat<c64>> {
         let n = self.dofs();
-        let h = self.impedance_at(freq_hz);
-        let mut g: Vec<c64> = (0..n * n).map(|k| h[(k % n, k / n)]).collect();
-        if !linalg::Inverter::new(n).invert(&mut g) {
+        let mut g = vec![c64::new(0.0, 0.0); n * n];
+        self.flexibility_into(freq_hz, &mut linalg::Inverter::new(n), &mut g)?;
+        Ok(Mat::from_fn(n, n, |i, j| g[i + j * n]))
+    }
+
+    /// [`Coefficients::flexibility_at`] into `g` (column-major, `n²`) with the caller's
+    /// `inverter` (of this model's size): the same numbers, without allocating.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] if `H` is singular at that frequency.
+    pub(crate) fn flexibility_into(
+        &self,
+        freq_hz: f64,
+        inverter: &mut linalg::Inverter,
+        g: &mut [c64],
+    ) -> Result<()> {
+        let n = self.dofs();
+        let w = 2.0 * PI * freq_hz;
+        for j in 0..n {
+            for i in 0..n {
+                g[i + j * n] = c64::new(
+                    self.stiffness[(i, j)] - w * w * self.mass[(i, j)],
+                    w * self.damping[(i, j)],
+                );
+            }
+        }
+        if !inverter.invert(g) {
             return Err(Error::Singular { what: "impedance" });
         }
-        Ok(Mat::from_fn(n, n, |i, j| g[i + j * n]))
+        Ok(())
     }
 
     /// Eigenvalues of the state matrix `[[0, I], [−M⁻¹K, −M⁻¹C]]` (rad/s), `2n` of them.

@@ -231,7 +231,8 @@ class Identification:
 
     @property
     def timings_ms(self) -> dict:
-        """Wall time per stage (ms): ``read``, each stage of the identification, ``total``."""
+        """Wall time per stage (ms): ``read``, ``detect``, ``welch_choice``, each stage of the
+        identification, ``baseline``, and ``total``."""
         return dict(self._json()["timings_ms"])
 
     @property

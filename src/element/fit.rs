@@ -384,10 +384,19 @@ fn robust_fit_in(
     let nn = n * n;
     let per = family.parameters_per_element();
     let phi = basis_table(data, family, poles);
+    let gram = gram_table(&phi, per);
     let mut theta = start.map_or_else(|| vec![0.0; nn * per], <[f64]>::to_vec);
     let (mut statistic, mut terms) = (0.0, 0usize);
     let mut weights = vec![0.0; lines];
+    let mut projections = vec![0.0; lines * per];
     for e in 0..nn {
+        // `Re(y_k φ̄_b)` of this element, the same at every reweighting.
+        for (k, row) in phi.chunks_exact(per).enumerate() {
+            let y = data.h[k * nn + e];
+            for (p, b) in projections[k * per..(k + 1) * per].iter_mut().zip(row) {
+                *p = (y * b.conj()).re;
+            }
+        }
         let mut coefficients = theta[e * per..(e + 1) * per].to_vec();
         let started = start.is_some();
         for iteration in 0..iterations {
@@ -402,9 +411,10 @@ fn robust_fit_in(
                     data.weight(t, var)
                 };
             }
-            let next = weighted_solve(&phi, data, e, &weights, per).ok_or(Error::SingularFit {
-                method: crate::Method::LeastSquares,
-            })?;
+            let next =
+                weighted_solve(&gram, &projections, &weights, per).ok_or(Error::SingularFit {
+                    method: crate::Method::LeastSquares,
+                })?;
             let change = next
                 .iter()
                 .zip(&coefficients)
@@ -455,37 +465,48 @@ fn residual(phi: &[c64], data: &Data, k: usize, e: usize, theta: &[f64]) -> c64 
     data.h[k * data.n * data.n + e] - model
 }
 
-/// The weighted least-squares coefficients of element `e`: the normal equations
-/// `Σ_k w_k Re(φ_b φ̄_c) θ_c = Σ_k w_k Re(y_k φ̄_b)`, columns scaled to unit diagonal.
+/// `Re(φ_b φ̄_c)` at every line, `[k * B² + b * B + c]`: the normal equations' terms before
+/// their weights, shared by every element and reweighting.
+fn gram_table(phi: &[c64], per: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(phi.len() * per);
+    for row in phi.chunks_exact(per) {
+        for b in row {
+            out.extend(row.iter().map(|c| (b * c.conj()).re));
+        }
+    }
+    out
+}
+
+/// The weighted least-squares coefficients of an element: the normal equations
+/// `Σ_k w_k Re(φ_b φ̄_c) θ_c = Σ_k w_k Re(y_k φ̄_b)` from their terms (`gram`, [`gram_table`];
+/// `projections`, `[k * B + b]`), columns scaled to unit diagonal.
 fn weighted_solve(
-    phi: &[c64],
-    data: &Data,
-    e: usize,
+    gram: &[f64],
+    projections: &[f64],
     weights: &[f64],
     per: usize,
 ) -> Option<Vec<f64>> {
-    let nn = data.n * data.n;
-    let mut a = Mat::<f64>::zeros(per, per);
-    let mut rhs = Mat::<f64>::zeros(per, 1);
+    let mut a = vec![0.0; per * per];
+    let mut rhs = vec![0.0; per];
     for (k, &w) in weights.iter().enumerate() {
         if w == 0.0 {
             continue;
         }
-        let y = data.h[k * nn + e];
-        let row = &phi[k * per..(k + 1) * per];
+        let g = &gram[k * per * per..(k + 1) * per * per];
+        let p = &projections[k * per..(k + 1) * per];
         for b in 0..per {
-            rhs[(b, 0)] += w * (y * row[b].conj()).re;
+            rhs[b] += w * p[b];
             for c in 0..per {
-                a[(b, c)] += w * (row[b] * row[c].conj()).re;
+                a[b * per + c] += w * g[b * per + c];
             }
         }
     }
-    let scale: Vec<f64> = (0..per).map(|b| a[(b, b)].max(0.0).sqrt()).collect();
+    let scale: Vec<f64> = (0..per).map(|b| a[b * per + b].max(0.0).sqrt()).collect();
     if scale.iter().any(|s| !(*s > 0.0 && s.is_finite())) {
         return None;
     }
-    let scaled = Mat::from_fn(per, per, |b, c| a[(b, c)] / (scale[b] * scale[c]));
-    let r = Mat::from_fn(per, 1, |b, _| rhs[(b, 0)] / scale[b]);
+    let scaled = Mat::from_fn(per, per, |b, c| a[b * per + c] / (scale[b] * scale[c]));
+    let r = Mat::from_fn(per, 1, |b, _| rhs[b] / scale[b]);
     let x = scaled.partial_piv_lu().solve(&r);
     let out: Vec<f64> = (0..per).map(|b| x[(b, 0)] / scale[b]).collect();
     out.iter().all(|v| v.is_finite()).then_some(out)

@@ -256,7 +256,14 @@ impl Excitation {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn from_record(record: &Record) -> Result<Excitation> {
-        let evidence = Evidence::of(record);
+        Excitation::from_evidence(record, Evidence::of(record))
+    }
+
+    /// [`Excitation::from_record`] from `record`'s evidence, made already.
+    ///
+    /// # Errors
+    /// As [`Excitation::from_record`].
+    pub(crate) fn from_evidence(record: &Record, evidence: Evidence) -> Result<Excitation> {
         match evidence.readings().as_slice() {
             [kind] => Ok(*kind),
             kinds => Err(Error::UnclearExcitation {

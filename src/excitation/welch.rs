@@ -5,9 +5,9 @@
 use super::{MIN_SEGMENT, welch_len};
 use crate::error::{Error, Result};
 use crate::gate::{BiasSource, leaked_flexibility, predicted_bias};
-use crate::identify::Identifier;
+use crate::identify::{Identifier, Spectra};
 use crate::records::Record;
-use crate::solve::IvfOptions;
+use crate::solve::{IvfOptions, Method};
 use crate::spectra::Segmentation;
 use crate::tolerance::BIAS_SIGMAS;
 
@@ -49,8 +49,10 @@ pub struct WelchChoice {
 }
 
 /// The Welch segment length for random `records` (all of one length) identified with
-/// `identifier`: a first fit with [`welch_len`] segments gives the model and its standard
-/// deviations; the lightest mode in the band (half-power bandwidth `B = 2ζf_n`) sets the line
+/// `identifier`: a first fit with [`welch_len`] segments (by the identifier's method, its
+/// coefficients and their sandwich standard deviations: the fit alone, without the model
+/// check, error bars or bias of an identification) gives the model and the random error; the
+/// lightest mode in the band (half-power bandwidth `B = 2ζf_n`) sets the line
 /// spacing `Δf ≤ B /` [`LINES_PER_BANDWIDTH`]; the segment is then doubled while the leakage
 /// bias predicted from the model ([`leaked_flexibility`], [`predicted_bias`]) exceeds
 /// [`BIAS_SIGMAS`] standard deviations of the random error on some coefficient (the first
@@ -61,7 +63,8 @@ pub struct WelchChoice {
 /// explicit length (`--nperseg`) overrides it.
 ///
 /// # Errors
-/// [`Error::NoRecords`] for no records; the errors of the first fit.
+/// [`Error::NoRecords`] for no records; the errors of the first fit (those
+/// [`Identifier::identify`] gives at the default length).
 ///
 /// # Examples
 /// ```
@@ -79,16 +82,33 @@ pub struct WelchChoice {
 /// # Ok::<(), bearing_ident::Error>(())
 /// ```
 pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<WelchChoice> {
+    let method = identifier.check()?.method();
+    Ok(choose_with_spectra(records, identifier, method)?.0)
+}
+
+/// [`choose_welch`] with the first fit by `method`, and the spectra of that fit (the records
+/// screened and transformed at the default length by `identifier`'s settings): when the
+/// choice is the default length, they are the final identification's
+/// ([`Spectra::finish`]).
+///
+/// # Errors
+/// As [`choose_welch`].
+pub(crate) fn choose_with_spectra(
+    records: &[Record],
+    identifier: &Identifier,
+    method: Method,
+) -> Result<(WelchChoice, Spectra)> {
     let first = records.first().ok_or(Error::NoRecords)?;
     let (len, rate) = (first.len(), first.sample_rate());
     let default = welch_len(len);
-    let fit = identifier
+    let mut spectra = identifier
         .clone()
         .segmentation(Segmentation::Welch { len: default })
-        .identify(records)?;
-    let band = fit.band();
-    let lightest = fit
-        .coefficients()
+        .spectra(records)?;
+    let fit = spectra.quick_fit(method)?;
+    let band = fit.band;
+    let model = &fit.coefficients;
+    let lightest = model
         .modes()?
         .iter()
         .filter(|m| (band.low_hz()..=band.high_hz()).contains(&m.natural_frequency_hz))
@@ -107,13 +127,12 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
             .iter()
             .map(|&k| k as f64 * rate / seg as f64)
             .collect();
-        let model = fit.coefficients();
         let leaked = leaked_flexibility(model, &freqs, seg, rate).ok()?;
         let bias = predicted_bias(
             model,
             &freqs,
             leaked,
-            identifier.check().ok()?.method(),
+            method,
             &IvfOptions::default(),
             BiasSource::Leakage,
         )
@@ -121,12 +140,17 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
         let damping = (0..model.dofs())
             .map(|i| (bias.bias.damping()[(i, i)] / model.damping()[(i, i)]).abs())
             .fold(0.0, f64::max);
-        // Against the random error alone: the first fit's combined error bars already carry
-        // its own (shorter segments') leakage bias, and would hide the bias they are to judge.
-        let random = fit.budget().map(|b| &b.random).or(fit.std_dev());
-        let sigmas = random.and_then(|s| bias.worst_in(s)).map(|w| w.3)?;
+        // Against the random error alone: error bars that carried the first fit's own
+        // (shorter segments') leakage bias would hide the bias they are to judge.
+        let sigmas = fit
+            .random
+            .as_ref()
+            .and_then(|s| bias.worst_in(s))
+            .map(|w| w.3)?;
         Some((damping, sigmas))
     };
+    // The last prediction made, with its length: the chosen length's is not made twice.
+    let mut last: Option<(usize, Option<(f64, f64)>)> = None;
     let (nperseg, record_limited) = match lightest {
         None => (default, false),
         Some(b) => {
@@ -138,7 +162,12 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
                 limited = true;
             }
             // Longer while the predicted bias stands out of the random error.
-            while !limited && predicted(seg).is_some_and(|(_, z)| z > BIAS_SIGMAS) {
+            while !limited {
+                let prediction = predicted(seg);
+                last = Some((seg, prediction));
+                if !prediction.is_some_and(|(_, z)| z > BIAS_SIGMAS) {
+                    break;
+                }
                 if allowed(2 * seg) {
                     seg *= 2;
                 } else {
@@ -149,8 +178,11 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
         }
     };
     let resolution_hz = rate / nperseg as f64;
-    let prediction = lightest.and(predicted(nperseg));
-    Ok(WelchChoice {
+    let prediction = lightest.and_then(|_| match last {
+        Some((seg, prediction)) if seg == nperseg => prediction,
+        _ => predicted(nperseg),
+    });
+    let choice = WelchChoice {
         nperseg,
         resolution_hz,
         segments_per_record: Segmentation::Welch { len: nperseg }.starts(len).count(),
@@ -158,5 +190,6 @@ pub fn choose_welch(records: &[Record], identifier: &Identifier) -> Result<Welch
         predicted_bias: prediction.map(|p| p.0),
         predicted_sigmas: prediction.map(|p| p.1),
         record_limited,
-    })
+    };
+    Ok((choice, spectra))
 }

@@ -465,8 +465,8 @@ impl FrfBuilder {
         }
         self.all_displacement &= record.is_displacement();
         if self.segmentation == Segmentation::WholeRecord {
-            let f = record.force(record.dominant_force());
-            let peak = (0..f.len()).fold(0, |p, m| if f[m].abs() > f[p].abs() { m } else { p });
+            // The first sample of the largest magnitude.
+            let (peak, _) = crate::lanes::peak(record.force(record.dominant_force()), 0.0);
             self.force_peaks_s.push(peak as f64 / record.sample_rate());
         }
         let contribution = match contribution {

@@ -179,7 +179,9 @@ pub(super) fn dead_channel(record: &Record) -> Option<Error> {
 pub(super) fn level_out_of_range(record: &Record) -> Option<Error> {
     let low = f64::MIN_POSITIVE.sqrt();
     let high = f64::MAX.sqrt();
-    let peak = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    // The largest magnitude, as `fold(0.0, |m, x| m.max(x.abs()))` gives it (samples are
+    // finite), in SIMD lanes.
+    let peak = crate::lanes::max_abs;
     let n = record.dofs();
     for forces in [true, false] {
         let (c, top) = (0..n)

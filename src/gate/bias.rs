@@ -7,11 +7,15 @@
 //! fit of the model's own flexibility at the same lines ([`predicted_bias`]). The prediction
 //! is of every coefficient, the damping included, and needs no rule of thumb.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
 use faer::prelude::Solve;
 use faer::{Mat, c64};
 
 use crate::error::{Block, Error, Parameter, Result};
 use crate::frf::Frf;
+use crate::linalg;
 use crate::model::Coefficients;
 use crate::solve::{IvfOptions, Method};
 
@@ -208,6 +212,9 @@ pub fn leaked_flexibility(
         .collect();
     let total: f64 = kernel.iter().map(|(_, w)| w).sum();
     let n = model.dofs();
+    // Neighbouring lines share most of their kernel's frequencies (`f − ν` falls on the same
+    // number when the step divides the line spacing): each is evaluated once.
+    let mut flexibilities = Evaluated::new(n);
     freqs_hz
         .iter()
         .map(|&f| {
@@ -216,13 +223,13 @@ pub fn leaked_flexibility(
                 // The kernel of a real signal's one-sided spectrum: negative frequencies are
                 // the conjugate flexibility.
                 let at = f - nu;
-                let gf = model.flexibility_at(at.abs())?;
+                let gf = flexibilities.at(model, at.abs())?;
                 for j in 0..n {
                     for i in 0..n {
                         let v = if at < 0.0 {
-                            gf[(i, j)].conj()
+                            gf[i + j * n].conj()
                         } else {
-                            gf[(i, j)]
+                            gf[i + j * n]
                         };
                         g[(i, j)] += v * (w / total);
                     }
@@ -231,6 +238,71 @@ pub fn leaked_flexibility(
             Ok(g)
         })
         .collect()
+}
+
+/// A model's flexibilities at the frequencies asked for so far, each computed once: keyed by
+/// the frequency's bits, so a value read back is the very one
+/// [`Coefficients::flexibility_at`] gives.
+struct Evaluated {
+    n: usize,
+    inverter: linalg::Inverter,
+    /// Frequency bits to the index of its matrix in `values`.
+    index: HashMap<u64, usize, BuildHasherDefault<BitsHasher>>,
+    /// Column-major `n × n` flexibilities, one after another.
+    values: Vec<c64>,
+}
+
+impl Evaluated {
+    fn new(n: usize) -> Self {
+        Self {
+            n,
+            inverter: linalg::Inverter::new(n),
+            index: HashMap::default(),
+            values: Vec::new(),
+        }
+    }
+
+    /// The flexibility of `model` at `freq_hz`, column-major.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] if the model's impedance is singular there.
+    fn at(&mut self, model: &Coefficients, freq_hz: f64) -> Result<&[c64]> {
+        let nn = self.n * self.n;
+        let next = self.values.len() / nn.max(1);
+        let k = *self.index.entry(freq_hz.to_bits()).or_insert(next);
+        if k == next {
+            self.values.resize((next + 1) * nn, c64::new(0.0, 0.0));
+            let g = &mut self.values[next * nn..];
+            if let Err(e) = model.flexibility_into(freq_hz, &mut self.inverter, g) {
+                self.index.remove(&freq_hz.to_bits());
+                self.values.truncate(next * nn);
+                return Err(e);
+            }
+        }
+        Ok(&self.values[k * nn..(k + 1) * nn])
+    }
+}
+
+/// The hasher of [`Evaluated`]'s keys, the bits of a frequency: one multiply-xorshift mix
+/// (keys come from the program, not from an adversary).
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, bits: u64) {
+        let h = (self.0 ^ bits ^ (bits >> 31)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        self.0 = h ^ (h >> 29);
+    }
 }
 
 /// $|W(\nu)|^2$ of the periodic Hann window $w_m = \sin^2(\pi m / L)$ of `len` samples at
@@ -342,6 +414,32 @@ mod tests {
             })
             .sum();
         assert!((hann_power(nu, l, fs) - direct.norm_sqr()).abs() < 1e-9 * direct.norm_sqr());
+    }
+
+    /// The kernel's evaluations are each made once and read back as made: bit for bit the
+    /// model's flexibility at every frequency asked for, asked again or not; a singular
+    /// impedance is an error and leaves nothing behind.
+    #[test]
+    fn evaluations_are_the_model_s_flexibility() {
+        let rig = crate::simulate::seed_rig();
+        let mut evaluated = Evaluated::new(2);
+        for f in [12.5, 28.125, 12.5, 0.0, 28.125, 40.0 - 1.0 / 3.0] {
+            let direct = rig.flexibility_at(f).unwrap();
+            let got = evaluated.at(&rig, f).unwrap();
+            for j in 0..2 {
+                for i in 0..2 {
+                    assert_eq!(got[i + j * 2], direct[(i, j)], "{f}");
+                }
+            }
+        }
+        assert_eq!(evaluated.values.len(), 4 * 4);
+        // No stiffness or damping: a zero impedance at 0 Hz.
+        let free = Coefficients::new(mat![[1.0]], mat![[0.0]], mat![[0.0]]).unwrap();
+        let mut evaluated = Evaluated::new(1);
+        assert!(free.flexibility_at(0.0).is_err());
+        assert!(evaluated.at(&free, 0.0).is_err());
+        assert!(evaluated.values.is_empty() && evaluated.index.is_empty());
+        assert!(evaluated.at(&free, 1.0).is_ok());
     }
 
     /// An SDOF impulse response cut at T: the truncated transform against its closed form

@@ -12,6 +12,7 @@
 //! | `mod.rs` | [`Identifier`], its setters and [`Identifier::check`] |
 //! | `settings.rs` | [`Settings`] (the checked settings), [`NonConvergence`], [`Screening`] |
 //! | `pipeline.rs` | the entry points and the stages after the spectra |
+//! | `spectra.rs` | an identification paused after its spectra, and a quick first fit on them |
 //! | `screen.rs` | record screening and the force-gate check on the way to the spectra |
 //! | `diagnostics.rs` | the flexibility `r²` and the warnings of a finished fit |
 //! | `uncertainty/` | [`Uncertainty`]: sandwich, jackknife, bootstrap, Student's t; the [`Budget`] |
@@ -36,6 +37,7 @@ mod screen;
 #[cfg(feature = "serde")]
 mod serialize;
 mod settings;
+mod spectra;
 mod timings;
 mod uncertainty;
 
@@ -45,6 +47,7 @@ pub use calibration::Calibration;
 pub use model_check::{ModelCheck, Verdict};
 pub use result::Identification;
 pub use settings::{Screening, Settings};
+pub(crate) use spectra::Spectra;
 pub use timings::Timings;
 pub use uncertainty::{Budget, MAX_BOOTSTRAP_DRAWS, Uncertainty};
 

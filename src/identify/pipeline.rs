@@ -175,27 +175,58 @@ impl Settings {
     /// [`Identifier::identify`] on checked settings.
     fn identify(&self, records: &[Record]) -> Result<Identification> {
         let start = Instant::now();
+        let (mut builder, warnings, t, _) = self.screened_spectra(records)?;
+        self.finish(&mut builder, warnings, t, start)
+    }
+
+    /// The records of [`Identifier::identify`] through the screening and the spectra: the
+    /// builder holding them, the screening's warnings and the stages' timings; and the
+    /// screening's verdicts, which do not depend on how the records are cut
+    /// ([`Settings::spectra_screened`] takes them again).
+    pub(super) fn screened_spectra(
+        &self,
+        records: &[Record],
+    ) -> Result<(FrfBuilder, Vec<Warning>, Timings, Screened)> {
         let mut t = Timings::default();
-        let mut builder = self.builder();
         let steady = self.steady_all(records)?;
-        let records = &*steady;
-        let mut pulses: Vec<Warning> = timed(&mut t.screen, || {
-            let mut found: Vec<Warning> = self.pulse_warning(records).into_iter().collect();
-            found.extend(self.period_warnings(records));
-            found
-        });
-        let Some((checks, reject)) = self.screening else {
+        let screened = timed(&mut t.screen, || self.screen(&steady));
+        let (builder, warnings) = self.spectra_screened(&steady, &screened, &mut t)?;
+        Ok((builder, warnings, t, screened))
+    }
+
+    /// The screening of [`Identifier::identify`] on records at hand (steady already): the
+    /// pulses and periods checked, and the records screened one by one and against their
+    /// siblings (all but the per-line test of paired sets, which needs their spectra).
+    fn screen(&self, records: &[Record]) -> Screened {
+        let mut pulses: Vec<Warning> = self.pulse_warning(records).into_iter().collect();
+        pulses.extend(self.period_warnings(records));
+        let batch = self
+            .screening
+            .map(|(checks, reject)| screen_batch(records, checks, reject));
+        Screened { pulses, batch }
+    }
+
+    /// The spectra of `records` (steady already) screened as `screened` says, the per-line
+    /// test of paired sets, and the warnings in the order the identification reports them.
+    pub(super) fn spectra_screened(
+        &self,
+        records: &[Record],
+        screened: &Screened,
+        t: &mut Timings,
+    ) -> Result<(FrfBuilder, Vec<Warning>)> {
+        let mut builder = self.builder();
+        let (Some((checks, reject)), Some((kept, found))) = (self.screening, &screened.batch)
+        else {
             timed(&mut t.spectra, || builder.push_all(records))?;
-            return self.finish(builder, std::mem::take(&mut pulses), t, start);
+            return Ok((builder, screened.pulses.clone()));
         };
-        // Every record is at hand: decide all but the per-line test before the spectra.
-        let (kept, mut warnings) = timed(&mut t.screen, || screen_batch(records, checks, reject));
+        let mut warnings = found.clone();
         timed(&mut t.spectra, || {
-            builder.push_all(&kept_records(records, &kept))
+            builder.push_all(&kept_records(records, kept))
         })?;
-        self.screen_sets(&mut builder, &checks, reject, &mut warnings, &mut t)?;
-        warnings.extend(pulses);
-        self.finish(builder, warnings, t, start)
+        self.screen_sets(&mut builder, &checks, reject, &mut warnings, t)?;
+        warnings.extend(screened.pulses.iter().cloned());
+        Ok((builder, warnings))
     }
 
     /// [`Identifier::identify_stream`] on checked settings.
@@ -224,7 +255,7 @@ impl Settings {
             }
             let mut found: Vec<Warning> = pulses.and_then(|p| p.warning()).into_iter().collect();
             found.extend(periods.iter().flat_map(|p| p.warnings()));
-            return self.finish(builder, found, t, start);
+            return self.finish(&mut builder, found, t, start);
         };
         if reject {
             // Records found faulty only once all have arrived must come out again.
@@ -261,7 +292,7 @@ impl Settings {
         self.screen_sets(&mut builder, &checks, reject, &mut warnings, &mut t)?;
         warnings.extend(pulses.and_then(|p| p.warning()));
         warnings.extend(periods.iter().flat_map(|p| p.warnings()));
-        self.finish(builder, warnings, t, start)
+        self.finish(&mut builder, warnings, t, start)
     }
 
     /// [`Identifier::identify_stepped_sine`] on checked settings.
@@ -317,9 +348,9 @@ impl Settings {
     /// The spectra of `builder`'s records, then [`Settings::conclude`]; a record without force
     /// or response is named ([`Error::DeadChannel`]) instead of the rank or singularity error
     /// it causes.
-    fn finish(
+    pub(super) fn finish(
         &self,
-        mut builder: FrfBuilder,
+        builder: &mut FrfBuilder,
         screened: Vec<Warning>,
         mut t: Timings,
         start: Instant,
@@ -328,26 +359,27 @@ impl Settings {
             return Err(Error::NoRecords);
         }
         // H1 from periods or Welch segments: the noise the records show, the force
-        // measurement noise taken off where it is that.
-        timed(&mut t.noise, || {
-            builder.estimate_noise(self.force_noise).is_some()
-        });
+        // measurement noise taken off where it is that (once: a first fit on the same spectra
+        // may have estimated it already).
+        if builder.noise().is_none() {
+            timed(&mut t.noise, || {
+                builder.estimate_noise(self.force_noise).is_some()
+            });
+        }
+        let builder = &*builder;
         // Kept for the error: a record far out of scale that the screening found (and kept).
         let suspect = screened.iter().find_map(out_of_scale);
-        let attempt = |builder: &FrfBuilder, screened: Vec<Warning>, mut t: Timings| {
-            let frf = timed(&mut t.frf, || {
-                let frf = builder.finish(&self.assignment)?;
-                let excitations = match self.estimator {
-                    Estimator::PairedSets => builder.excitations(&self.assignment)?,
-                    _ => builder.excitations(&Assignment::DominantForce)?,
-                };
-                Ok((frf, excitations))
-            });
-            frf.and_then(|(frf, excitations)| {
-                self.conclude(frf, Some(builder), excitations, screened, t, start)
-            })
-        };
-        let outcome = attempt(&builder, screened, t);
+        let frf = timed(&mut t.frf, || {
+            let frf = builder.finish(&self.assignment)?;
+            let excitations = match self.estimator {
+                Estimator::PairedSets => builder.excitations(&self.assignment)?,
+                _ => builder.excitations(&Assignment::DominantForce)?,
+            };
+            Ok((frf, excitations))
+        });
+        let outcome = frf.and_then(|(frf, excitations)| {
+            self.conclude(frf, Some(builder), excitations, screened, t, start)
+        });
         // A record without force or without response, one far out of scale with its
         // siblings, or one whose levels leave f64 in the spectra's products, shows up later as
         // missing rank, a singular fit, a fit that cannot converge or values that are not
@@ -583,7 +615,7 @@ impl Settings {
 
     /// `frf` without the lines where the multiple coherence of some output is below the
     /// minimum coherence, and how many were left out.
-    fn select_coherent(&self, frf: Frf) -> (Frf, usize) {
+    pub(super) fn select_coherent(&self, frf: Frf) -> (Frf, usize) {
         if self.min_coherence <= 0.0 {
             return (frf, 0);
         }
@@ -601,12 +633,21 @@ impl Settings {
     }
 }
 
+/// What the screening of records at hand found, before their spectra: the pulse and period
+/// warnings, and, when screening is on, which records to keep and the warnings of the records
+/// one by one and against their siblings.
+#[derive(Debug, Clone)]
+pub(super) struct Screened {
+    pulses: Vec<Warning>,
+    batch: Option<(Vec<bool>, Vec<Warning>)>,
+}
+
 /// Too few lines in the band is the band's fault whether or not the lines are usable.
 ///
 /// # Errors
 /// [`Error::TooFewLines`] when the band's lines (used and dropped) are fewer than the fit
 /// needs.
-fn require_lines(frf: &Frf) -> Result<()> {
+pub(super) fn require_lines(frf: &Frf) -> Result<()> {
     let band_lines = frf.line_count() + frf.dropped_hz().len();
     let required = solve::required_lines(frf.dofs());
     if band_lines < required {

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use super::{Bearing, Job, Source, identify, read::ReadAhead, read_file};
+use super::{Bearing, Job, Source, Start, identify, read::ReadAhead, read_file};
 use crate::error::{Error, Result};
 use crate::excitation::Excitation;
 use crate::identify::{Baseline, Identification, Identifier};
@@ -69,7 +69,7 @@ impl Job {
                     identifier,
                     excitation,
                     self.options.step_tolerance_hz,
-                    source,
+                    Start::Records(source),
                     &mut waited,
                     &mut Vec::new(),
                     &mut |_| {},

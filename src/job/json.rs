@@ -5,7 +5,7 @@ use crate::Choice;
 use faer::MatRef;
 use serde_json::{Map, Value, json as object};
 
-use super::Outcome;
+use super::{Outcome, Timings};
 use crate::identify::Identification;
 use crate::model::{Coefficients, rows};
 use crate::per_frequency::PerFrequency;
@@ -29,10 +29,9 @@ pub struct Facts<'a> {
     pub sample_rate: f64,
     /// The record files (or labels), in order.
     pub files: &'a [String],
-    /// Wall time after the data were in memory (ms).
-    pub compute_ms: f64,
-    /// Wall time spent reading the record files (ms).
-    pub read_ms: f64,
+    /// Wall time per stage of the run; `compute` is the time after the data were in
+    /// memory, `read` the time spent reading the record files.
+    pub timings: Timings,
     /// System minus baseline: coefficients, standard deviations and where the baseline came
     /// from.
     pub bearing: Option<(&'a Coefficients, Option<&'a Coefficients>, &'a str)>,
@@ -51,8 +50,7 @@ impl Outcome {
             welch_choice: self.welch_choice,
             sample_rate: self.sample_rate,
             files: &self.files,
-            compute_ms: self.compute.as_secs_f64() * 1e3,
-            read_ms: self.read.as_secs_f64() * 1e3,
+            timings: self.timings,
             bearing: self
                 .bearing
                 .as_ref()
@@ -80,8 +78,8 @@ impl Outcome {
 
 /// The library's serialization of `id` plus the run's own fields: `excitation`,
 /// `excitation_auto`, `crest_factor`, `nperseg`, `welch_choice`, `fs`, `n_records`, `files`,
-/// `compute_ms`, `timings_ms` (`read`, every stage, `total`), `bearing` and `per_frequency`
-/// when there are.
+/// `compute_ms`, `timings_ms` (every stage of the run, [`Timings::stages`], and `total`),
+/// `bearing` and `per_frequency` when there are.
 ///
 /// # Errors
 /// Serialization errors.
@@ -96,8 +94,8 @@ pub fn json(id: &Identification, f: &Facts<'_>) -> serde_json::Result<Value> {
         map.insert("fs".into(), f.sample_rate.into());
         map.insert("n_records".into(), f.files.len().into());
         map.insert("files".into(), f.files.to_vec().into());
-        map.insert("compute_ms".into(), f.compute_ms.into());
-        map.insert("timings_ms".into(), timings_ms(id, f));
+        map.insert("compute_ms".into(), ms(f.timings.compute).into());
+        map.insert("timings_ms".into(), timings_ms(&f.timings));
         if let Some((b, std, source)) = &f.bearing {
             let block = |m: MatRef<'_, f64>| Value::from(rows(m));
             let std_block = |get: Block| std.map(|s| block(get(s)));
@@ -119,16 +117,20 @@ pub fn json(id: &Identification, f: &Facts<'_>) -> serde_json::Result<Value> {
     Ok(v)
 }
 
-/// `read`, the library's stages ([`crate::identify::Timings`]) and `total` (reading
-/// plus compute), in milliseconds.
-fn timings_ms(id: &Identification, f: &Facts<'_>) -> Value {
+/// Every stage of the run ([`Timings::stages`]: `read`, `detect`, `welch_choice`, the
+/// identification's, `baseline`) and `total` (reading plus compute), in milliseconds.
+fn timings_ms(t: &Timings) -> Value {
     let mut map = Map::new();
-    map.insert("read".into(), f.read_ms.into());
-    for (name, d) in id.timings().stages() {
-        map.insert(name.into(), (d.as_secs_f64() * 1e3).into());
+    for (name, d) in t.stages() {
+        map.insert(name.into(), ms(d).into());
     }
-    map.insert("total".into(), (f.read_ms + f.compute_ms).into());
+    map.insert("total".into(), ms(t.total()).into());
     Value::Object(map)
+}
+
+/// `d` in milliseconds.
+fn ms(d: std::time::Duration) -> f64 {
+    d.as_secs_f64() * 1e3
 }
 
 /// One object per line: `freq_hz`, `K`, `C` (rows), `K_std`, `C_std` (null without an FRF

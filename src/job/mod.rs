@@ -10,6 +10,7 @@
 //! |---|---|
 //! | `mod.rs` | [`Job`], the run |
 //! | `outcome.rs` | [`Outcome`] and [`Bearing`]: what a run found |
+//! | `timings.rs` | [`Timings`]: wall time per stage of a run |
 //! | `options.rs` | [`Options`] and [`WindowChoice`], their defaults and names |
 //! | `read.rs` | [`Channels`], [`read_file`], the read-ahead workers |
 //! | `geometry.rs` | [`Geometry`]: probe and force planes moved to the bearing plane |
@@ -36,6 +37,7 @@ mod json;
 mod options;
 mod outcome;
 mod read;
+mod timings;
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -47,18 +49,19 @@ pub use json::{Facts, json};
 pub use options::{Options, WindowChoice, parse_band};
 pub use outcome::{Bearing, Outcome};
 pub use read::{Channels, is_uff, read_file, read_first, response_columns};
+pub use timings::Timings;
 
+use crate::Method;
 use crate::error::{Error, Result};
 use crate::excitation::{
-    Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_welch, crest_factor, deciding_record,
-    response_crest_factor,
+    Evidence, Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_with_spectra, crest_factor,
+    deciding_record, response_crest_factor,
 };
 use crate::frf::Assignment;
 use crate::gate::FitGate;
-use crate::identify::{Identification, Identifier, NonConvergence, Screening};
+use crate::identify::{Identification, Identifier, NonConvergence, Screening, Spectra};
 use crate::records::Record;
 use crate::spectra::{ForceGate, Segmentation};
-use crate::{Method, Uncertainty};
 use read::ReadAhead;
 
 /// What a [`Job`] tells its observer while it reads files ([`Job::run_files_with`]).
@@ -101,6 +104,16 @@ enum Source<'a> {
         paths: &'a [PathBuf],
     },
     Read(Vec<Record>),
+}
+
+/// What the identification starts from: the records, or, once the Welch choice has
+/// transformed them at the length it chose, their spectra (and their labels).
+enum Start<'a> {
+    Records(Source<'a>),
+    Transformed {
+        spectra: Box<Spectra>,
+        labels: Vec<String>,
+    },
 }
 
 impl Job {
@@ -151,12 +164,13 @@ impl Job {
             // this thread reads the first and settles the settings.
             let ahead = ReadAhead::spawn(scope, files, &self.channels);
             let first = read_file(first_path, &self.channels)?;
+            let reading = start.elapsed();
             let source = Source::Streamed {
                 first,
                 ahead,
                 paths: files,
             };
-            self.run(source, start, &mut observe)
+            self.run(source, start, reading, &mut observe)
         })
     }
 
@@ -180,7 +194,12 @@ impl Job {
                 .collect::<Result<_>>()?,
             None => records,
         };
-        self.run(Source::Read(records), Instant::now(), &mut |_| {})
+        self.run(
+            Source::Read(records),
+            Instant::now(),
+            Duration::ZERO,
+            &mut |_| {},
+        )
     }
 
     /// The kind of excitation of records whose first is `first`, with the crest factor of the
@@ -201,19 +220,24 @@ impl Job {
             None => {
                 let deciding =
                     deciding_record(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
-                let kind = Excitation::from_record(&deciding)?;
-                Ok((kind, crest_factor(&deciding), true))
+                let evidence = Evidence::of(&deciding);
+                let kind = Excitation::from_evidence(&deciding, evidence)?;
+                Ok((kind, evidence.crest_factor, true))
             }
         }
     }
 
-    /// The run, from a source of records.
+    /// The run, from a source of records, the clock started at `start` and `reading` spent
+    /// reading already.
     fn run(
         &self,
         source: Source<'_>,
         start: Instant,
+        mut reading: Duration,
         observe: &mut dyn FnMut(Progress<'_>),
     ) -> Result<Outcome> {
+        let mut timings = Timings::default();
+        let detect_start = Instant::now();
         let first = match &source {
             Source::Streamed { first, .. } | Source::Read(first) => &first[0],
         };
@@ -233,7 +257,11 @@ impl Job {
         let sample_rate = first.sample_rate();
         // Forces read as random whose responses look like a hammer's: the columns may be
         // exchanged, the likely cause if the run then fails.
-        let response_crest = response_crest_factor(first);
+        let response_crest = if detected && excitation == Excitation::Random {
+            response_crest_factor(first)
+        } else {
+            0.0
+        };
         let swapped = |e: Error| match e {
             Error::TooFewLines { .. }
             | Error::NotConverged { .. }
@@ -252,30 +280,42 @@ impl Job {
             }
             e => e,
         };
-        let mut reading = match &source {
-            Source::Streamed { .. } => start.elapsed(),
-            Source::Read(_) => Duration::ZERO,
-        };
         let (identifier, segment_len) = self.identifier(excitation, first).map_err(swapped)?;
-        let (identifier, segment_len, welch_choice, source) = self
+        timings.detect = detect_start.elapsed();
+        let welch_start = Instant::now();
+        let read_before = reading;
+        let (identifier, segment_len, welch_choice, start_from) = self
             .welch(identifier, segment_len, excitation, source, &mut reading)
             .map_err(swapped)?;
+        // The spectra the choice keeps are the identification's: counted in its stages.
+        let kept = match &start_from {
+            Start::Transformed { spectra, .. } => spectra.elapsed(),
+            Start::Records(_) => Duration::ZERO,
+        };
+        timings.welch_choice = welch_start
+            .elapsed()
+            .saturating_sub(reading - read_before)
+            .saturating_sub(kept);
         let mut files = Vec::new();
         let identification = identify(
             &identifier,
             excitation,
             self.options.step_tolerance_hz,
-            source,
+            start_from,
             &mut reading,
             &mut files,
             observe,
         )
         .map_err(swapped)?;
+        let baseline_start = Instant::now();
         let bearing = match &self.options.baseline {
             Some(path) => Some(self.bearing(&identification, &identifier, excitation, path)?),
             None => None,
         };
-        let compute = start.elapsed().saturating_sub(reading);
+        timings.baseline = baseline_start.elapsed();
+        timings.read = reading;
+        timings.compute = start.elapsed().saturating_sub(reading);
+        timings.identification = identification.timings();
         Ok(Outcome {
             identification,
             identifier,
@@ -286,8 +326,7 @@ impl Job {
             segment_len,
             welch_choice,
             sample_rate,
-            read: reading,
-            compute,
+            timings,
             bearing,
         })
     }
@@ -401,8 +440,10 @@ impl Job {
 
     /// For random excitation cut into Welch segments with no length given: every record
     /// gathered (the files still to come taken from the workers, `reading` gathering the
-    /// wait), a first fit ([`choose_welch`]), and the identifier with the chosen length;
-    /// otherwise everything as it was, and no choice.
+    /// wait), a first fit ([`choose_welch`](crate::excitation::choose_welch), by IVF), and the
+    /// identifier with the chosen length, with the records' spectra at that length (the first
+    /// fit's when the choice keeps its length; the records screened once); otherwise
+    /// everything as it was, and no choice.
     fn welch<'a>(
         &self,
         identifier: Identifier,
@@ -410,13 +451,13 @@ impl Job {
         excitation: Excitation,
         source: Source<'a>,
         reading: &mut Duration,
-    ) -> Result<(Identifier, Option<usize>, Option<WelchChoice>, Source<'a>)> {
+    ) -> Result<(Identifier, Option<usize>, Option<WelchChoice>, Start<'a>)> {
         // Random records are cut into Welch segments unless paired sets took whole records.
         let needed = excitation == Excitation::Random
             && self.options.nperseg.is_none()
             && segment_len.is_some();
         if !needed {
-            return Ok((identifier, segment_len, None, source));
+            return Ok((identifier, segment_len, None, Start::Records(source)));
         }
         let records = match source {
             Source::Read(records) => records,
@@ -431,35 +472,45 @@ impl Job {
                 first
             }
         };
-        // The first fit is for the modes only: IVF, no resampled error bars.
-        let first = identifier
-            .clone()
-            .method(Method::Ivf)
-            .uncertainty(Uncertainty::Sandwich);
-        let choice = choose_welch(&records, &first)?;
-        let identifier = identifier.segmentation(Segmentation::Welch {
-            len: choice.nperseg,
-        });
-        Ok((
-            identifier,
-            Some(choice.nperseg),
-            Some(choice),
-            Source::Read(records),
-        ))
+        // The first fit is for the modes only: IVF and its own standard deviations, on the
+        // spectra the identification takes at the default length.
+        let (choice, spectra) = choose_with_spectra(&records, &identifier, Method::Ivf)?;
+        // The identification at the length chosen: on the first fit's spectra when it kept
+        // the default, else on the records cut again (their screening kept).
+        let len = choice.nperseg;
+        let spectra = if segment_len == Some(len) {
+            spectra
+        } else {
+            spectra.welch_len(&records, len)?
+        };
+        let start = Start::Transformed {
+            spectra: Box::new(spectra),
+            labels: records.iter().map(|r| r.label().to_owned()).collect(),
+        };
+        let identifier = identifier.segmentation(Segmentation::Welch { len });
+        Ok((identifier, Some(len), Some(choice), start))
     }
 }
 
-/// Identifies the records of `source` with `identifier`: streamed as they arrive, or all
-/// together for a stepped-sine test; the labels of the records pushed onto `files`.
+/// Identifies the records of `start` with `identifier`: streamed as they arrive, or all
+/// together for a stepped-sine test, or from the spectra the Welch choice kept; the labels of
+/// the records pushed onto `files`.
 fn identify(
     identifier: &Identifier,
     excitation: Excitation,
     step_tolerance_hz: f64,
-    source: Source<'_>,
+    start: Start<'_>,
     reading: &mut Duration,
     files: &mut Vec<String>,
     observe: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Identification> {
+    let source = match start {
+        Start::Transformed { spectra, labels } => {
+            files.extend(labels);
+            return spectra.finish();
+        }
+        Start::Records(source) => source,
+    };
     let (first, mut ahead, paths) = match source {
         Source::Read(records) => {
             files.extend(records.iter().map(|r| r.label().to_owned()));

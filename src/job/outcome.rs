@@ -3,6 +3,7 @@
 
 use std::time::Duration;
 
+use super::Timings;
 use crate::excitation::{Excitation, WelchChoice};
 use crate::identify::{Identification, Identifier};
 use crate::model::Coefficients;
@@ -31,8 +32,7 @@ pub struct Outcome {
     pub(super) segment_len: Option<usize>,
     pub(super) welch_choice: Option<WelchChoice>,
     pub(super) sample_rate: f64,
-    pub(super) read: Duration,
-    pub(super) compute: Duration,
+    pub(super) timings: Timings,
     pub(super) bearing: Option<Bearing>,
 }
 
@@ -92,12 +92,17 @@ impl Outcome {
 
     /// Wall time spent waiting for files (zero for records in memory).
     pub fn read_time(&self) -> Duration {
-        self.read
+        self.timings.read
     }
 
-    /// Wall time of the rest: detection, settings, identification, baseline.
+    /// Wall time of the rest: detection, settings, Welch choice, identification, baseline.
     pub fn compute_time(&self) -> Duration {
-        self.compute
+        self.timings.compute
+    }
+
+    /// Wall time per stage of the run ([`Timings`]).
+    pub fn timings(&self) -> Timings {
+        self.timings
     }
 
     /// The system minus the baseline, when one was given.

@@ -79,6 +79,81 @@ fn random_files_choose_the_welch_length_and_keep_every_record() {
     assert!((k / 146.3e3 - 1.0).abs() < 0.02, "{k}");
 }
 
+/// Random records, `noise` on every channel, `n` of `len` samples at `rate`.
+fn noisy_random(rate: f64, len: usize, n: u64, noise: f64) -> Vec<Record> {
+    use rand::SeedableRng;
+    let mut sim = Simulator::new(&seed_rig(), rate, len, AntiAlias::default()).unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(9);
+    (0..n)
+        .map(|s| {
+            let clean = sim.random_record(format!("r{s}"), 50.0, s).unwrap();
+            crate::simulate::add_noise(&clean, noise, &mut rng).unwrap()
+        })
+        .collect()
+}
+
+/// Random records: the job's result is bit for bit that of [`Identifier::identify`] with the
+/// settings it reports, whether the Welch choice keeps the default length (the identification
+/// then finishes on the first fit's spectra) or a longer one; the choice is that of
+/// [`crate::excitation::choose_welch`] by IVF; the stages add up to the total.
+#[test]
+fn random_records_are_identified_as_the_settings_reported() {
+    use crate::excitation::{choose_welch, welch_len};
+    // Two records of 32 s at 256 S/s, 10 % noise, keep the default (1024 samples: 30
+    // averages, twice as long would leave 14); two of 6 s at 6700 S/s, 2 % noise, want 8
+    // lines in the rig's 4.4 Hz bandwidth, more than the default's 1.6 Hz spacing gives, and
+    // get the longest that 16 averages allow.
+    for (rate, len, noise, kept) in [(256.0, 8192, 0.1, true), (6700.0, 40_000, 0.02, false)] {
+        let records = noisy_random(rate, len, 2, noise);
+        let job = Job::new(Options::new(8.0, 49.0), Channels::default());
+        let outcome = job.run_records(records.clone()).unwrap();
+        let choice = outcome.welch_choice().expect("chosen from a first fit");
+        assert_eq!(choice.nperseg == welch_len(len), kept, "{choice:?}");
+        let direct = outcome.identifier().identify(&records).unwrap();
+        assert_eq!(outcome.identification(), &direct, "{rate}");
+        let (first, _) = job.identifier(Excitation::Random, &records[0]).unwrap();
+        let by_ivf = first.method(Method::Ivf);
+        assert_eq!(choose_welch(&records, &by_ivf).unwrap(), *choice);
+        let t = outcome.timings();
+        let parts: Duration = t.stages().iter().map(|(_, d)| *d).sum();
+        assert!(parts <= t.total(), "{t:?}");
+        assert!(t.welch_choice > Duration::ZERO && t.detect > Duration::ZERO);
+        assert!(t.identification.spectra > Duration::ZERO);
+    }
+}
+
+/// Every piece of a run's work is in a named stage: the stages add up to at least 95 % of
+/// the total (the rest is the bookkeeping between them), for impact records and for random
+/// records whose Welch length is chosen from a first fit, in memory and from files. The
+/// best of five runs is taken, so that the machine preempting the run between two stages
+/// does not count as work outside them.
+#[test]
+fn stages_add_up_to_the_total() {
+    let dir = tempfile::tempdir().unwrap();
+    let random = noisy_random(6700.0, 40_000, 2, 0.02);
+    let paths = write(dir.path(), &random);
+    let job = Job::new(Options::new(5.0, 60.0), Channels::default());
+    let runs: [(&str, &dyn Fn() -> Outcome); 3] = [
+        ("impacts", &|| job.run_records(impacts()).unwrap()),
+        ("random", &|| job.run_records(random.clone()).unwrap()),
+        ("random files", &|| job.run_files(&paths).unwrap()),
+    ];
+    for (name, run) in runs {
+        let covered = (0..5)
+            .map(|_| {
+                let t = run().timings();
+                let parts: Duration = t.stages().iter().map(|(_, d)| *d).sum();
+                assert!(parts <= t.total(), "{name}: {t:?}");
+                parts.as_secs_f64() / t.total().as_secs_f64()
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            covered >= 0.95,
+            "{name}: the stages cover {covered:.3} of the total"
+        );
+    }
+}
+
 /// Sweep and stepped-sine files (the `simulate` command's defaults, 2 % noise) identified in
 /// the band 8–49 Hz with the excitation left to detection: read as what they are (the first
 /// file decides, the others streamed or, for stepped sine, gathered), identified exactly as

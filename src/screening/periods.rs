@@ -163,8 +163,12 @@ fn autocorrelation_peak(record: &Record) -> Option<(f64, f64, usize)> {
     if !(r[0] > 0.0 && r[0].is_finite()) {
         return None;
     }
-    let rho = |lag: usize| r[lag] / r[0] * n as f64 / (n - lag) as f64;
     let last = n / 2;
+    // ρ at every lag read (8 up to `last + 1`), each computed once.
+    let values: Vec<f64> = (8..=last + 1)
+        .map(|lag| r[lag] / r[0] * n as f64 / (n - lag) as f64)
+        .collect();
+    let rho = |lag: usize| values[lag - 8];
     let peaks: Vec<(usize, f64)> = (9..=last)
         .map(|lag| (lag, rho(lag)))
         .filter(|&(lag, v)| v >= rho(lag - 1) && v >= rho(lag + 1))

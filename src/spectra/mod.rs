@@ -21,6 +21,7 @@ mod gate;
 mod segmentation;
 mod window;
 
+use std::cell::RefCell;
 use std::sync::Arc;
 
 use faer::c64;
@@ -54,7 +55,7 @@ pub struct SpectralEstimator {
     len: usize,
     sample_rate: f64,
     window: Window,
-    weights: Vec<f64>,
+    weights: Arc<[f64]>,
     /// Window × gate weights for force channels, and the first closed sample, when gated.
     gate: Option<(ForceGate, Vec<f64>, usize)>,
     fft: Arc<dyn RealToComplex<f64>>,
@@ -62,6 +63,23 @@ pub struct SpectralEstimator {
     output: Vec<c64>,
     scratch: Vec<c64>,
 }
+
+thread_local! {
+    /// The FFT plans, kept per thread: the records of a test share a segment length, and
+    /// planning a transform (its twiddle factors) costs about as much as transforming a few
+    /// channels.
+    static PLANS: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// The windows' weights of the last few estimators made on this thread, by window, length
+    /// and sample spacing: the same numbers, computed once.
+    static WEIGHTS: RefCell<Vec<(WeightsKey, Arc<[f64]>)>> = const { RefCell::new(Vec::new()) };
+}
+
+/// What a window's weights depend on: the window, the length and the bits of the sample
+/// spacing.
+type WeightsKey = (Window, usize, u64);
+
+/// Windows [`SpectralEstimator::new`] keeps per thread.
+const RECENT_WINDOWS: usize = 4;
 
 impl std::fmt::Debug for SpectralEstimator {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -81,7 +99,7 @@ impl Clone for SpectralEstimator {
             len: self.len,
             sample_rate: self.sample_rate,
             window: self.window,
-            weights: self.weights.clone(),
+            weights: Arc::clone(&self.weights),
             gate: self.gate.clone(),
             fft: Arc::clone(&self.fft),
             input: self.fft.make_input_vec(),
@@ -112,9 +130,21 @@ impl SpectralEstimator {
             "finite and positive (Hz)",
         )?;
         let window = window.check()?;
-        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(len);
+        let fft = PLANS.with(|plans| plans.borrow_mut().plan_fft_forward(len));
         let dt = 1.0 / sample_rate;
-        let weights = (0..len).map(|m| window.weight(m, len, dt)).collect();
+        let weights = WEIGHTS.with(|recent| {
+            let mut recent = recent.borrow_mut();
+            let key = (window, len, dt.to_bits());
+            if let Some((_, w)) = recent.iter().find(|(k, _)| *k == key) {
+                return Arc::clone(w);
+            }
+            let w: Arc<[f64]> = (0..len).map(|m| window.weight(m, len, dt)).collect();
+            if recent.len() == RECENT_WINDOWS {
+                recent.remove(0);
+            }
+            recent.push((key, Arc::clone(&w)));
+            w
+        });
         let input = fft.make_input_vec();
         let output = fft.make_output_vec();
         let scratch = fft.make_scratch_vec();
@@ -213,7 +243,7 @@ impl SpectralEstimator {
         } else {
             0.0
         };
-        for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(&self.weights) {
+        for ((dst, &x), &w) in self.input.iter_mut().zip(signal).zip(self.weights.iter()) {
             *dst = w * (x - mean);
         }
         self.run_fft()

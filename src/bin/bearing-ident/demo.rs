@@ -2,7 +2,7 @@
 //! quickstart example does.
 
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use bearing_ident::Choice;
 use bearing_ident::Identifier;
@@ -13,6 +13,7 @@ use bearing_ident::simulate::{ImpactTest, seed_rig};
 use crate::failure::{Failure, print_out};
 use crate::output::{emit, write_report};
 use crate::report;
+use bearing_ident::job::Timings;
 
 #[derive(Debug, clap::Args)]
 pub struct DemoArgs {
@@ -46,8 +47,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         welch_choice: None,
         sample_rate: test.sample_rate,
         files: records.iter().map(|r| r.label().to_owned()).collect(),
-        compute_ms: start.elapsed().as_secs_f64() * 1e3,
-        read_ms: 0.0,
+        timings: Timings::new(id.timings(), Duration::ZERO, start.elapsed()),
         show_timings: false,
         axes: vec!["x".into(), "y".into()],
         bearing: None,

@@ -1,9 +1,10 @@
 //! What the tool prints: an aligned table for people, JSON for scripts.
 
 use std::fmt::Write as _;
+use std::time::Duration;
 
 use bearing_ident::Choice;
-use bearing_ident::job::Facts;
+use bearing_ident::job::{Facts, Timings};
 use bearing_ident::per_frequency::PerFrequency;
 use bearing_ident::plot::{coefficient_rows, significant as sig};
 use bearing_ident::text::{self, Align};
@@ -25,10 +26,9 @@ pub struct Context {
     pub sample_rate: f64,
     /// The record files (or labels).
     pub files: Vec<String>,
-    /// Wall time after the data were in memory (ms).
-    pub compute_ms: f64,
-    /// Wall time spent reading the record files (ms; 0 for simulated records).
-    pub read_ms: f64,
+    /// Wall time per stage: reading the record files (0 for simulated records), the run after
+    /// the data were in memory, and each stage of the run.
+    pub timings: Timings,
     /// Print the stage timings in the table (`--timings`).
     pub show_timings: bool,
     /// Names of the degrees of freedom (the displacement columns).
@@ -58,8 +58,7 @@ impl Context {
             welch_choice: outcome.welch_choice().copied(),
             sample_rate: outcome.sample_rate(),
             files: outcome.files().to_vec(),
-            compute_ms: outcome.compute_time().as_secs_f64() * 1e3,
-            read_ms: outcome.read_time().as_secs_f64() * 1e3,
+            timings: outcome.timings(),
             show_timings,
             axes,
             bearing: outcome
@@ -80,8 +79,7 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         welch_choice: c.welch_choice,
         sample_rate: c.sample_rate,
         files: &c.files,
-        compute_ms: c.compute_ms,
-        read_ms: c.read_ms,
+        timings: c.timings,
         bearing: c
             .bearing
             .as_ref()
@@ -118,22 +116,16 @@ fn coefficient_lines(
 }
 
 /// `  timings (ms): read …, <every stage>, total …`, a line of the table.
-pub fn timings_line(
-    out: &mut String,
-    timings: &bearing_ident::identify::Timings,
-    read_ms: f64,
-    compute_ms: f64,
-) {
-    let stages: Vec<String> = timings
-        .stages()
+pub fn timings_line(out: &mut String, stages: &[(&str, Duration)], total: Duration) {
+    let stages: Vec<String> = stages
         .iter()
         .map(|(name, d)| format!("{name} {:.2}", d.as_secs_f64() * 1e3))
         .collect();
     let _ = writeln!(
         out,
-        "  timings (ms): read {read_ms:.2}, {}, total {:.2}",
+        "  timings (ms): {}, total {:.2}",
         stages.join(", "),
-        read_ms + compute_ms
+        total.as_secs_f64() * 1e3
     );
 }
 
@@ -245,10 +237,10 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         id.iterations(),
         id.converged(),
         id.residual_norm(),
-        c.compute_ms
+        c.timings.compute.as_secs_f64() * 1e3
     );
     if c.show_timings {
-        timings_line(&mut out, &id.timings(), c.read_ms, c.compute_ms);
+        timings_line(&mut out, &c.timings.stages(), c.timings.total());
     }
     if let Some(ml) = id.ml() {
         let _ = writeln!(

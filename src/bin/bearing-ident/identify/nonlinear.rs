@@ -9,7 +9,7 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use bearing_ident::Choice;
 use bearing_ident::excitation::{Excitation, deciding_record};
@@ -348,7 +348,11 @@ fn table(id: &NonlinearIdentification, run: &Run, timings: bool) -> String {
         run.compute_ms
     );
     if timings {
-        crate::report::timings_line(&mut out, &id.timings(), run.read_ms, run.compute_ms);
+        let read = Duration::from_secs_f64(run.read_ms / 1e3);
+        let mut stages = vec![("read", read)];
+        stages.extend(id.timings().stages());
+        let total = read + Duration::from_secs_f64(run.compute_ms / 1e3);
+        crate::report::timings_line(&mut out, &stages, total);
     }
     for w in id.warnings() {
         let _ = writeln!(out, "  warning: {w}");
