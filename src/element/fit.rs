@@ -528,6 +528,15 @@ fn search_poles(
     let mut starts: Vec<Vec<f64>> = Vec::new();
     if let Some(p) = start.filter(|p| p.len() == count) {
         starts.push(p.to_vec());
+        // The last pole of a start is the one added to a smaller family's: tried also at
+        // log-spaced places across the band, as two poles of opposite residues can sit on
+        // either side of the smaller family's one.
+        for k in 0..CASCADE_PLACES {
+            let x = (k as f64 + 0.5) / CASCADE_PLACES as f64;
+            let mut set = p.to_vec();
+            set[count - 1] = low * (high / low).powf(x);
+            starts.push(set);
+        }
     }
     // Log-spaced sets across [low/2, 2·high], shifted between starts.
     for shift in 0..POLE_STARTS {
@@ -540,15 +549,21 @@ fn search_poles(
             .collect();
         starts.push(set);
     }
-    let mut best: Option<(f64, Vec<f64>)> = None;
+    // The least cost among the searches that keep the poles apart: two poles that merge
+    // (opposite residues growing without bound) are a degenerate limit the search can slide
+    // into from some starts, not a model of two states.
+    let mut best: Option<(bool, f64, Vec<f64>)> = None;
     for s in starts {
         let Ok((cost, poles)) = levenberg_marquardt(data, family, s) else {
             continue;
         };
-        if best.as_ref().is_none_or(|b| cost < b.0) {
-            best = Some((cost, poles));
+        let apart = poles_apart(&poles);
+        let better = best.as_ref().is_none_or(|b| (apart, -cost) > (b.0, -b.1));
+        if better {
+            best = Some((apart, cost, poles));
         }
     }
+    let best = best.map(|(_, cost, poles)| (cost, poles));
     let (_, mut poles) = best.ok_or(Error::SingularFit {
         method: crate::Method::LeastSquares,
     })?;
@@ -556,8 +571,23 @@ fn search_poles(
     Ok(poles)
 }
 
+/// Whether every two of `poles` differ by more than [`MIN_POLE_SEPARATION`] of the larger.
+fn poles_apart(poles: &[f64]) -> bool {
+    poles.iter().enumerate().all(|(j, &p)| {
+        poles[j + 1..]
+            .iter()
+            .all(|&q| (p - q).abs() > MIN_POLE_SEPARATION * p.max(q))
+    })
+}
+
+/// The least relative distance of two poles of a search's result that counts them as two.
+const MIN_POLE_SEPARATION: f64 = 0.02;
+
 /// Starts of the pole search.
 const POLE_STARTS: usize = 3;
+
+/// Places across the band tried for the pole added to a smaller family's poles.
+const CASCADE_PLACES: usize = 5;
 
 /// Reweightings of each inner fit of the pole search (the final fit at its poles takes up to
 /// [`FAMILY_FIT_ITERATIONS`]).
@@ -609,7 +639,10 @@ fn levenberg_marquardt(data: &Data, family: Family, poles: Vec<f64>) -> Result<(
             let candidate: Vec<f64> = (0..count)
                 .map(|c| (q[c] + step[(c, 0)].clamp(-2.0, 2.0)).clamp(bounds.0, bounds.1))
                 .collect();
-            if !candidate.iter().all(|v| v.is_finite()) {
+            // A step that merges poles kept apart so far leads to the degenerate limit of
+            // two opposite residues: refused, as a step that does not lower the cost.
+            let apart = |q: &[f64]| poles_apart(&q.iter().map(|v| v.exp()).collect::<Vec<_>>());
+            if !candidate.iter().all(|v| v.is_finite()) || (apart(&q) && !apart(&candidate)) {
                 lambda *= 10.0;
                 continue;
             }

@@ -115,12 +115,29 @@ pub fn select(
     let auto = spec == ModelSpec::Auto;
     let mut tried: Vec<(Candidate, Option<Tried>)> = Vec::new();
     let mut previous_poles: Vec<f64> = Vec::new();
+    // A family of states asked for by name starts from the poles of the one a state smaller,
+    // as `auto` does: a search from the band alone can merge two poles into one.
+    if let ModelSpec::Family(Family::States { poles }) = spec {
+        for smaller in 1..poles {
+            let start_poles = cascade(&previous_poles, frf);
+            let fit = fit_data(
+                &data,
+                Family::States { poles: smaller },
+                Some(&start_poles),
+                start,
+            );
+            match fit {
+                Ok(fit) => previous_poles = fit.poles().to_vec(),
+                Err(_) => break,
+            }
+        }
+    }
+    // The fitted families' statistics and sizes: a larger family's residues are supported
+    // when its statistic falls below every smaller one's by more than chance would.
+    let mut smaller_fits: Vec<(f64, usize)> = Vec::new();
     for family in families {
-        let start_poles = (family.poles() == previous_poles.len() + 1).then(|| {
-            let mut p = previous_poles.clone();
-            p.push(2.0 * std::f64::consts::PI * frf.freqs_hz()[frf.line_count() / 2]);
-            p
-        });
+        let start_poles =
+            (family.poles() == previous_poles.len() + 1).then(|| cascade(&previous_poles, frf));
         let fitted = fit_data(&data, family, start_poles.as_deref(), start);
         let (candidate, kept) = match fitted {
             Err(e) if auto => (refused(family, "unsupported", e.to_string()), None),
@@ -142,8 +159,22 @@ pub fn select(
                 }
                 let (check, warning) =
                     ModelCheck::of_family(&data, &fit, frf.freqs_hz(), runs_stride)?;
-                let unsupported = if auto { unsupported(&fit, frf) } else { None };
                 let (size, terms2) = (family.size(data.n), check.dof.unwrap_or(0.0));
+                let needed = check.statistic.is_some_and(|now| {
+                    smaller_fits.iter().all(|&(before, smaller)| {
+                        let extra = size.saturating_sub(smaller).max(1) as f64;
+                        crate::statistics::chi2_upper_tail((before - now).max(0.0), extra)
+                            .is_ok_and(|p| p < LIKELIHOOD_RATIO_P)
+                    })
+                });
+                if let Some(stat) = check.statistic {
+                    smaller_fits.push((stat, size));
+                }
+                let unsupported = if auto {
+                    unsupported(&fit, frf, needed)
+                } else {
+                    None
+                };
                 let criterion = check
                     .statistic
                     .map(|s| s + size as f64 * (terms2 + size as f64).max(1.0).ln());
@@ -236,7 +267,19 @@ fn refused(family: Family, verdict: &'static str, reason: String) -> Candidate {
 }
 
 /// Why the data cannot support `fit`'s poles, if they cannot.
-fn unsupported(fit: &super::FamilyFit, frf: &Frf) -> Option<String> {
+/// Below this probability the fall of the model check's statistic from a smaller family to a
+/// larger one is more than chance: the larger family's extra terms are needed.
+const LIKELIHOOD_RATIO_P: f64 = 0.01;
+
+/// The start of a search for one pole more than `previous`: those poles and one at the middle
+/// of the band.
+fn cascade(previous: &[f64], frf: &Frf) -> Vec<f64> {
+    let mut p = previous.to_vec();
+    p.push(2.0 * std::f64::consts::PI * frf.freqs_hz()[frf.line_count() / 2]);
+    p
+}
+
+fn unsupported(fit: &super::FamilyFit, frf: &Frf, needed: bool) -> Option<String> {
     let freqs = frf.freqs_hz();
     let (low, high) = (
         freqs.iter().copied().fold(f64::INFINITY, f64::min),
@@ -255,7 +298,7 @@ fn unsupported(fit: &super::FamilyFit, frf: &Frf) -> Option<String> {
             ));
         }
         match std.map(|s| s[j]) {
-            Some(s) if s.is_finite() && s < p => {}
+            Some(s) if s.is_finite() && s > 0.0 && s < p => {}
             Some(s) => {
                 return Some(format!(
                     "the pole at {hz:.3} Hz is not determined (± {:.3} Hz)",
@@ -263,6 +306,22 @@ fn unsupported(fit: &super::FamilyFit, frf: &Frf) -> Option<String> {
                 ));
             }
             None => return Some("the poles' covariance is singular".to_string()),
+        }
+        // Two poles closer than their combined standard deviation are one.
+        if let Some(std) = std {
+            for (k, &q) in fit.poles().iter().enumerate().skip(j + 1) {
+                if (p - q).abs() < std[j].hypot(std[k]) {
+                    return Some(format!(
+                        "the poles at {hz:.3} and {:.3} Hz are not told apart",
+                        q / two_pi
+                    ));
+                }
+            }
+        }
+        if needed {
+            // The statistic's fall from every smaller family is the residues' evidence, when
+            // they are correlated with each other or with M, more than their one-by-one σ.
+            continue;
         }
         let (a, sa) = (fit.matrix(3 + j), fit.matrix_std(3 + j)?);
         let n = fit.dofs();
