@@ -142,7 +142,13 @@ def test_states_equal_the_cli(tmp_path, kind, options):
     records, _ = _simulated_by_both(tmp_path, kind, options)
     del options["states"]
     plain = bi.simulate(kind, **options)
-    assert max(np.max(np.abs(a.response - b.response)) / np.max(np.abs(b.response)) for a, b in zip(records, plain)) > 0.01
+    # Impact records last until the response decays, which the states change: compare the
+    # samples both have.
+    def change(a, b):
+        n = min(a.n_samples, b.n_samples)
+        return np.max(np.abs(a.response[:, :n] - b.response[:, :n])) / np.max(np.abs(b.response))
+
+    assert max(change(a, b) for a, b in zip(records, plain)) > 0.01
 
 
 @needs_cli
