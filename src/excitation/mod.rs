@@ -38,6 +38,7 @@ mod welch;
 pub use detect::{
     Evidence, crest_factor, deciding_crest_factor, deciding_record, response_crest_factor,
 };
+#[cfg(feature = "job")]
 pub(crate) use welch::choose_with_spectra;
 pub use welch::{LINES_PER_BANDWIDTH, MIN_AVERAGES, WelchChoice, choose_welch};
 

@@ -4,6 +4,9 @@
 //! the data, [`choose_welch`](crate::excitation::choose_welch)) fits quickly on them
 //! ([`Spectra::quick_fit`]) and, when the settings stand, finishes on the same spectra
 //! ([`Spectra::finish`]) instead of transforming the records again.
+// Only the job's Welch choice finishes or recuts the spectra; without the `job` feature the
+// quick fit alone is used.
+#![cfg_attr(not(feature = "job"), allow(dead_code))]
 
 use std::time::{Duration, Instant};
 
