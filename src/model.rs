@@ -235,7 +235,6 @@ impl Coefficients {
     /// [`Error::Singular`] if `M` is singular; [`Error::Decomposition`] if the eigenvalue
     /// iteration fails.
     pub fn eigenvalues(&self) -> Result<Vec<c64>> {
-        use faer::prelude::Solve;
         let n = self.dofs();
         let mass: Vec<c64> = (0..n * n)
             .map(|k| c64::new(self.mass[(k % n, k / n)], 0.0))
@@ -246,15 +245,43 @@ impl Coefficients {
                 what: "mass matrix",
             });
         }
+        self.eigenvalues_with_states(&[], &[])
+    }
+
+    /// The eigenvalues of the system with an element's internal states: the state matrix of
+    /// `[x, ẋ, w_1 … w_N]` with $\dot w_j = \dot x - p_j w_j$ and the force `Σ A_j w_j` on
+    /// the structure, `A_j` the `residues` and `p_j` the `poles_rad` (rad/s); of dimension
+    /// `2n + Nn`. The mass must have passed [`Coefficients::eigenvalues`]' conditioning check.
+    pub(crate) fn eigenvalues_with_states(
+        &self,
+        residues: &[Mat<f64>],
+        poles_rad: &[f64],
+    ) -> Result<Vec<c64>> {
+        use faer::prelude::Solve;
+        let n = self.dofs();
+        let size = 2 * n + poles_rad.len() * n;
         let lu = self.mass.partial_piv_lu();
         let mk = lu.solve(&self.stiffness);
         let mc = lu.solve(&self.damping);
-        let a = Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
-            (true, true) => 0.0,
-            (true, false) => f64::from(u8::from(i == j - n)),
-            (false, true) => -mk[(i - n, j)],
-            (false, false) => -mc[(i - n, j - n)],
-        });
+        let mut a = Mat::<f64>::zeros(size, size);
+        for i in 0..n {
+            a[(i, n + i)] = 1.0;
+            for j in 0..n {
+                a[(n + i, j)] = -mk[(i, j)];
+                a[(n + i, n + j)] = -mc[(i, j)];
+            }
+        }
+        for (s, (residue, &p)) in residues.iter().zip(poles_rad).enumerate() {
+            let ma = lu.solve(residue);
+            let w = 2 * n + s * n;
+            for i in 0..n {
+                a[(w + i, n + i)] = 1.0;
+                a[(w + i, w + i)] = -p;
+                for j in 0..n {
+                    a[(n + i, w + j)] = -ma[(i, j)];
+                }
+            }
+        }
         Ok(a.eigenvalues()?)
     }
 

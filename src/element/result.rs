@@ -1,7 +1,7 @@
 //! [`ElementModel`]: the family chosen (or asked for), its fit, its check, the candidates
 //! tried, and its `K(ω)`, `C(ω)` on the lines used ([`Curve`]).
 
-use faer::{Mat, MatRef, c64};
+use faer::{Mat, MatRef};
 
 use super::{Family, FamilyFit};
 use crate::error::Result;
@@ -223,36 +223,10 @@ impl ElementModel {
         if poles.is_empty() {
             return constant.modes();
         }
-        let n = constant.dofs();
-        let size = 2 * n + poles.len() * n;
         // The mass's conditioning, as the constant part's own modes check it.
         constant.eigenvalues()?;
-        let lu = constant.mass().partial_piv_lu();
-        use faer::linalg::solvers::Solve;
-        let minv = |m: &Mat<f64>| lu.solve(m);
-        let mk = minv(&constant.stiffness().to_owned());
-        let mc = minv(&constant.damping().to_owned());
-        let mut a = Mat::<f64>::zeros(size, size);
-        for i in 0..n {
-            a[(i, n + i)] = 1.0;
-            for j in 0..n {
-                a[(n + i, j)] = -mk[(i, j)];
-                a[(n + i, n + j)] = -mc[(i, j)];
-            }
-        }
-        for (s, &p) in poles.iter().enumerate() {
-            let ma = minv(&self.fit.matrix(3 + s));
-            let base = 2 * n + s * n;
-            for i in 0..n {
-                // ẇ = ẋ − p w.
-                a[(base + i, n + i)] = 1.0;
-                a[(base + i, base + i)] = -p;
-                for j in 0..n {
-                    a[(n + i, base + j)] = -ma[(i, j)];
-                }
-            }
-        }
-        let eigen: Vec<c64> = a.eigenvalues()?;
+        let residues: Vec<Mat<f64>> = (0..poles.len()).map(|s| self.fit.matrix(3 + s)).collect();
+        let eigen = constant.eigenvalues_with_states(&residues, &poles)?;
         let mut modes: Vec<Mode> = eigen
             .iter()
             .filter(|l| l.im > crate::tolerance::OSCILLATORY_ROOT * l.norm())

@@ -200,32 +200,10 @@ impl ElementStates {
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     pub fn eigenvalues(&self, system: &Coefficients) -> Result<Vec<c64>> {
-        use faer::prelude::Solve;
         self.check_dofs(system.dofs())?;
         system.eigenvalues()?; // rejects a singular mass matrix
-        let n = system.dofs();
-        let lu = system.mass().partial_piv_lu();
-        let (mk, mc) = (lu.solve(system.stiffness()), lu.solve(system.damping()));
-        let mut a = Mat::<f64>::zeros(2 * n + self.len() * n, 2 * n + self.len() * n);
-        for i in 0..n {
-            a[(i, n + i)] = 1.0;
-            for j in 0..n {
-                a[(n + i, j)] = -mk[(i, j)];
-                a[(n + i, n + j)] = -mc[(i, j)];
-            }
-        }
-        for (s, (residue, p)) in self.residues.iter().zip(self.poles_rad()).enumerate() {
-            let ma = lu.solve(residue);
-            let w = 2 * n + s * n;
-            for i in 0..n {
-                a[(w + i, n + i)] = 1.0;
-                a[(w + i, w + i)] = -p;
-                for j in 0..n {
-                    a[(n + i, w + j)] = -ma[(i, j)];
-                }
-            }
-        }
-        Ok(a.eigenvalues()?)
+        let poles: Vec<f64> = self.poles_rad().collect();
+        system.eigenvalues_with_states(&self.residues, &poles)
     }
 
     /// The slowest decay rate (1/s) of `system` with these states, `min(−Re λ)` over
