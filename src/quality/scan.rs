@@ -2,15 +2,14 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
-use crate::lanes::{self, LANES};
+use crate::lanes::LANES;
 use crate::records::Record;
 
 /// What two passes over a channel give the record checks and the screening: its extremes and
-/// mean, the smallest non-zero change between consecutive samples and a digest of its samples'
-/// bits (the first pass), and its RMS about the mean (the second). The passes run in [`LANES`]
-/// independent lanes (sample `m` in lane `m mod LANES`, see [`crate::lanes`]): extremes,
-/// smallest change and digest are those of a left-to-right pass, the sums round as lane-wise
-/// sums do.
+/// mean, the smallest non-zero change between consecutive samples (the first pass), its RMS
+/// about the mean and a digest of its samples' bits (the second). The sums run in [`LANES`]
+/// independent lanes (sample `m` in lane `m mod LANES`, see [`crate::lanes`]) and round as
+/// lane-wise sums do; extremes and smallest change are those of a left-to-right pass.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Scan {
     /// `min x`.
@@ -23,9 +22,10 @@ pub(crate) struct Scan {
     pub(crate) rms: f64,
     /// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none.
     pub(crate) step: f64,
-    /// Four interleaved lanes of `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each
-    /// step a bijection of `h`, so records that differ in one sample always differ here.
-    pub(crate) digest: [u64; 4],
+    /// [`CHAINS`] interleaved chains (sample `m` in chain `m mod CHAINS`) of
+    /// `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each step a bijection of `h`, so
+    /// records that differ in one sample always differ here.
+    pub(crate) digest: [u64; CHAINS],
 }
 
 /// [`Scan::new`]'s pass as an operation of faer's SIMD dispatch: a named type rather than a
@@ -41,8 +41,50 @@ impl WithSimd for Pass<'_> {
     }
 }
 
+/// The second pass of [`Scan::new`] (`Σ (x − x̄)²` and the digest) as an operation of faer's
+/// SIMD dispatch.
+struct Spread<'a>(&'a [f64], f64);
+
+impl WithSimd for Spread<'_> {
+    type Output = (f64, [u64; CHAINS]);
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _: S) -> Self::Output {
+        Scan::spread(self.0, self.1)
+    }
+}
+
 /// Odd multiplier of the digest (the 64-bit golden ratio).
 const DIGEST_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
+
+/// Independent chains of the digest. One chain's step (a 64-bit product, several dependent
+/// instructions without AVX-512) takes many cycles; sixteen chains keep enough of them in
+/// flight that the digest costs no more than the sum of squares it is computed beside.
+const CHAINS: usize = 4 * LANES;
+
+/// The digest's chains before any sample: the first digits of π, four to a row, each row
+/// rotated by 8 bits more than the one before.
+const DIGEST_START: [u64; CHAINS] = {
+    let pi = [
+        0x243f_6a88_85a3_08d3_u64,
+        0x1319_8a2e_0370_7344,
+        0xa409_3822_299f_31d0,
+        0x082e_fa98_ec4e_6c89,
+    ];
+    let mut start = [0; CHAINS];
+    let mut k = 0;
+    while k < CHAINS {
+        start[k] = pi[k % LANES].rotate_left(8 * (k / LANES) as u32);
+        k += 1;
+    }
+    start
+};
+
+/// One step of a digest chain: `h ← rotl((h ⊕ bits(v)) · M, 29)`, a bijection of `h`.
+#[inline(always)]
+fn mix(h: u64, v: f64) -> u64 {
+    ((h ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29)
+}
 
 impl Scan {
     /// The scans of every channel of `record`: its forces, then its responses.
@@ -62,7 +104,9 @@ impl Scan {
         if !x.is_empty() {
             let n = x.len() as f64;
             scan.mean /= n;
-            scan.rms = (lanes::sum_sq_dev(x, scan.mean) / n).sqrt();
+            let (squares, digest) = Arch::new().dispatch(Spread(x, scan.mean));
+            scan.rms = (squares / n).sqrt();
+            scan.digest = digest;
         }
         scan
     }
@@ -73,12 +117,6 @@ impl Scan {
         let mut hi = [f64::NEG_INFINITY; LANES];
         let mut sum = [0.0; LANES];
         let mut step = [f64::INFINITY; LANES];
-        let mut digest = [
-            0x243f_6a88_85a3_08d3_u64,
-            0x1319_8a2e_0370_7344,
-            0xa409_3822_299f_31d0,
-            0x082e_fa98_ec4e_6c89,
-        ];
         let mut prev = x.first().copied().unwrap_or_default();
         let chunks = x.chunks_exact(LANES);
         let rest = chunks.remainder();
@@ -92,10 +130,6 @@ impl Scan {
                 let d = (v[j] - before[j]).abs();
                 step[j] = if d > 0.0 && d < step[j] { d } else { step[j] };
             }
-            for j in 0..LANES {
-                digest[j] =
-                    ((digest[j] ^ v[j].to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
-            }
             prev = c[LANES - 1];
         }
         for (j, &v) in rest.iter().enumerate() {
@@ -106,7 +140,6 @@ impl Scan {
             if d > 0.0 {
                 step[j] = step[j].min(d);
             }
-            digest[j] = ((digest[j] ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29);
             prev = v;
         }
         let min4 = |a: [f64; LANES]| a[0].min(a[1]).min(a[2].min(a[3]));
@@ -116,7 +149,68 @@ impl Scan {
             mean: (sum[0] + sum[1]) + (sum[2] + sum[3]),
             rms: 0.0,
             step: min4(step),
-            digest,
+            digest: DIGEST_START,
+        }
+    }
+
+    /// The second pass over `x`: `Σ (x − c)²` as [`crate::lanes::sum_sq_dev`] sums it (the same
+    /// operations in the same lanes, so the same bits) and the digest's chains.
+    #[inline(always)]
+    fn spread(x: &[f64], c: f64) -> (f64, [u64; CHAINS]) {
+        let mut a = [0.0; LANES];
+        let mut digest = DIGEST_START;
+        let groups = x.chunks_exact(CHAINS);
+        let tail = groups.remainder();
+        for g in groups {
+            for q in 0..CHAINS / LANES {
+                for j in 0..LANES {
+                    let v = g[q * LANES + j];
+                    a[j] += (v - c) * (v - c);
+                }
+            }
+            for (h, &v) in digest.iter_mut().zip(g) {
+                *h = mix(*h, v);
+            }
+        }
+        for (m, &v) in tail.iter().enumerate() {
+            a[m % LANES] += (v - c) * (v - c);
+            digest[m] = mix(digest[m], v);
+        }
+        ((a[0] + a[1]) + (a[2] + a[3]), digest)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lanes;
+
+    /// The second pass sums the squares as [`lanes::sum_sq_dev`] does, bit for bit, at every
+    /// length about the digest's groups; a change of one sample (or one sample's sign) changes
+    /// the digest, whichever chain it falls in.
+    #[test]
+    fn second_pass_matches_the_lanes_and_the_digest_sees_every_sample() {
+        for len in [0, 1, 3, 4, 5, 15, 16, 17, 31, 33, 100, 8191] {
+            let x: Vec<f64> = (0..len)
+                .map(|m| (m as f64 * 0.37).sin() * 3.0 + 0.25)
+                .collect();
+            let scan = Scan::new(&x);
+            if len > 0 {
+                let n = len as f64;
+                let mean = lanes::sum(&x) / n;
+                assert_eq!(scan.mean.to_bits(), mean.to_bits(), "length {len}");
+                let rms = (lanes::sum_sq_dev(&x, mean) / n).sqrt();
+                assert_eq!(scan.rms.to_bits(), rms.to_bits(), "length {len}");
+            }
+            for m in 0..len {
+                let mut y = x.clone();
+                y[m] = -y[m];
+                assert_ne!(
+                    Scan::new(&y).digest,
+                    scan.digest,
+                    "length {len}, sample {m}"
+                );
+            }
         }
     }
 }
