@@ -11,7 +11,8 @@ use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
 
 /// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 5] = ["force", "disp", "resp", "response", "time"];
+pub(super) const CHANNEL_NAMES: [&str; 6] =
+    ["force", "disp", "resp", "response", "time", "record-by"];
 
 /// Whether `name` (with `-` between words) is an option a plan can set.
 pub(super) fn is_setting(name: &str) -> bool {
@@ -73,7 +74,8 @@ pub(super) fn options(
 /// plan's `geometry`, for `files`.
 ///
 /// # Errors
-/// A response kind that does not parse; [`Channels::named`]'s.
+/// A response kind or a `record_by` (TDMS files: `file` or `group`) that does not parse;
+/// [`Channels::named`]'s.
 pub(super) fn channels(
     settings: &[Setting],
     geometry: Option<&Geometry>,
@@ -100,6 +102,12 @@ pub(super) fn channels(
         files,
     )?;
     channels.geometry = geometry.cloned();
+    if let Some(by) = list(&["record-by"]).pop() {
+        channels.record_by = by.parse().map_err(|message| Error::InvalidOption {
+            option: "record-by",
+            message,
+        })?;
+    }
     Ok(channels)
 }
 

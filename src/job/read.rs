@@ -9,6 +9,7 @@ use std::sync::mpsc::{Receiver, sync_channel};
 use crate::error::{Error, Result};
 use crate::io::{self, CsvLayout};
 use crate::records::{Record, Response};
+use crate::tdms::{RecordBy, TdmsLayout};
 use crate::uff::{UffChannel, UffLayout};
 
 use super::Geometry;
@@ -35,6 +36,9 @@ pub struct Channels {
     /// Sensor planes moved to the bearing plane after reading ([`Geometry::apply`]), if the
     /// probes are not at the bearing.
     pub geometry: Option<Geometry>,
+    /// TDMS files (`.tdms`): one record per file or per group. Their channels are named as
+    /// CSV columns are ([`Channels::csv`]: `GROUP/CHANNEL`, or `CHANNEL` when unique).
+    pub record_by: RecordBy,
 }
 
 impl Channels {
@@ -134,6 +138,7 @@ impl Channels {
             uff: uff_layout,
             responses: responses.to_vec(),
             geometry: None,
+            record_by: RecordBy::File,
         };
         // A column given as both force and response, before any file is read.
         channels.check()?;
@@ -276,9 +281,23 @@ pub fn is_uff(path: &Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
 }
 
+/// Whether `path` is a TDMS file (`.tdms`, any case).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::job::is_tdms;
+/// assert!(is_tdms("rig/run3.TDMS".as_ref()));
+/// assert!(!is_tdms("rig/run3.tdms_index".as_ref()));
+/// ```
+pub fn is_tdms(path: &Path) -> bool {
+    path.extension()
+        .and_then(|x| x.to_str())
+        .is_some_and(|x| x.eq_ignore_ascii_case("tdms"))
+}
+
 /// Every record of a file, at least one: one from a CSV file, one per load case of the time
-/// histories of a Universal File ([`crate::uff::records_with`]), with the response kinds of
-/// `channels`.
+/// histories of a Universal File ([`crate::uff::records_with`]), one per TDMS file or group
+/// ([`crate::tdms::records`]), with the response kinds of `channels`.
 ///
 /// # Errors
 /// The reader's errors, naming the file (and line, load case or channel);
@@ -300,6 +319,8 @@ pub fn is_uff(path: &Path) -> bool {
 pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
+    } else if is_tdms(path) {
+        read_tdms(path, channels)?
     } else {
         vec![with_kinds(
             io::read_record(path, &*channels.layout()?)?,
@@ -333,6 +354,8 @@ fn read_records(
 ) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
+    } else if is_tdms(path) {
+        read_tdms(path, channels)?
     } else {
         vec![with_kinds(reader.read(path)?, channels)?]
     };
@@ -351,6 +374,22 @@ fn moved(records: Vec<Record>, channels: &Channels) -> Result<Vec<Record>> {
 fn read_uff(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let functions = crate::uff::read(path)?;
     crate::uff::records_with(&functions, &path.display().to_string(), &channels.uff)
+}
+
+/// The records of a TDMS file, its channels named as CSV columns are.
+fn read_tdms(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let columns = channels.layout()?;
+    let layout = TdmsLayout {
+        time: columns.time.clone(),
+        forces: columns.forces.clone(),
+        responses: columns.displacements.clone(),
+        record_by: channels.record_by,
+    };
+    let file = crate::tdms::read(path)?;
+    crate::tdms::records(&file, &path.display().to_string(), &layout)?
+        .into_iter()
+        .map(|r| with_kinds(r, channels))
+        .collect()
 }
 
 /// `record` with the response kinds of `channels`, if any were given.

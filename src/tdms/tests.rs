@@ -352,3 +352,56 @@ fn names_with_quotes_and_slashes_split_by_their_quoting() {
     assert_eq!(parse::split_path_for_test("/"), Some(vec![]));
     assert_eq!(parse::split_path_for_test("/'open"), None);
 }
+
+/// Every byte of a valid two-segment file set to each of a few values, and every truncation:
+/// a file or a typed error, never a panic, and never more values than bytes.
+#[test]
+fn every_single_byte_edit_is_a_file_or_a_typed_error() {
+    let raw = |v: &[f64]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let mut bytes = Segment {
+        toc: META_RAW_NEW | (1 << 5),
+        meta: meta(&["fx", "x"], 10, 2, false),
+        raw: raw(&[1.0, 2.0, 3.0, 4.0]),
+        big_endian: false,
+    }
+    .bytes();
+    bytes.extend(
+        Segment {
+            toc: 1 << 3,
+            meta: Vec::new(),
+            raw: raw(&[5.0, 6.0, 7.0, 8.0]),
+            big_endian: false,
+        }
+        .bytes(),
+    );
+    let check = |b: &[u8]| match parse(b, "edit.tdms") {
+        Ok(file) => {
+            let n: usize = file
+                .groups
+                .iter()
+                .flat_map(|g| &g.channels)
+                .map(|c| c.values.len())
+                .sum();
+            assert!(n <= b.len());
+            let layout = TdmsLayout {
+                time: "t".into(),
+                forces: vec!["fx".into()],
+                responses: vec!["x".into()],
+                record_by: RecordBy::Group,
+            };
+            let _ = records(&file, "edit.tdms", &layout);
+        }
+        Err(e) => assert!(
+            matches!(e.kind().as_str(), "malformed_tdms" | "too_large"),
+            "{e}"
+        ),
+    };
+    for i in 0..bytes.len() {
+        for v in [0u8, 1, 0x7F, 0x80, 0xFF, bytes[i] ^ 0x40] {
+            let mut b = bytes.clone();
+            b[i] = v;
+            check(&b);
+        }
+        check(&bytes[..i]);
+    }
+}
