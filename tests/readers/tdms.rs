@@ -268,3 +268,42 @@ fn bad_files_are_typed_errors_naming_the_file() {
     assert_eq!(v["error"], "missing_column", "{v}");
     assert!(v["message"].as_str().unwrap().contains("hit1/nope"), "{v}");
 }
+
+/// A campaign plan reads TDMS files through the same reader: `files = [...]`, `record_by`,
+/// the same coefficients as `identify`.
+#[test]
+fn a_campaign_plan_reads_tdms_files() {
+    let Some(dir) = fixtures("a_campaign_plan_reads_tdms_files") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = tmp.path().join("plan.toml");
+    std::fs::write(
+        &plan,
+        format!(
+            "[identify]\nband = [8.0, 49.0]\nrecord_by = \"group\"\n\n[[point]]\nname = \"groups\"\n\
+             files = [\"{}\"]\n\n[[point]]\nname = \"files\"\nfiles = [\"{}\", \"{}\"]\n\
+             [point.identify]\nrecord_by = \"file\"\n",
+            dir.join("f32_groups.tdms").display(),
+            dir.join("f64_hit1.tdms").display(),
+            dir.join("f64_hit2.tdms").display(),
+        ),
+    )
+    .unwrap();
+    let out = run(&["campaign".as_ref(), plan.as_os_str(), "--json".as_ref()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points = v["points"].as_array().expect("points");
+    let csv = coefficients(
+        &[1, 2].map(|h| dir.join(format!("hit{h}.csv")).display().to_string()),
+        &[],
+    );
+    assert_eq!(points.len(), 2);
+    for p in points {
+        assert_eq!(p["K"], csv["K"], "{p}");
+    }
+}
