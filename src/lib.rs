@@ -158,6 +158,7 @@ pub mod text;
 pub mod tolerance;
 #[cfg(feature = "uff")]
 pub mod uff;
+pub mod units;
 
 // The types the façade's signatures name, at the crate root.
 pub use choice::Choice;

@@ -11,8 +11,16 @@ use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
 
 /// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 6] =
-    ["force", "disp", "resp", "response", "time", "record-by"];
+pub(super) const CHANNEL_NAMES: [&str; 8] = [
+    "force",
+    "disp",
+    "resp",
+    "response",
+    "time",
+    "record-by",
+    "force-unit",
+    "disp-unit",
+];
 
 /// Whether `name` (with `-` between words) is an option a plan can set.
 pub(super) fn is_setting(name: &str) -> bool {
@@ -108,6 +116,8 @@ pub(super) fn channels(
             message,
         })?;
     }
+    channels.force_units = list(&["force-unit"]);
+    channels.response_units = list(&["disp-unit"]);
     Ok(channels)
 }
 

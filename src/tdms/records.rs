@@ -52,17 +52,23 @@ pub struct TdmsLayout {
     pub responses: Vec<String>,
     /// One record per file or per group.
     pub record_by: RecordBy,
+    /// Units of the force channels, one for all or one per channel ([`crate::units::Unit`]),
+    /// in place of the channels' `unit_string`; none: as the file states them.
+    pub force_units: Vec<String>,
+    /// Units of the response channels, as `force_units`.
+    pub response_units: Vec<String>,
 }
 
 /// The records of a TDMS file read as `layout` says; `label` (the file) names them: the file
 /// itself, or `FILE:GROUP` per group. The sampling rate is `1/wf_increment` of the named
 /// channels (which must agree), or that of the time channel (uniform within
-/// [`TIME_GRID_TOLERANCE`] of a step) when they have none.
+/// [`TIME_GRID_TOLERANCE`] of a step) when they have none. Each channel is converted to SI
+/// from its unit: the layout's, else its `unit_string` (none: SI).
 ///
 /// # Errors
 /// [`Error::TdmsChannel`] for a channel that is not in the file, named ambiguously, or whose
-/// samples cannot be read (strings, a scaling other than linear or polynomial: kind
-/// `unsupported`); [`Error::TdmsRecord`] for channels of different lengths or rates, no rate,
+/// samples cannot be read (strings, a scaling other than linear or polynomial, a unit that is
+/// not a recognised one of its kind: kind `unsupported`); [`Error::TdmsRecord`] for channels of different lengths or rates, no rate,
 /// a time channel off its grid, or no group holding the channels; the errors of
 /// [`Record::new`].
 ///
@@ -268,12 +274,55 @@ fn record(
             uniform_rate(samples(time, &layout.time, label)?).map_err(bad)?
         }
     };
-    let own = |set: &[(&String, &Channel)]| -> Result<Vec<Vec<f64>>> {
-        set.iter()
-            .map(|(n, c)| Ok(samples(c, n, label)?.to_vec()))
-            .collect()
-    };
-    Record::new(label, rate, own(&forces)?, own(&responses)?)
+    let own =
+        |set: &[(&String, &Channel)], given: &[String], force: bool| -> Result<Vec<Vec<f64>>> {
+            set.iter()
+                .enumerate()
+                .map(|(i, (n, c))| {
+                    let mut v = samples(c, n, label)?.to_vec();
+                    let stated = crate::units::given(given, i, set.len()).or_else(|| c.unit());
+                    if let Some(stated) = stated {
+                        let to_si =
+                            si_factor(stated, force).map_err(|message| Error::TdmsChannel {
+                                path: excerpt(label),
+                                channel: excerpt(n),
+                                message,
+                                unsupported: true,
+                            })?;
+                        // SI stays bit for bit as read.
+                        if to_si != 1.0 {
+                            v.iter_mut().for_each(|x| *x *= to_si);
+                        }
+                    }
+                    Ok(v)
+                })
+                .collect()
+        };
+    Record::new(
+        label,
+        rate,
+        own(&forces, &layout.force_units, true)?,
+        own(&responses, &layout.response_units, false)?,
+    )
+}
+
+/// The factor to SI of unit `name` of a force (`force`) or response channel, or why there is
+/// none.
+fn si_factor(name: &str, force: bool) -> std::result::Result<f64, String> {
+    let what = if force { "force" } else { "response" };
+    let option = if force { "--force-unit" } else { "--disp-unit" };
+    match crate::units::Unit::named(name) {
+        Some(u) if u.fits(force) => Ok(u.to_si),
+        Some(u) => Err(format!(
+            "its unit `{}` is not a {what} unit: give {option}",
+            u.name
+        )),
+        None => Err(format!(
+            "its unit `{}` is not one this reader converts to SI (N, kN, lbf; m, mm, um, in, \
+             mil; m/s, in/s; m/s^2, g): give {option}",
+            excerpt(name)
+        )),
+    }
 }
 
 /// The rate of a uniform time channel: `(N − 1)/(t_last − t_0)`, every time within

@@ -307,3 +307,68 @@ fn a_campaign_plan_reads_tdms_files() {
         assert_eq!(p["K"], csv["K"], "{p}");
     }
 }
+
+/// A record in lbf and mil, read with its units (stated in the TDMS file, or given for the
+/// CSV), identifies to the coefficients of its SI version within rounding.
+#[test]
+fn records_in_lbf_and_mil_identify_as_their_si_version() {
+    let Some(dir) = fixtures("records_in_lbf_and_mil_identify_as_their_si_version") else {
+        return;
+    };
+    let files = |pattern: &str| -> Vec<String> {
+        (1..=2)
+            .map(|h| {
+                dir.join(pattern.replace('#', &h.to_string()))
+                    .display()
+                    .to_string()
+            })
+            .collect()
+    };
+    let si = coefficients(&files("hit#.csv"), &[]);
+    let close = |got: &serde_json::Value, what: &str| {
+        for key in ["M", "C", "K"] {
+            for (a, b) in got[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(si[key].as_array().unwrap())
+            {
+                for (x, y) in a.as_array().unwrap().iter().zip(b.as_array().unwrap()) {
+                    let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+                    let scale = si[key][0][0].as_f64().unwrap().abs();
+                    assert!((x - y).abs() <= 1e-9 * scale, "{what} {key}: {x} vs {y}");
+                }
+            }
+        }
+    };
+    close(
+        &coefficients(&files("us_hit#.tdms"), &[]),
+        "TDMS unit_string",
+    );
+    close(
+        &coefficients(
+            &files("us_hit#.csv"),
+            &["--force-unit", "lbf", "--disp-unit", "mil"],
+        ),
+        "CSV --force-unit lbf --disp-unit mil",
+    );
+    // Given units outrank the file's: stating N and m reads the numbers as SI.
+    let raw = coefficients(
+        &files("us_hit#.tdms"),
+        &["--force-unit", "N", "--disp-unit", "m"],
+    );
+    assert_eq!(raw, coefficients(&files("us_hit#.csv"), &[]));
+    // A unit nobody knows is refused, naming it.
+    let out = run(&[
+        "identify",
+        "--json",
+        "--band",
+        "8,49",
+        "--force-unit",
+        "kip·ft",
+        &files("hit#.csv")[0],
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["error"], "invalid_argument", "{v}");
+    assert!(v["message"].as_str().unwrap().contains("kip·ft"), "{v}");
+}

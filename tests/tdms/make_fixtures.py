@@ -18,7 +18,8 @@ same numbers are exact as float64, float32 and scaled int16. Written as:
 - be_interleaved_hit1.tdms, …hit2.tdms  float64, big-endian, interleaved: npTDMS does not write
                                         these, so the bytes are made here and npTDMS reads them
                                         back to the same samples before they are kept
-- us_hit1.tdms, us_hit2.tdms            float64 in lbf and mil (unit_string), wf_increment
+- us_hit1.tdms, us_hit2.tdms            float64 in lbf and mil (unit_string), wf_increment;
+  us_hit1.csv, us_hit2.csv              the same numbers as CSV
 """
 
 import struct
@@ -139,8 +140,10 @@ def main(out):
         be_interleaved(out / f"be_interleaved_hit{h}.tdms", cols)
         with TdmsWriter(out / f"us_hit{h}.tdms") as w:
             units = ["lbf", "lbf", "mil", "mil"]
-            w.write_segment([ChannelObject("data", n, c / (LBF if u == "lbf" else MIL), {**wf, "unit_string": u})
-                             for n, c, u in zip(NAMES, cols, units)])
+            us = [c / (LBF if u == "lbf" else MIL) for c, u in zip(cols, units)]
+            w.write_segment([ChannelObject("data", n, c, {**wf, "unit_string": u})
+                             for n, c, u in zip(NAMES, us, units)])
+        write_csv(out / f"us_hit{h}.csv", t, us)
     with TdmsWriter(out / "f32_groups.tdms") as w:
         for k in range(8):
             part = slice(k * N // 8, (k + 1) * N // 8)

@@ -148,6 +148,15 @@ pub struct IdentifyArgs {
     /// channels have no `wf_increment` property.
     #[arg(long, default_value = "t")]
     time: String,
+    /// Units of the force channels, one for all or one per channel (comma list): N, kN, mN,
+    /// lbf. Samples are converted to SI on reading. Default: N, or the unit a TDMS file
+    /// states (`unit_string`).
+    #[arg(long, value_delimiter = ',', value_name = "UNIT")]
+    force_unit: Vec<String>,
+    /// Units of the response channels, as `--force-unit`: m, mm, um, nm, in, mil (mils);
+    /// m/s, mm/s, in/s; m/s^2, mm/s^2, in/s^2, g.
+    #[arg(long, value_delimiter = ',', value_name = "UNIT")]
+    disp_unit: Vec<String>,
     /// TDMS files: one record per file, or one per group holding the named channels.
     #[arg(long, value_name = "file|group", default_value = "file")]
     record_by: bearing_ident::tdms::RecordBy,
@@ -215,6 +224,8 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
         channels.geometry = Some(bearing_ident::campaign::Plan::read_geometry(path)?);
     }
     channels.record_by = args.record_by;
+    channels.force_units.clone_from(&args.force_unit);
+    channels.response_units.clone_from(&args.disp_unit);
     Ok(channels)
 }
 
