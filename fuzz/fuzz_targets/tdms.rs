@@ -25,6 +25,7 @@ fuzz_target!(|data: &[u8]| {
                     forces: vec!["fx".into()],
                     responses: vec!["x".into()],
                     record_by,
+                    ..TdmsLayout::default()
                 };
                 let _ = tdms::records(&file, "fuzz.tdms", &layout);
             }

@@ -388,6 +388,7 @@ fn every_single_byte_edit_is_a_file_or_a_typed_error() {
                 forces: vec!["fx".into()],
                 responses: vec!["x".into()],
                 record_by: RecordBy::Group,
+                ..TdmsLayout::default()
             };
             let _ = records(&file, "edit.tdms", &layout);
         }
@@ -403,5 +404,61 @@ fn every_single_byte_edit_is_a_file_or_a_typed_error() {
             check(&b);
         }
         check(&bytes[..i]);
+    }
+}
+
+/// A channel's `unit_string` converts it to SI; a given unit outranks it; a unit not known, or
+/// of the wrong kind, is refused naming the channel and the unit.
+#[test]
+fn stated_units_convert_to_si_and_unknown_ones_are_refused() {
+    let channel = |name: &str, unit: &str| Channel {
+        name: name.into(),
+        values: vec![1.0; 16],
+        properties: vec![
+            Property {
+                name: "wf_increment".into(),
+                value: Value::Float(0.001),
+            },
+            Property {
+                name: "unit_string".into(),
+                value: Value::Text(unit.into()),
+            },
+        ],
+        ..Channel::default()
+    };
+    let file = |f: &str, x: &str| TdmsFile {
+        groups: vec![Group {
+            name: "g".into(),
+            channels: vec![channel("fx", f), channel("x", x)],
+            ..Group::default()
+        }],
+        ..TdmsFile::default()
+    };
+    let layout = TdmsLayout {
+        forces: vec!["fx".into()],
+        responses: vec!["x".into()],
+        ..TdmsLayout::default()
+    };
+    let r = records(&file("lbf", "mil"), "us.tdms", &layout).unwrap();
+    assert_eq!(r[0].force(0)[0].to_bits(), crate::units::LBF.to_bits());
+    assert_eq!(
+        r[0].displacement(0)[0].to_bits(),
+        (1e-3 * crate::units::INCH).to_bits()
+    );
+    let given = TdmsLayout {
+        force_units: vec!["N".into()],
+        ..layout.clone()
+    };
+    assert_eq!(
+        records(&file("lbf", "m"), "g.tdms", &given).unwrap()[0].force(0)[0].to_bits(),
+        1f64.to_bits()
+    );
+    for (f, x, named) in [
+        ("V", "m", "`V`"),
+        ("N", "lbf", "`lbf` is not a response unit"),
+    ] {
+        let e = records(&file(f, x), "bad.tdms", &layout).unwrap_err();
+        assert_eq!(e.kind(), "unsupported", "{e}");
+        assert!(e.to_string().contains(named), "{e}");
     }
 }

@@ -358,6 +358,32 @@ fn records_in_lbf_and_mil_identify_as_their_si_version() {
         &["--force-unit", "N", "--disp-unit", "m"],
     );
     assert_eq!(raw, coefficients(&files("us_hit#.csv"), &[]));
+    // `--units us`: the table in lbf/in, lbf·s/in, lbm; the JSON keeps SI and adds them.
+    let mut args: Vec<String> = ["identify", "--json", "--band", "8,49", "--units", "us"]
+        .map(String::from)
+        .to_vec();
+    args.extend(files("us_hit#.tdms"));
+    let v: serde_json::Value = serde_json::from_slice(&run(&args).stdout).unwrap();
+    assert_eq!(v["units"]["output"], "us");
+    assert_eq!(v["units"]["K"], "lbf/in");
+    let (k, k_us) = (
+        v["K"][0][0].as_f64().unwrap(),
+        v["K_us"][0][0].as_f64().unwrap(),
+    );
+    assert!(
+        (k_us / (k * 0.0254 / 4.448_221_615_260_5) - 1.0).abs() < 1e-12,
+        "{k} {k_us}"
+    );
+    let (m, m_us) = (
+        v["M"][1][1].as_f64().unwrap(),
+        v["M_us"][1][1].as_f64().unwrap(),
+    );
+    assert!((m_us * 0.453_592_37 / m - 1.0).abs() < 1e-12, "{m} {m_us}");
+    args.remove(1);
+    let text = String::from_utf8(run(&args).stdout).unwrap();
+    for label in ["M_xx (lbm)", "C_xy (lbf·s/in)", "K_yy (lbf/in)"] {
+        assert!(text.contains(label), "{label}: {text}");
+    }
     // A unit nobody knows is refused, naming it.
     let out = run(&[
         "identify",

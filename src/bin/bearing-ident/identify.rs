@@ -157,6 +157,10 @@ pub struct IdentifyArgs {
     /// m/s, mm/s, in/s; m/s^2, mm/s^2, in/s^2, g.
     #[arg(long, value_delimiter = ',', value_name = "UNIT")]
     disp_unit: Vec<String>,
+    /// Units of the printed coefficients: `si` (kg, N·s/m, N/m) or `us` (lbm, lbf·s/in,
+    /// lbf/in); the JSON keeps SI and adds `M_us`, `C_us`, `K_us` (and their `*_std_us`).
+    #[arg(long, value_name = "si|us", default_value = "si", value_parser = ["si", "us"])]
+    units: String,
     /// TDMS files: one record per file, or one per group holding the named channels.
     #[arg(long, value_name = "file|group", default_value = "file")]
     record_by: bearing_ident::tdms::RecordBy,
@@ -323,7 +327,20 @@ fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Fa
     } else {
         args.disp.clone()
     };
-    report::Context::of(outcome, args.timings, axes, args.per_frequency)
+    let mut context = report::Context::of(outcome, args.timings, axes, args.per_frequency)?;
+    context.us_units = args.units == "us";
+    let us = context.us_units;
+    context.units = serde_json::json!({
+        "output": args.units,
+        "M": if us { "lbm" } else { "kg" },
+        "C": if us { "lbf·s/in" } else { "N·s/m" },
+        "K": if us { "lbf/in" } else { "N/m" },
+        "json_coefficients": "SI: M kg, C N·s/m, K N/m",
+        "force_given": args.force_unit,
+        "response_given": args.disp_unit,
+        "read": "channels converted to SI on reading: the given units, else a TDMS file's unit_string, else SI",
+    });
+    Ok(context)
 }
 
 /// Files read again for the record figure of `identify --plot`.
