@@ -451,6 +451,8 @@ fn in_si(record: Record, channels: &Channels) -> Result<Record> {
         factors(&channels.force_units, true)?,
         factors(&channels.response_units, false)?,
     );
+    // Exactly 1 (SI given): the record stays bit for bit as read.
+    #[allow(clippy::float_cmp)]
     if f.iter().chain(&x).all(|&k| k == 1.0) {
         return Ok(record);
     }

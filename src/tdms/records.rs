@@ -224,6 +224,7 @@ fn samples<'a>(c: &'a Channel, name: &str, label: &str) -> Result<&'a [f64]> {
 }
 
 /// One record of the named channels (in `group`, or anywhere in the file).
+#[allow(clippy::float_cmp)] // a factor of exactly 1 (SI) leaves the samples as read
 fn record(
     file: &TdmsFile,
     group: Option<&Group>,
