@@ -330,16 +330,17 @@ fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Fa
     let mut context = report::Context::of(outcome, args.timings, axes, args.per_frequency)?;
     context.us_units = args.units == "us";
     let us = context.us_units;
-    context.units = serde_json::json!({
-        "output": args.units,
-        "M": if us { "lbm" } else { "kg" },
-        "C": if us { "lbf·s/in" } else { "N·s/m" },
-        "K": if us { "lbf/in" } else { "N/m" },
-        "json_coefficients": "SI: M kg, C N·s/m, K N/m",
-        "force_given": args.force_unit,
-        "response_given": args.disp_unit,
-        "read": "channels converted to SI on reading: the given units, else a TDMS file's unit_string, else SI",
-    });
+    // Reported when units were given or US output asked for; the default JSON is SI as ever.
+    if us || !args.force_unit.is_empty() || !args.disp_unit.is_empty() {
+        context.units = serde_json::json!({
+            "output": args.units,
+            "M": if us { "lbm" } else { "kg" },
+            "C": if us { "lbf·s/in" } else { "N·s/m" },
+            "K": if us { "lbf/in" } else { "N/m" },
+            "force": args.force_unit,
+            "response": args.disp_unit,
+        });
+    }
     Ok(context)
 }
 

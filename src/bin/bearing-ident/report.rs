@@ -41,7 +41,8 @@ pub struct Context {
     /// Print the coefficients in US customary units (lbm, lbf·s/in, lbf/in; `--units us`);
     /// the JSON keeps SI and adds them as `M_us`, `C_us`, `K_us`.
     pub us_units: bool,
-    /// The JSON's `units`: the units the channels were given in and those of the output.
+    /// The JSON's `units` (null: none): the units the channels were given in (`force`,
+    /// `response`) and those of the printed coefficients (`output`, `M`, `C`, `K`).
     pub units: serde_json::Value,
 }
 
