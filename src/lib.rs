@@ -90,6 +90,9 @@
 //!   reports, drawn by plotters' SVG backend (no system libraries);
 //! - `uff` — [`uff`]: read and write Universal File Format dataset 58 / 58b (time histories,
 //!   FRFs, coherence, spectra; ASCII and binary) and build records from its time histories;
+//! - `tdms` — [`tdms`]: TDMS files of NI LabVIEW and DAQmx (every numeric type, little- and
+//!   big-endian, interleaved and contiguous, incremental metadata, linear and polynomial
+//!   scaling) and records from their channels; no dependencies;
 //! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
 //!   (TOML or JSON), constant or per frequency; with `uff`, [`export::uff`] writes the measured
 //!   and model FRFs and the coherences of an identification as dataset 58 functions;
@@ -98,7 +101,7 @@
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build;
 //! - `job` — [`job`]: one path from record files (CSV, Universal File) to a result, as the
-//!   command line's `identify` takes it (implies `csv` and `uff`).
+//!   command line's `identify` takes it (implies `csv`, `uff` and `tdms`).
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
@@ -149,10 +152,13 @@ pub mod solve;
 pub mod spectra;
 pub mod statistics;
 pub mod stepped;
+#[cfg(feature = "tdms")]
+pub mod tdms;
 pub mod text;
 pub mod tolerance;
 #[cfg(feature = "uff")]
 pub mod uff;
+pub mod units;
 
 // The types the façade's signatures name, at the crate root.
 pub use choice::Choice;

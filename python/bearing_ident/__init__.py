@@ -35,6 +35,7 @@ __all__ = [
     "identify",
     "read_csv",
     "read_uff",
+    "read_tdms",
     "run_campaign",
     "simulate",
 ]
@@ -473,6 +474,28 @@ def read_uff(
     """
     response = [response] if isinstance(response, str) else list(response)
     return _from_native(_call(_native.read_files, [path], list(force), list(disp), "t", response))
+
+
+def read_tdms(
+    paths: str | Sequence[str],
+    force: Sequence[str] = ("fx", "fy"),
+    disp: Sequence[str] = ("x", "y"),
+    time: str = "t",
+    record_by: str = "file",
+    response: str | Sequence[str] = (),
+) -> list[Record]:
+    """Records of TDMS files (NI LabVIEW, DAQmx), read as ``bearing-ident identify`` reads them.
+
+    ``force`` and ``disp`` name channels ``GROUP/CHANNEL``, or ``CHANNEL`` when it is unique
+    in the file; the rate is the channels' ``wf_increment``, or that of the ``time`` channel.
+    ``record_by``: one record per file (``"file"``) or per group holding the channels
+    (``"group"``). NI's linear and polynomial scaling is applied.
+    """
+    paths = [paths] if isinstance(paths, str) else list(paths)
+    response = [response] if isinstance(response, str) else list(response)
+    return _from_native(
+        _call(_native.read_files, paths, list(force), list(disp), time, response, record_by)
+    )
 
 
 def simulate(

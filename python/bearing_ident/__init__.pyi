@@ -34,6 +34,8 @@ class DeadChannelError(BearingIdentError): ...  # kind 'dead_channel'
 class TooLargeError(BearingIdentError): ...  # kind 'too_large'
 class BadBaselineError(BearingIdentError): ...  # kind 'bad_baseline'
 class MalformedUffError(BearingIdentError): ...  # kind 'malformed_uff'
+class MalformedTdmsError(BearingIdentError): ...  # kind 'malformed_tdms'
+class UnsupportedError(BearingIdentError): ...  # kind 'unsupported'
 class InvalidInputError(BearingIdentError): ...  # kind 'invalid_input'
 class MissingResponseError(BearingIdentError): ...  # kind 'missing_response'
 class UnderdeterminedError(BearingIdentError): ...  # kind 'underdetermined'
@@ -99,6 +101,14 @@ def read_csv(
     force: Sequence[str] = ("fx", "fy"),
     disp: Sequence[str] = ("x", "y"),
     time: str = "t",
+    response: str | Sequence[str] = (),
+) -> list[Record]: ...
+def read_tdms(
+    paths: str | Sequence[str],
+    force: Sequence[str] = ("fx", "fy"),
+    disp: Sequence[str] = ("x", "y"),
+    time: str = "t",
+    record_by: str = "file",
     response: str | Sequence[str] = (),
 ) -> list[Record]: ...
 def read_uff(

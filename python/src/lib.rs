@@ -311,16 +311,18 @@ fn identify(
     })
 }
 
-/// The records of CSV files (one each) or Universal Files (one per load case), as tuples
+/// The records of CSV files (one each), Universal Files (one per load case) or TDMS files
+/// (one per file or per group, `record_by`), as tuples
 /// `(force, response, fs, label, response_kinds)` of nested lists.
 #[pyfunction]
-#[pyo3(signature = (paths, force, disp, time, response))]
+#[pyo3(signature = (paths, force, disp, time, response, record_by = "file"))]
 fn read_files(
     paths: Vec<String>,
     force: Vec<String>,
     disp: Vec<String>,
     time: String,
     response: Vec<String>,
+    record_by: &str,
 ) -> PyResult<Vec<PyRecordOut>> {
     let responses = response
         .iter()
@@ -328,8 +330,9 @@ fn read_files(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| raise(&e))?;
     let files: Vec<std::path::PathBuf> = paths.iter().map(Into::into).collect();
-    let channels =
+    let mut channels =
         Channels::named(&force, &disp, &responses, &time, &files).map_err(|e| raise(&e))?;
+    channels.record_by = record_by.parse().map_err(invalid)?;
     let mut out = Vec::new();
     for path in &paths {
         let records =

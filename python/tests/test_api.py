@@ -414,3 +414,32 @@ def test_exception_names_are_the_kinds_without_a_doubled_suffix(tmp_path):
         bi.read_csv([str(tmp_path / "records")])
     with pytest.raises(bi.IoErrorError):
         bi.read_csv(["/no/such/file.csv"])
+
+
+def test_read_tdms_reads_the_samples_of_the_csv(tmp_path):
+    """A TDMS file written by npTDMS (one group per hit) reads to the samples of the CSV of the
+    same records, and identifies to the same result (the rate is 1/wf_increment, so within
+    rounding: the bit-for-bit comparisons are tests/readers/tdms.rs's, at a rate of 1024 Hz)."""
+    nptdms = pytest.importorskip("nptdms")
+    subprocess.run([CLI, "simulate", "--impacts", "2", "--out", str(tmp_path)], check=True, capture_output=True)
+    files = sorted(str(p) for p in tmp_path.glob("*.csv"))
+    csv = bi.read_csv(files)
+    path = tmp_path / "hits.tdms"
+    with nptdms.TdmsWriter(str(path)) as w:
+        for k, r in enumerate(csv):
+            props = {"wf_increment": 1.0 / r.fs}
+            w.write_segment(
+                [nptdms.ChannelObject(f"hit{k}", n, np.asarray(r.force[i]), props) for i, n in enumerate(["fx", "fy"])]
+                + [nptdms.ChannelObject(f"hit{k}", n, np.asarray(r.response[i]), props) for i, n in enumerate(["x", "y"])]
+            )
+    tdms = bi.read_tdms(str(path), record_by="group")
+    assert len(tdms) == len(csv)
+    for a, b in zip(tdms, csv):
+        assert np.array_equal(np.asarray(a.force), np.asarray(b.force))
+        assert np.array_equal(np.asarray(a.response), np.asarray(b.response))
+    one = bi.identify(tdms, band=(8, 49)).to_dict()
+    two = bi.identify(csv, band=(8, 49)).to_dict()
+    for key in ("M", "C", "K"):
+        assert np.allclose(one[key], two[key], rtol=1e-9, atol=0), key
+    with pytest.raises(bi.MissingColumnError):
+        bi.read_tdms(str(path))  # `fx` is in every group: ambiguous for one record per file

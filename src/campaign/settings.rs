@@ -11,7 +11,16 @@ use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
 
 /// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 5] = ["force", "disp", "resp", "response", "time"];
+pub(super) const CHANNEL_NAMES: [&str; 8] = [
+    "force",
+    "disp",
+    "resp",
+    "response",
+    "time",
+    "record-by",
+    "force-unit",
+    "disp-unit",
+];
 
 /// Whether `name` (with `-` between words) is an option a plan can set.
 pub(super) fn is_setting(name: &str) -> bool {
@@ -73,7 +82,8 @@ pub(super) fn options(
 /// plan's `geometry`, for `files`.
 ///
 /// # Errors
-/// A response kind that does not parse; [`Channels::named`]'s.
+/// A response kind or a `record_by` (TDMS files: `file` or `group`) that does not parse;
+/// [`Channels::named`]'s.
 pub(super) fn channels(
     settings: &[Setting],
     geometry: Option<&Geometry>,
@@ -100,6 +110,14 @@ pub(super) fn channels(
         files,
     )?;
     channels.geometry = geometry.cloned();
+    if let Some(by) = list(&["record-by"]).pop() {
+        channels.record_by = by.parse().map_err(|message| Error::InvalidOption {
+            option: "record-by",
+            message,
+        })?;
+    }
+    channels.force_units = list(&["force-unit"]);
+    channels.response_units = list(&["disp-unit"]);
     Ok(channels)
 }
 

@@ -59,6 +59,11 @@ named_table! {
         BadBaseline => "bad_baseline",
         /// A Universal File that cannot be read.
         MalformedUff => "malformed_uff",
+        /// A TDMS file that cannot be read.
+        MalformedTdms => "malformed_tdms",
+        /// Data of a kind the reader does not read (a TDMS channel of strings, or with a
+        /// scaling other than linear or polynomial).
+        Unsupported => "unsupported",
         /// Field identification: a rotor model or test set that is not well formed.
         InvalidInput => "invalid_input",
         /// Field identification: a probe without its response at some speed and test.
@@ -173,6 +178,18 @@ impl Error {
             Error::Uff { .. } => ErrorKind::MalformedUff,
             #[cfg(feature = "uff")]
             Error::UffRecord { .. } => ErrorKind::InconsistentRecords,
+            #[cfg(feature = "tdms")]
+            Error::Tdms { .. } => ErrorKind::MalformedTdms,
+            #[cfg(feature = "tdms")]
+            Error::TdmsChannel { unsupported, .. } => {
+                if *unsupported {
+                    ErrorKind::Unsupported
+                } else {
+                    ErrorKind::MissingColumn
+                }
+            }
+            #[cfg(feature = "tdms")]
+            Error::TdmsRecord { .. } => ErrorKind::InconsistentRecords,
             Error::ExportDofs { .. } => ErrorKind::InvalidArgument,
             Error::SimulationDiverged { .. } => ErrorKind::NonFinite,
             Error::Plan { .. } => ErrorKind::InvalidInput,

@@ -508,6 +508,21 @@ impl fmt::Display for Error {
                 load_case,
                 message,
             } => write!(f, "{path}: load case {load_case}: {message}"),
+            #[cfg(feature = "tdms")]
+            Error::Tdms {
+                path,
+                offset,
+                message,
+            } => write!(f, "{path}, byte {offset}: {message}"),
+            #[cfg(feature = "tdms")]
+            Error::TdmsChannel {
+                path,
+                channel,
+                message,
+                ..
+            } => write!(f, "{path}: channel `{channel}`: {message}"),
+            #[cfg(feature = "tdms")]
+            Error::TdmsRecord { path, message } => write!(f, "{path}: {message}"),
             Error::ExportDofs {
                 format,
                 dofs,

@@ -577,6 +577,41 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A TDMS file is malformed: a lead-in without its `TDSm` tag or cut short, a segment
+    /// longer than the file, metadata cut short, an unknown data type, raw data that are not
+    /// whole chunks of the declared sizes (feature `tdms`).
+    #[cfg(feature = "tdms")]
+    Tdms {
+        /// The file (or the label given to [`tdms::parse`](crate::tdms::parse)).
+        path: String,
+        /// Byte offset in the file of the segment, metadata or data at fault.
+        offset: u64,
+        /// What is wrong.
+        message: String,
+    },
+    /// A channel of a TDMS file named for a record is not in it, is named ambiguously, or its
+    /// samples cannot be read (strings, a scaling other than linear or polynomial).
+    #[cfg(feature = "tdms")]
+    TdmsChannel {
+        /// The file.
+        path: String,
+        /// The channel as named.
+        channel: String,
+        /// What is wrong.
+        message: String,
+        /// Whether the channel is there but its data are of a kind not read (kind
+        /// `unsupported`) rather than missing (kind `missing_column`).
+        unsupported: bool,
+    },
+    /// The channels of a TDMS file do not make a record: different lengths or rates, no rate,
+    /// a time channel off its grid, no group holding them.
+    #[cfg(feature = "tdms")]
+    TdmsRecord {
+        /// The file (or `FILE:GROUP`).
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
     /// An identification exported to a format of a fixed number of degrees of freedom has
     /// another: a ROSS bearing element (feature `ross`) is 2-DOF (`x`, `y`).
     ExportDofs {

@@ -48,7 +48,7 @@ pub use geometry::Geometry;
 pub use json::{Facts, json};
 pub use options::{Options, WindowChoice, parse_band};
 pub use outcome::{Bearing, Outcome};
-pub use read::{Channels, is_uff, read_file, read_first, response_columns};
+pub use read::{Channels, is_tdms, is_uff, read_file, read_first, response_columns};
 pub use timings::Timings;
 
 use crate::Method;

@@ -9,6 +9,7 @@ use std::sync::mpsc::{Receiver, sync_channel};
 use crate::error::{Error, Result};
 use crate::io::{self, CsvLayout};
 use crate::records::{Record, Response};
+use crate::tdms::{RecordBy, TdmsLayout};
 use crate::uff::{UffChannel, UffLayout};
 
 use super::Geometry;
@@ -35,6 +36,15 @@ pub struct Channels {
     /// Sensor planes moved to the bearing plane after reading ([`Geometry::apply`]), if the
     /// probes are not at the bearing.
     pub geometry: Option<Geometry>,
+    /// TDMS files (`.tdms`): one record per file or per group. Their channels are named as
+    /// CSV columns are ([`Channels::csv`]: `GROUP/CHANNEL`, or `CHANNEL` when unique).
+    pub record_by: RecordBy,
+    /// Units of the force channels ([`crate::units::Unit::named`]), one for all or one per
+    /// channel: each channel is converted to SI on reading. None: SI, or as a TDMS file
+    /// states them (`unit_string`).
+    pub force_units: Vec<String>,
+    /// Units of the response channels, as `force_units`.
+    pub response_units: Vec<String>,
 }
 
 impl Channels {
@@ -134,6 +144,9 @@ impl Channels {
             uff: uff_layout,
             responses: responses.to_vec(),
             geometry: None,
+            record_by: RecordBy::File,
+            force_units: Vec::new(),
+            response_units: Vec::new(),
         };
         // A column given as both force and response, before any file is read.
         channels.check()?;
@@ -276,9 +289,23 @@ pub fn is_uff(path: &Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("uff") || x.eq_ignore_ascii_case("unv"))
 }
 
+/// Whether `path` is a TDMS file (`.tdms`, any case).
+///
+/// # Examples
+/// ```
+/// use bearing_ident::job::is_tdms;
+/// assert!(is_tdms("rig/run3.TDMS".as_ref()));
+/// assert!(!is_tdms("rig/run3.tdms_index".as_ref()));
+/// ```
+pub fn is_tdms(path: &Path) -> bool {
+    path.extension()
+        .and_then(|x| x.to_str())
+        .is_some_and(|x| x.eq_ignore_ascii_case("tdms"))
+}
+
 /// Every record of a file, at least one: one from a CSV file, one per load case of the time
-/// histories of a Universal File ([`crate::uff::records_with`]), with the response kinds of
-/// `channels`.
+/// histories of a Universal File ([`crate::uff::records_with`]), one per TDMS file or group
+/// ([`crate::tdms::records`]), with the response kinds of `channels`.
 ///
 /// # Errors
 /// The reader's errors, naming the file (and line, load case or channel);
@@ -299,10 +326,12 @@ pub fn is_uff(path: &Path) -> bool {
 /// ```
 pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
-        read_uff(path, channels)?
+        in_si_all(read_uff(path, channels)?, channels)?
+    } else if is_tdms(path) {
+        read_tdms(path, channels)?
     } else {
         vec![with_kinds(
-            io::read_record(path, &*channels.layout()?)?,
+            in_si(io::read_record(path, &*channels.layout()?)?, channels)?,
             channels,
         )?]
     };
@@ -332,9 +361,11 @@ fn read_records(
     reader: &mut io::CsvReader,
 ) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
-        read_uff(path, channels)?
+        in_si_all(read_uff(path, channels)?, channels)?
+    } else if is_tdms(path) {
+        read_tdms(path, channels)?
     } else {
-        vec![with_kinds(reader.read(path)?, channels)?]
+        vec![with_kinds(in_si(reader.read(path)?, channels)?, channels)?]
     };
     moved(records, channels)
 }
@@ -353,6 +384,24 @@ fn read_uff(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     crate::uff::records_with(&functions, &path.display().to_string(), &channels.uff)
 }
 
+/// The records of a TDMS file, its channels named as CSV columns are.
+fn read_tdms(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let columns = channels.layout()?;
+    let layout = TdmsLayout {
+        time: columns.time.clone(),
+        forces: columns.forces.clone(),
+        responses: columns.displacements.clone(),
+        record_by: channels.record_by,
+        force_units: channels.force_units.clone(),
+        response_units: channels.response_units.clone(),
+    };
+    let file = crate::tdms::read(path)?;
+    crate::tdms::records(&file, &path.display().to_string(), &layout)?
+        .into_iter()
+        .map(|r| with_kinds(r, channels))
+        .collect()
+}
+
 /// `record` with the response kinds of `channels`, if any were given.
 fn with_kinds(record: Record, channels: &Channels) -> Result<Record> {
     if channels.responses.is_empty() {
@@ -360,6 +409,69 @@ fn with_kinds(record: Record, channels: &Channels) -> Result<Record> {
     }
     let kinds = Response::per_channel(&channels.responses, record.dofs())?;
     record.with_responses(kinds)
+}
+
+/// `record` with each channel multiplied by the SI factor of its unit as given
+/// ([`Channels::force_units`], [`Channels::response_units`]; none: as read). TDMS records are
+/// converted by their reader, which knows the units the file states.
+fn in_si(record: Record, channels: &Channels) -> Result<Record> {
+    if channels.force_units.is_empty() && channels.response_units.is_empty() {
+        return Ok(record);
+    }
+    let n = record.dofs();
+    let factors = |given: &[String], force: bool| -> Result<Vec<f64>> {
+        let option = if force { "force-unit" } else { "disp-unit" };
+        (0..n)
+            .map(|i| match crate::units::given(given, i, n) {
+                None if given.is_empty() => Ok(1.0),
+                None => Err(Error::InvalidOption {
+                    option,
+                    message: format!(
+                        "--{option} names {} units for {n} channels: give one for all or one \
+                         per channel",
+                        given.len()
+                    ),
+                }),
+                Some(name) => match crate::units::Unit::named(name) {
+                    Some(u) if u.fits(force) => Ok(u.to_si),
+                    _ => Err(Error::InvalidOption {
+                        option,
+                        message: format!(
+                            "--{option}: `{}` is not a {} unit this crate knows (N, kN, lbf; \
+                             m, mm, um, in, mil; m/s, in/s; m/s^2, g)",
+                            crate::error::excerpt(name),
+                            if force { "force" } else { "response" }
+                        ),
+                    }),
+                },
+            })
+            .collect()
+    };
+    let (f, x) = (
+        factors(&channels.force_units, true)?,
+        factors(&channels.response_units, false)?,
+    );
+    // Exactly 1 (SI given): the record stays bit for bit as read.
+    #[allow(clippy::float_cmp)]
+    if f.iter().chain(&x).all(|&k| k == 1.0) {
+        return Ok(record);
+    }
+    let scaled = |v: &[f64], k: f64| v.iter().map(|s| s * k).collect::<Vec<f64>>();
+    let kinds = record.responses().to_vec();
+    Record::new(
+        record.label(),
+        record.sample_rate(),
+        (0..n).map(|i| scaled(record.force(i), f[i])).collect(),
+        (0..n)
+            .map(|i| scaled(record.displacement(i), x[i]))
+            .collect(),
+    )?
+    .with_responses(kinds)
+}
+
+/// [`in_si`] of every record.
+fn in_si_all(records: Vec<Record>, channels: &Channels) -> Result<Vec<Record>> {
+    records.into_iter().map(|r| in_si(r, channels)).collect()
 }
 
 /// The files after the first, parsed ahead on worker threads: worker `w` of `k` reads files

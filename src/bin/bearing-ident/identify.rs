@@ -124,7 +124,8 @@ pub struct IdentifyArgs {
     /// `budget.calibration` and the combined `*_std`, `*_ci95`.
     #[arg(long, value_name = "SPEC")]
     calibration: Option<String>,
-    /// Force channels, one per degree of freedom. CSV: column names (default `fx,fy`).
+    /// Force channels, one per degree of freedom. CSV: column names (default `fx,fy`). TDMS:
+    /// channels `GROUP/CHANNEL`, or `CHANNEL` when unique (default `fx,fy`).
     /// Universal Files: `NODE+DIR`/`NODE-DIR` (DIR: X, Y, Z, RX, RY, RZ or 1–6; matches the
     /// response node and signed direction exactly) or `id:TEXT` (the first ID line, trimmed,
     /// equal to TEXT); default: every time history of data type 13.
@@ -143,9 +144,26 @@ pub struct IdentifyArgs {
     /// band lines (X = V/(iω) = A/(−ω²); with `--window exp:…`, iω + a).
     #[arg(long, value_delimiter = ',', value_parser = choice::<bearing_ident::Response>())]
     response: Vec<bearing_ident::Response>,
-    /// Time column (s).
+    /// Time column (s). TDMS files: the time channel, read when the force and response
+    /// channels have no `wf_increment` property.
     #[arg(long, default_value = "t")]
     time: String,
+    /// Units of the force channels, one for all or one per channel (comma list): N, kN, mN,
+    /// lbf. Samples are converted to SI on reading. Default: N, or the unit a TDMS file
+    /// states (`unit_string`).
+    #[arg(long, value_delimiter = ',', value_name = "UNIT")]
+    force_unit: Vec<String>,
+    /// Units of the response channels, as `--force-unit`: m, mm, um, nm, in, mil (mils);
+    /// m/s, mm/s, in/s; m/s^2, mm/s^2, in/s^2, g.
+    #[arg(long, value_delimiter = ',', value_name = "UNIT")]
+    disp_unit: Vec<String>,
+    /// Units of the printed coefficients: `si` (kg, N·s/m, N/m) or `us` (lbm, lbf·s/in,
+    /// lbf/in); the JSON keeps SI and adds `M_us`, `C_us`, `K_us` (and their `*_std_us`).
+    #[arg(long, value_name = "si|us", default_value = "si", value_parser = ["si", "us"])]
+    units: String,
+    /// TDMS files: one record per file, or one per group holding the named channels.
+    #[arg(long, value_name = "file|group", default_value = "file")]
+    record_by: bearing_ident::tdms::RecordBy,
     /// Move the responses (and forces) to the bearing plane before the spectra: a TOML file
     /// with the keys of a campaign plan's `[geometry]` (`mode = "conical"`, `pivot`,
     /// `bearing`, `probes` one per response channel, optional `forces`; m).
@@ -189,7 +207,9 @@ pub struct IdentifyArgs {
     /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
     /// case of their dataset 58 time histories: force channels of data type 13, responses of
     /// data types 8, 11, 12 (displacement, velocity, acceleration), each sorted by direction,
-    /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them).
+    /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them),
+    /// or TDMS files `.tdms` (channels named `GROUP/CHANNEL`, or `CHANNEL` when unique; a
+    /// record per file or per group, `--record-by`).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -207,6 +227,9 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
     if let Some(path) = &args.geometry {
         channels.geometry = Some(bearing_ident::campaign::Plan::read_geometry(path)?);
     }
+    channels.record_by = args.record_by;
+    channels.force_units.clone_from(&args.force_unit);
+    channels.response_units.clone_from(&args.disp_unit);
     Ok(channels)
 }
 
@@ -304,7 +327,21 @@ fn context(args: &IdentifyArgs, outcome: &Outcome) -> Result<report::Context, Fa
     } else {
         args.disp.clone()
     };
-    report::Context::of(outcome, args.timings, axes, args.per_frequency)
+    let mut context = report::Context::of(outcome, args.timings, axes, args.per_frequency)?;
+    context.us_units = args.units == "us";
+    let us = context.us_units;
+    // Reported when units were given or US output asked for; the default JSON is SI as ever.
+    if us || !args.force_unit.is_empty() || !args.disp_unit.is_empty() {
+        context.units = serde_json::json!({
+            "output": args.units,
+            "M": if us { "lbm" } else { "kg" },
+            "C": if us { "lbf·s/in" } else { "N·s/m" },
+            "K": if us { "lbf/in" } else { "N/m" },
+            "force": args.force_unit,
+            "response": args.disp_unit,
+        });
+    }
+    Ok(context)
 }
 
 /// Files read again for the record figure of `identify --plot`.

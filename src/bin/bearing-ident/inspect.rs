@@ -1,5 +1,8 @@
 //! `bearing-ident inspect`: the dataset 58 / 58b functions of Universal Files, as a table or as
-//! JSON with every value.
+//! JSON with every value; the groups and channels of TDMS files with their properties
+//! (`inspect/tdms.rs`).
+
+mod tdms;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -12,10 +15,13 @@ use crate::failure::{Failure, print_out};
 #[derive(Debug, clap::Args)]
 pub struct InspectArgs {
     /// Print `{"records": [...]}` on stdout: one object per dataset 58 block with its header
-    /// fields and every value (`x`, `re`, `im`; `im` null for real data).
+    /// fields and every value (`x`, `re`, `im`; `im` null for real data); with TDMS files
+    /// also `"tdms": [...]`, one object per file with its properties and groups, each with its
+    /// properties and channels (`name`, `data_type`, `n`, `unit`, `properties`).
     #[arg(long)]
     pub json: bool,
-    /// Universal Files (`.uff`, `.unv`); other datasets in them are skipped.
+    /// Universal Files (`.uff`, `.unv`; other datasets in them are skipped) or TDMS files
+    /// (`.tdms`).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -23,7 +29,12 @@ pub struct InspectArgs {
 /// Reads every file and prints its functions.
 pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
     let mut all = Vec::new();
+    let mut tdms_files = Vec::new();
     for path in &args.files {
+        if bearing_ident::job::is_tdms(path) {
+            tdms_files.push((path.display().to_string(), bearing_ident::tdms::read(path)?));
+            continue;
+        }
         let functions = uff::read(path)?;
         all.push((path.display().to_string(), functions));
     }
@@ -32,9 +43,17 @@ pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
             .iter()
             .flat_map(|(file, fs)| fs.iter().map(move |f| record_json(file, f)))
             .collect();
-        print_out(format_args!("{}\n", json!({ "records": records })))
+        let mut out = json!({ "records": records });
+        if !tdms_files.is_empty() {
+            out["tdms"] = tdms_files.iter().map(|(p, f)| tdms::json(p, f)).collect();
+        }
+        print_out(format_args!("{out}\n"))
     } else {
-        print_out(format_args!("{}", table(&all)))
+        let mut text = table(&all);
+        for (path, file) in &tdms_files {
+            text.push_str(&tdms::table(path, file));
+        }
+        print_out(format_args!("{text}"))
     }
 }
 

@@ -38,6 +38,12 @@ pub struct Context {
     pub bearing: Option<(Coefficients, Option<Coefficients>, String)>,
     /// Per-line coefficients, when asked for.
     pub per_frequency: Option<PerFrequency>,
+    /// Print the coefficients in US customary units (lbm, lbf·s/in, lbf/in; `--units us`);
+    /// the JSON keeps SI and adds them as `M_us`, `C_us`, `K_us`.
+    pub us_units: bool,
+    /// The JSON's `units` (null: none): the units the channels were given in (`force`,
+    /// `response`) and those of the printed coefficients (`output`, `M`, `C`, `K`).
+    pub units: serde_json::Value,
 }
 
 impl Context {
@@ -65,6 +71,8 @@ impl Context {
                 .bearing()
                 .map(|b| (b.coefficients.clone(), b.std_dev.clone(), b.source.clone())),
             per_frequency: per_frequency.then(|| id.per_frequency()).transpose()?,
+            us_units: false,
+            units: serde_json::Value::Null,
         })
     }
 }
@@ -86,7 +94,59 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
             .map(|(b, std, source)| (b, std.as_ref(), source.as_str())),
         per_frequency: c.per_frequency.as_ref(),
     };
-    bearing_ident::job::json(id, &facts)
+    let mut v = bearing_ident::job::json(id, &facts)?;
+    if !c.units.is_null() {
+        v["units"] = c.units.clone();
+    }
+    if c.us_units {
+        let rows = |m: faer::MatRef<'_, f64>, k: f64| -> Vec<Vec<f64>> {
+            (0..m.nrows())
+                .map(|i| (0..m.ncols()).map(|j| m[(i, j)] * k).collect())
+                .collect()
+        };
+        let [fm, fc, fk] = US.map(|(_, _, f)| f);
+        let co = id.coefficients();
+        v["M_us"] = serde_json::json!(rows(co.mass(), fm));
+        v["C_us"] = serde_json::json!(rows(co.damping(), fc));
+        v["K_us"] = serde_json::json!(rows(co.stiffness(), fk));
+        if let Some(s) = id.std_dev() {
+            v["M_std_us"] = serde_json::json!(rows(s.mass(), fm));
+            v["C_std_us"] = serde_json::json!(rows(s.damping(), fc));
+            v["K_std_us"] = serde_json::json!(rows(s.stiffness(), fk));
+        }
+    }
+    Ok(v)
+}
+
+/// US customary units of `M`, `C`, `K`: the SI unit as the table labels it, the US unit, and
+/// one SI unit in US units (a pound is 0.453 592 37 kg; lbf and inch as in
+/// `bearing_ident::units`).
+const US: [(&str, &str, f64); 3] = [
+    ("(kg)", "(lbm)", 1.0 / 0.453_592_37),
+    (
+        "(N·s/m)",
+        "(lbf·s/in)",
+        bearing_ident::units::INCH / bearing_ident::units::LBF,
+    ),
+    (
+        "(N/m)",
+        "(lbf/in)",
+        bearing_ident::units::INCH / bearing_ident::units::LBF,
+    ),
+];
+
+/// `c` in US customary units ([`US`]).
+fn in_us(c: &Coefficients) -> Coefficients {
+    let [fm, fc, fk] = US.map(|(_, _, f)| f);
+    let scaled = |m: faer::MatRef<'_, f64>, k: f64| {
+        faer::Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * k)
+    };
+    Coefficients::new(
+        scaled(c.mass(), fm),
+        scaled(c.damping(), fc),
+        scaled(c.stiffness(), fk),
+    )
+    .unwrap_or_else(|_| c.clone())
 }
 
 /// One line per coefficient: name, value, standard deviation, and truth with error if known.
@@ -96,18 +156,46 @@ fn coefficient_lines(
     values: &Coefficients,
     std: Option<&Coefficients>,
     truth: Option<&Coefficients>,
+    us: bool,
+) {
+    if us {
+        let rows = coefficient_rows(
+            &in_us(values),
+            std.map(in_us).as_ref(),
+            None,
+            truth.map(in_us).as_ref(),
+            axes,
+        );
+        return coefficient_table(out, rows, truth.is_some(), true);
+    }
+    coefficient_table(
+        out,
+        coefficient_rows(values, std, None, truth, axes),
+        truth.is_some(),
+        false,
+    );
+}
+
+/// The lines of [`coefficient_lines`] from its rows, relabelled in US units if `us`.
+fn coefficient_table(
+    out: &mut String,
+    rows: Vec<bearing_ident::plot::CoefficientRow>,
+    truth: bool,
+    us: bool,
 ) {
     let _ = write!(out, "  {:<16} {:>15} {:>11}", "coefficient", "value", "±1σ");
-    if truth.is_some() {
+    if truth {
         let _ = write!(out, " {:>15} {:>10}", "true", "error");
     }
     let _ = writeln!(out);
-    for row in coefficient_rows(values, std, None, truth, axes) {
-        let _ = write!(
-            out,
-            "  {:<16} {:>15} {:>11}",
-            row.label, row.value, row.std_dev
-        );
+    for row in rows {
+        let mut label = row.label.clone();
+        if us {
+            for (si, us, _) in US {
+                label = label.replace(si, us);
+            }
+        }
+        let _ = write!(out, "  {:<16} {:>15} {:>11}", label, row.value, row.std_dev);
         if let (Some(truth), Some(error)) = (&row.truth, &row.error) {
             let _ = write!(out, " {truth:>15} {error:>10}");
         }
@@ -197,11 +285,11 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
             (u, _) => u.name(),
         }
     );
-    coefficient_lines(&mut out, &axes, co, id.std_dev(), truth);
+    coefficient_lines(&mut out, &axes, co, id.std_dev(), truth, c.us_units);
     let _ = writeln!(out);
     if let Some((b, std, source)) = &c.bearing {
         let _ = writeln!(out, "Bearing: system − baseline ({source})");
-        coefficient_lines(&mut out, &axes, b, std.as_ref(), None);
+        coefficient_lines(&mut out, &axes, b, std.as_ref(), None, c.us_units);
         let _ = writeln!(out);
     }
     let _ = writeln!(out, "Modes (± one standard deviation)");
