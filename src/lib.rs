@@ -90,15 +90,17 @@
 //!   reports, drawn by plotters' SVG backend (no system libraries);
 //! - `uff` — [`uff`]: read and write Universal File Format dataset 58 / 58b (time histories,
 //!   FRFs, coherence, spectra; ASCII and binary) and build records from its time histories;
+//! - `mat` — [`mat`]: read MATLAB MAT-files, level 5 (`-v6`, `-v7`; compressed or not), and
+//!   build records from their variables, struct fields, matrix columns, struct and cell arrays;
 //! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
 //!   (TOML or JSON), constant or per frequency; with `uff`, [`export::uff`] writes the measured
 //!   and model FRFs and the coherences of an identification as dataset 58 functions;
-//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `ross`, `csv`, `json`,
+//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `mat`, `ross`, `csv`, `json`,
 //!   `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build;
-//! - `job` — [`job`]: one path from record files (CSV, Universal File) to a result, as the
-//!   command line's `identify` takes it (implies `csv` and `uff`).
+//! - `job` — [`job`]: one path from record files (CSV, Universal File, MAT-file) to a result,
+//!   as the command line's `identify` takes it (implies `csv`, `uff` and `mat`).
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
@@ -151,6 +153,8 @@ pub mod statistics;
 pub mod stepped;
 pub mod text;
 pub mod tolerance;
+#[cfg(feature = "mat")]
+pub mod mat;
 #[cfg(feature = "uff")]
 pub mod uff;
 

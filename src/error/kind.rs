@@ -59,6 +59,8 @@ named_table! {
         BadBaseline => "bad_baseline",
         /// A Universal File that cannot be read.
         MalformedUff => "malformed_uff",
+        /// A MATLAB MAT-file that cannot be read.
+        MalformedMat => "malformed_mat",
         /// Field identification: a rotor model or test set that is not well formed.
         InvalidInput => "invalid_input",
         /// Field identification: a probe without its response at some speed and test.
@@ -173,6 +175,10 @@ impl Error {
             Error::Uff { .. } => ErrorKind::MalformedUff,
             #[cfg(feature = "uff")]
             Error::UffRecord { .. } => ErrorKind::InconsistentRecords,
+            #[cfg(feature = "mat")]
+            Error::Mat { .. } => ErrorKind::MalformedMat,
+            #[cfg(feature = "mat")]
+            Error::MatRecord { .. } => ErrorKind::InconsistentRecords,
             Error::ExportDofs { .. } => ErrorKind::InvalidArgument,
             Error::SimulationDiverged { .. } => ErrorKind::NonFinite,
             Error::Plan { .. } => ErrorKind::InvalidInput,

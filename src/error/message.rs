@@ -508,6 +508,18 @@ impl fmt::Display for Error {
                 load_case,
                 message,
             } => write!(f, "{path}: load case {load_case}: {message}"),
+            #[cfg(feature = "mat")]
+            Error::Mat {
+                path,
+                offset,
+                message,
+            } => write!(f, "{path}, byte {offset}: {message}"),
+            #[cfg(feature = "mat")]
+            Error::MatRecord {
+                path,
+                variable,
+                message,
+            } => write!(f, "{path}: `{variable}`: {message}"),
             Error::ExportDofs {
                 format,
                 dofs,

@@ -8,6 +8,7 @@ use std::sync::mpsc::{Receiver, sync_channel};
 
 use crate::error::{Error, Result};
 use crate::io::{self, CsvLayout};
+use crate::mat::{MatChannel, MatLayout, is_mat};
 use crate::records::{Record, Response};
 use crate::uff::{UffChannel, UffLayout};
 
@@ -28,6 +29,8 @@ pub struct Channels {
     pub csv: CsvLayout,
     /// The channels of Universal Files (`.uff`, `.unv`).
     pub uff: UffLayout,
+    /// The channels of MATLAB MAT-files (`.mat`), and the sample rate when they hold none.
+    pub mat: MatLayout,
     /// What the response channels measure: empty for the files' own word (displacement for
     /// CSV, the data type for Universal Files), one kind for all, or one per degree of
     /// freedom.
@@ -129,9 +132,31 @@ impl Channels {
                 ),
             ));
         }
+        let mat = if files.iter().any(|f| is_mat(f)) {
+            let parse = |names: &[String], option: &'static str| {
+                names
+                    .iter()
+                    .map(|c| {
+                        c.parse::<MatChannel>().map_err(|e| match e {
+                            Error::InvalidOption { message, .. } => invalid(option, message),
+                            e => e,
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()
+            };
+            MatLayout {
+                forces: parse(&csv.forces, "force")?,
+                responses: parse(&csv.displacements, "disp")?,
+                time: csv.time.clone(),
+                rate: None,
+            }
+        } else {
+            MatLayout::default()
+        };
         let channels = Channels {
             csv,
             uff: uff_layout,
+            mat,
             responses: responses.to_vec(),
             geometry: None,
         };
@@ -277,7 +302,8 @@ pub fn is_uff(path: &Path) -> bool {
 }
 
 /// Every record of a file, at least one: one from a CSV file, one per load case of the time
-/// histories of a Universal File ([`crate::uff::records_with`]), with the response kinds of
+/// histories of a Universal File ([`crate::uff::records_with`]), one per element of the struct
+/// or cell arrays of a MAT-file ([`crate::mat::records`]), with the response kinds of
 /// `channels`.
 ///
 /// # Errors
@@ -300,6 +326,8 @@ pub fn is_uff(path: &Path) -> bool {
 pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
+    } else if is_mat(path) {
+        read_mat(path, channels)?
     } else {
         vec![with_kinds(
             io::read_record(path, &*channels.layout()?)?,
@@ -333,6 +361,8 @@ fn read_records(
 ) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
+    } else if is_mat(path) {
+        read_mat(path, channels)?
     } else {
         vec![with_kinds(reader.read(path)?, channels)?]
     };
@@ -351,6 +381,16 @@ fn moved(records: Vec<Record>, channels: &Channels) -> Result<Vec<Record>> {
 fn read_uff(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let functions = crate::uff::read(path)?;
     crate::uff::records_with(&functions, &path.display().to_string(), &channels.uff)
+}
+
+/// The records of a MAT-file, one per element of the struct or cell arrays its channels are
+/// in.
+fn read_mat(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let variables = crate::mat::read(path)?;
+    crate::mat::records(&variables, &path.display().to_string(), &channels.mat)?
+        .into_iter()
+        .map(|r| with_kinds(r, channels))
+        .collect()
 }
 
 /// `record` with the response kinds of `channels`, if any were given.
