@@ -8,3 +8,5 @@ mod common;
 mod csv_reader;
 mod fuzz;
 mod fuzz_regressions;
+#[cfg(feature = "mat")]
+mod mat;

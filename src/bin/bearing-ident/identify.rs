@@ -143,9 +143,13 @@ pub struct IdentifyArgs {
     /// band lines (X = V/(iω) = A/(−ω²); with `--window exp:…`, iω + a).
     #[arg(long, value_delimiter = ',', value_parser = choice::<bearing_ident::Response>())]
     response: Vec<bearing_ident::Response>,
-    /// Time column (s).
+    /// Time column (s). MAT-files: the time vector (`t`, `rec.t`); without one, a scalar
+    /// `fs`, `Fs`, `rate` (Hz) or `dt` (s) beside the first force channel or at the top.
     #[arg(long, default_value = "t")]
     time: String,
+    /// Sample rate (Hz) of MAT-files that hold no time vector and no rate.
+    #[arg(long, value_name = "HZ")]
+    rate: Option<f64>,
     /// Move the responses (and forces) to the bearing plane before the spectra: a TOML file
     /// with the keys of a campaign plan's `[geometry]` (`mode = "conical"`, `pivot`,
     /// `bearing`, `probes` one per response channel, optional `forces`; m).
@@ -189,7 +193,10 @@ pub struct IdentifyArgs {
     /// Record files: CSV (one record each), or Universal Files `.uff`/`.unv` (a record per load
     /// case of their dataset 58 time histories: force channels of data type 13, responses of
     /// data types 8, 11, 12 (displacement, velocity, acceleration), each sorted by direction,
-    /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them).
+    /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them),
+    /// or MATLAB MAT-files `.mat` (level 5, `-v7`: channels as variables `fx`, struct fields
+    /// `rec.fx` or matrix columns `data:2`, counted from 1; a record per element of a struct
+    /// or cell array on the way).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -204,6 +211,7 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
         &args.time,
         &args.files,
     )?;
+    channels.mat.rate = args.rate;
     if let Some(path) = &args.geometry {
         channels.geometry = Some(bearing_ident::campaign::Plan::read_geometry(path)?);
     }

@@ -1,9 +1,11 @@
 //! `bearing-ident inspect`: the dataset 58 / 58b functions of Universal Files, as a table or as
-//! JSON with every value.
+//! JSON with every value; the variables of MAT-files (struct fields and cells below them), with
+//! their class and size.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use bearing_ident::mat;
 use bearing_ident::uff::{self, Abscissa, Function, Ordinate};
 use serde_json::{Value, json};
 
@@ -15,7 +17,9 @@ pub struct InspectArgs {
     /// fields and every value (`x`, `re`, `im`; `im` null for real data).
     #[arg(long)]
     pub json: bool,
-    /// Universal Files (`.uff`, `.unv`); other datasets in them are skipped.
+    /// Universal Files (`.uff`, `.unv`; other datasets in them are skipped) or MAT-files
+    /// (`.mat`: their variables and the fields of their structs, as `--force` names them,
+    /// with class and size, in `variables` with `--json`).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -23,18 +27,69 @@ pub struct InspectArgs {
 /// Reads every file and prints its functions.
 pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
     let mut all = Vec::new();
+    let mut variables = Vec::new();
+    let mut mat_text = String::new();
     for path in &args.files {
+        let file = path.display().to_string();
+        if mat::is_mat(path) {
+            let vars = mat::read(path)?;
+            let mut lines = Vec::new();
+            for v in &vars {
+                mat_entries(&v.name, &v.array, &mut lines);
+            }
+            let _ = writeln!(mat_text, "{file}: {} MAT-file variables", vars.len());
+            for (name, class, dims) in lines {
+                let size: Vec<String> = dims.iter().map(usize::to_string).collect();
+                let _ = writeln!(mat_text, "  {name:<24} {class:<10} {}", size.join("×"));
+                variables.push(json!({ "file": file, "name": name, "class": class, "size": dims }));
+            }
+            continue;
+        }
         let functions = uff::read(path)?;
-        all.push((path.display().to_string(), functions));
+        all.push((file, functions));
     }
     if args.json {
         let records: Vec<Value> = all
             .iter()
             .flat_map(|(file, fs)| fs.iter().map(move |f| record_json(file, f)))
             .collect();
-        print_out(format_args!("{}\n", json!({ "records": records })))
+        print_out(format_args!(
+            "{}\n",
+            json!({ "records": records, "variables": variables })
+        ))
     } else {
-        print_out(format_args!("{}", table(&all)))
+        print_out(format_args!("{}{mat_text}", table(&all)))
+    }
+}
+
+/// A MAT-file array and what is below it, as `--force` names them: `rec` then `rec.fx`
+/// (fields of every element of a struct array, once; of the structs in a cell array `c`, as
+/// `c.fx`).
+fn mat_entries(name: &str, array: &mat::Array, out: &mut Vec<(String, &'static str, Vec<usize>)>) {
+    out.push((name.to_owned(), array.class(), array.dims().to_vec()));
+    match array {
+        mat::Array::Struct {
+            fields, elements, ..
+        } => {
+            if let Some(first) = elements.first() {
+                for (field, value) in fields.iter().zip(first) {
+                    mat_entries(&format!("{name}.{field}"), value, out);
+                }
+            }
+        }
+        mat::Array::Cell { cells, .. } => {
+            if let Some(mat::Array::Struct {
+                fields, elements, ..
+            }) = cells.first()
+            {
+                if let Some(first) = elements.first() {
+                    for (field, value) in fields.iter().zip(first) {
+                        mat_entries(&format!("{name}.{field}"), value, out);
+                    }
+                }
+            }
+        }
+        _ => {}
     }
 }
 
