@@ -138,6 +138,8 @@ pub mod json;
 mod lanes;
 pub mod limits;
 mod linalg;
+#[cfg(feature = "mat")]
+pub mod mat;
 pub mod model;
 pub mod nonlinear;
 pub mod per_frequency;
@@ -153,8 +155,6 @@ pub mod statistics;
 pub mod stepped;
 pub mod text;
 pub mod tolerance;
-#[cfg(feature = "mat")]
-pub mod mat;
 #[cfg(feature = "uff")]
 pub mod uff;
 

@@ -47,12 +47,17 @@ impl FromStr for MatChannel {
         };
         let (names, column) = match s.rsplit_once(':') {
             Some((names, c)) => {
-                let column = c.trim().parse::<usize>().ok().filter(|&c| c > 0).ok_or_else(|| {
-                    bad(format!(
-                        "MAT channel `{}`: the column after `:` is counted from 1",
-                        crate::error::excerpt(s)
-                    ))
-                })?;
+                let column = c
+                    .trim()
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|&c| c > 0)
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "MAT channel `{}`: the column after `:` is counted from 1",
+                            crate::error::excerpt(s)
+                        ))
+                    })?;
                 (names, Some(column))
             }
             None => (s, None),
@@ -151,8 +156,16 @@ const RATE_NAMES: [(&str, bool); 4] = [("fs", true), ("Fs", true), ("rate", true
 pub fn records(variables: &[Variable], label: &str, layout: &MatLayout) -> Result<Vec<Record>> {
     let top = Scope::Top(variables);
     let resolve = |c: &MatChannel| channel(&top, c, label);
-    let forces = layout.forces.iter().map(resolve).collect::<Result<Vec<_>>>()?;
-    let responses = layout.responses.iter().map(resolve).collect::<Result<Vec<_>>>()?;
+    let forces = layout
+        .forces
+        .iter()
+        .map(resolve)
+        .collect::<Result<Vec<_>>>()?;
+    let responses = layout
+        .responses
+        .iter()
+        .map(resolve)
+        .collect::<Result<Vec<_>>>()?;
     let all = forces.iter().chain(&responses);
     let n = all.clone().map(Vec::len).max().unwrap_or(1);
     for (c, found) in layout.forces.iter().chain(&layout.responses).zip(all) {
@@ -209,7 +222,9 @@ impl<'a> Scope<'a> {
     fn get(&self, name: &str) -> Option<&'a Array> {
         match self {
             Scope::Top(vars) => vars.iter().find(|v| v.name == name).map(|v| &v.array),
-            Scope::Fields(names, values) => names.iter().position(|n| n == name).map(|i| &values[i]),
+            Scope::Fields(names, values) => {
+                names.iter().position(|n| n == name).map(|i| &values[i])
+            }
         }
     }
 
@@ -223,18 +238,36 @@ impl<'a> Scope<'a> {
 }
 
 /// The arrays at `path` below `scope`, one per element of every struct or cell array passed.
-fn arrays<'a>(scope: &Scope<'a>, path: &[String], channel: &str, label: &str) -> Result<Vec<&'a Array>> {
+fn arrays<'a>(
+    scope: &Scope<'a>,
+    path: &[String],
+    channel: &str,
+    label: &str,
+) -> Result<Vec<&'a Array>> {
     let Some((name, rest)) = path.split_first() else {
         return Ok(Vec::new());
     };
     let array = scope.get(name).ok_or_else(|| {
-        record_error(label, channel, format!("no `{}` here; there are: {}", crate::error::excerpt(name), scope.names()))
+        record_error(
+            label,
+            channel,
+            format!(
+                "no `{}` here; there are: {}",
+                crate::error::excerpt(name),
+                scope.names()
+            ),
+        )
     })?;
     below(array, rest, channel, label)
 }
 
 /// The arrays at `rest` below `array` (itself when `rest` is empty and it is no cell array).
-fn below<'a>(array: &'a Array, rest: &[String], channel: &str, label: &str) -> Result<Vec<&'a Array>> {
+fn below<'a>(
+    array: &'a Array,
+    rest: &[String],
+    channel: &str,
+    label: &str,
+) -> Result<Vec<&'a Array>> {
     match array {
         Array::Cell { cells, .. } => {
             let mut out = Vec::new();
@@ -244,17 +277,29 @@ fn below<'a>(array: &'a Array, rest: &[String], channel: &str, label: &str) -> R
             Ok(out)
         }
         _ if rest.is_empty() => Ok(vec![array]),
-        Array::Struct { fields, elements, .. } => {
+        Array::Struct {
+            fields, elements, ..
+        } => {
             let mut out = Vec::new();
             for element in elements {
-                out.extend(arrays(&Scope::Fields(fields, element), rest, channel, label)?);
+                out.extend(arrays(
+                    &Scope::Fields(fields, element),
+                    rest,
+                    channel,
+                    label,
+                )?);
             }
             Ok(out)
         }
         other => Err(record_error(
             label,
             channel,
-            format!("`{}` is a {} {}, not a struct with fields", rest[0], other.size_text(), other.class()),
+            format!(
+                "`{}` is a {} {}, not a struct with fields",
+                rest[0],
+                other.size_text(),
+                other.class()
+            ),
         )),
     }
 }
@@ -272,12 +317,24 @@ fn channel(scope: &Scope<'_>, c: &MatChannel, label: &str) -> Result<Vec<Vec<f64
 fn samples(array: &Array, column: Option<usize>, channel: &str, label: &str) -> Result<Vec<f64>> {
     let bad = |m: String| record_error(label, channel, m);
     let real = match array {
-        Array::Numeric { complex: false, real, .. } => real,
+        Array::Numeric {
+            complex: false,
+            real,
+            ..
+        } => real,
         Array::Numeric { .. } => {
-            return Err(bad(format!("a complex {} {}: a channel is real", array.size_text(), array.class())));
+            return Err(bad(format!(
+                "a complex {} {}: a channel is real",
+                array.size_text(),
+                array.class()
+            )));
         }
         other => {
-            return Err(bad(format!("a {} {}, not numbers", other.size_text(), other.class())));
+            return Err(bad(format!(
+                "a {} {}, not numbers",
+                other.size_text(),
+                other.class()
+            )));
         }
     };
     let dims = array.dims();
@@ -306,10 +363,17 @@ fn rates(top: &Scope<'_>, layout: &MatLayout, label: &str) -> Result<Vec<f64>> {
             .iter()
             .map(|t| {
                 crate::io::uniform_rate(t, label, &|i| i as u64 + 1).map_err(|e| match e {
-                    Error::NonUniformTime { line, expected_s, actual_s, .. } => record_error(
+                    Error::NonUniformTime {
+                        line,
+                        expected_s,
+                        actual_s,
+                        ..
+                    } => record_error(
                         label,
                         &layout.time,
-                        format!("not uniform: sample {line} at {actual_s} s, {expected_s} s on the grid"),
+                        format!(
+                            "not uniform: sample {line} at {actual_s} s, {expected_s} s on the grid"
+                        ),
                     ),
                     e => e,
                 })
@@ -317,7 +381,10 @@ fn rates(top: &Scope<'_>, layout: &MatLayout, label: &str) -> Result<Vec<f64>> {
             .collect();
     }
     // A scalar beside the first force channel (in its struct), then at the top.
-    let prefix = layout.forces.first().map_or(&[][..], |c| &c.path[..c.path.len() - 1]);
+    let prefix = layout
+        .forces
+        .first()
+        .map_or(&[][..], |c| &c.path[..c.path.len() - 1]);
     for prefix in [prefix, &[][..]] {
         for (name, is_rate) in RATE_NAMES {
             let mut path = prefix.to_vec();
@@ -332,7 +399,11 @@ fn rates(top: &Scope<'_>, layout: &MatLayout, label: &str) -> Result<Vec<f64>> {
                     _ => Err(record_error(
                         label,
                         &path.join("."),
-                        format!("a {} {}: a sample rate is a positive scalar", a.size_text(), a.class()),
+                        format!(
+                            "a {} {}: a sample rate is a positive scalar",
+                            a.size_text(),
+                            a.class()
+                        ),
                     )),
                 })
                 .collect();

@@ -94,7 +94,11 @@ pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
                     .map_err(|e| {
                         bad(
                             at,
-                            format!("compressed element of {} bytes: bad zlib data ({:?})", data.len(), e.status),
+                            format!(
+                                "compressed element of {} bytes: bad zlib data ({:?})",
+                                data.len(),
+                                e.status
+                            ),
                         )
                     })?;
                 let inner = Reader {
@@ -107,13 +111,19 @@ pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
                 if t.kind != MI_MATRIX {
                     return Err(bad(
                         at,
-                        format!("compressed element holds element type {}, not miMATRIX", t.kind),
+                        format!(
+                            "compressed element holds element type {}, not miMATRIX",
+                            t.kind
+                        ),
                     ));
                 }
                 inner.matrix(t.start, t.len, 0)?
             }
             other => {
-                return Err(bad(at, format!("top-level element of type {other}, not a variable")));
+                return Err(bad(
+                    at,
+                    format!("top-level element of type {other}, not a variable"),
+                ));
             }
         };
         if let Some(variable) = array {
@@ -156,7 +166,12 @@ impl Reader<'_> {
             .bytes
             .get(at..at + 4)
             .and_then(|b| b.try_into().ok())
-            .ok_or_else(|| self.bad(at, "truncated: the file ends inside an element's tag".into()))?;
+            .ok_or_else(|| {
+                self.bad(
+                    at,
+                    "truncated: the file ends inside an element's tag".into(),
+                )
+            })?;
         Ok(if self.little {
             u32::from_le_bytes(b)
         } else {
@@ -178,15 +193,18 @@ impl Reader<'_> {
         } else {
             (first, self.u32_at(at + 4)? as usize, at + 8)
         };
-        let end = start.checked_add(len).filter(|&e| e <= self.bytes.len()).ok_or_else(|| {
-            self.bad(
-                at,
-                format!(
-                    "truncated: an element of type {kind} declares {len} bytes, {} remain",
-                    self.bytes.len().saturating_sub(start)
-                ),
-            )
-        })?;
+        let end = start
+            .checked_add(len)
+            .filter(|&e| e <= self.bytes.len())
+            .ok_or_else(|| {
+                self.bad(
+                    at,
+                    format!(
+                        "truncated: an element of type {kind} declares {len} bytes, {} remain",
+                        self.bytes.len().saturating_sub(start)
+                    ),
+                )
+            })?;
         let next = if start == at + 4 {
             at + 8
         } else if top && kind == MI_COMPRESSED {
@@ -194,7 +212,10 @@ impl Reader<'_> {
         } else {
             end.div_ceil(8) * 8
         };
-        Ok((Tag { kind, start, len }, next.min(self.bytes.len()).max(end)))
+        Ok((
+            Tag { kind, start, len },
+            next.min(self.bytes.len()).max(end),
+        ))
     }
 
     /// The numbers of a numeric data element, as `f64`.
@@ -225,7 +246,13 @@ impl Reader<'_> {
             }
             w
         };
-        let from = |w: [u8; 8]| if little { u64::from_le_bytes(w) } else { u64::from_be_bytes(w) };
+        let from = |w: [u8; 8]| {
+            if little {
+                u64::from_le_bytes(w)
+            } else {
+                u64::from_be_bytes(w)
+            }
+        };
         Ok(data
             .chunks_exact(width)
             .map(|c| {
@@ -261,7 +288,10 @@ impl Reader<'_> {
         };
         let (flags, at) = sub.element(start, false)?;
         if flags.len < 8 {
-            return Err(self.bad(start, format!("array flags of {} bytes (8 expected)", flags.len)));
+            return Err(self.bad(
+                start,
+                format!("array flags of {} bytes (8 expected)", flags.len),
+            ));
         }
         let word = sub.u32_at(flags.start)?;
         let (class, complex, logical) = (word & 0xFF, word & 0x800 != 0, word & 0x200 != 0);
@@ -272,11 +302,16 @@ impl Reader<'_> {
             .map(|d| if d >= 0.0 { d as usize } else { usize::MAX })
             .collect();
         if dims.len() < 2 || dims.contains(&usize::MAX) {
-            return Err(self.bad(dims_tag.start, format!("dimensions {dims:?}: at least two, none negative")));
+            return Err(self.bad(
+                dims_tag.start,
+                format!("dimensions {dims:?}: at least two, none negative"),
+            ));
         }
         let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
         let (name_tag, mut at) = sub.element(at, false)?;
-        let name = String::from_utf8_lossy(&sub.bytes[name_tag.start..name_tag.start + name_tag.len]).into_owned();
+        let name =
+            String::from_utf8_lossy(&sub.bytes[name_tag.start..name_tag.start + name_tag.len])
+                .into_owned();
         let count = count.filter(|&n| n <= len).ok_or_else(|| {
             self.bad(
                 dims_tag.start,
@@ -293,14 +328,22 @@ impl Reader<'_> {
                 if real.len() != count {
                     return Err(self.bad(
                         at,
-                        format!("array `{name}` of dimensions {dims:?} holds {} values", real.len()),
+                        format!(
+                            "array `{name}` of dimensions {dims:?} holds {} values",
+                            real.len()
+                        ),
                     ));
                 }
                 const NAMES: [&str; 10] = [
-                    "double", "single", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
+                    "double", "single", "int8", "uint8", "int16", "uint16", "int32", "uint32",
+                    "int64", "uint64",
                 ];
                 Array::Numeric {
-                    class: if logical { "logical" } else { NAMES[class as usize - 6] },
+                    class: if logical {
+                        "logical"
+                    } else {
+                        NAMES[class as usize - 6]
+                    },
                     dims,
                     real,
                     complex,
@@ -325,7 +368,13 @@ impl Reader<'_> {
                 let (names, mut at) = sub.element(next, false)?;
                 let raw = &sub.bytes[names.start..names.start + names.len];
                 if width == 0 || raw.len() % width != 0 {
-                    return Err(self.bad(names.start, format!("struct `{name}`: {} bytes of field names of width {width}", raw.len())));
+                    return Err(self.bad(
+                        names.start,
+                        format!(
+                            "struct `{name}`: {} bytes of field names of width {width}",
+                            raw.len()
+                        ),
+                    ));
                 }
                 let fields: Vec<String> = raw
                     .chunks_exact(width)
@@ -335,7 +384,13 @@ impl Reader<'_> {
                     })
                     .collect();
                 if count.checked_mul(fields.len()).is_none_or(|n| n * 8 > len) {
-                    return Err(self.bad(start, format!("struct `{name}`: {count} elements of {} fields in {len} bytes", fields.len())));
+                    return Err(self.bad(
+                        start,
+                        format!(
+                            "struct `{name}`: {count} elements of {} fields in {len} bytes",
+                            fields.len()
+                        ),
+                    ));
                 }
                 let mut elements = Vec::with_capacity(count);
                 for _ in 0..count {
@@ -347,14 +402,33 @@ impl Reader<'_> {
                     }
                     elements.push(values);
                 }
-                Array::Struct { dims, fields, elements }
+                Array::Struct {
+                    dims,
+                    fields,
+                    elements,
+                }
             }
-            4 => Array::Other { class: "char", dims },
-            5 => Array::Other { class: "sparse", dims },
-            16 => Array::Other { class: "function_handle", dims },
-            17 => Array::Other { class: "object (opaque: timetable, string, table …)", dims },
+            4 => Array::Other {
+                class: "char",
+                dims,
+            },
+            5 => Array::Other {
+                class: "sparse",
+                dims,
+            },
+            16 => Array::Other {
+                class: "function_handle",
+                dims,
+            },
+            17 => Array::Other {
+                class: "object (opaque: timetable, string, table …)",
+                dims,
+            },
             other => {
-                return Err(self.bad(flags.start, format!("array `{name}` of unknown class {other}")));
+                return Err(self.bad(
+                    flags.start,
+                    format!("array `{name}` of unknown class {other}"),
+                ));
             }
         };
         Ok(Some(Variable { name, array }))
@@ -363,18 +437,22 @@ impl Reader<'_> {
     /// A cell or field value: a `miMATRIX` element (empty: an empty double).
     fn cell(&self, tag: &Tag, parent: &str, depth: usize) -> Result<Array> {
         if tag.kind != MI_MATRIX {
-            return Err(self.bad(tag.start, format!("an element of `{parent}` of type {}, not miMATRIX", tag.kind)));
+            return Err(self.bad(
+                tag.start,
+                format!(
+                    "an element of `{parent}` of type {}, not miMATRIX",
+                    tag.kind
+                ),
+            ));
         }
-        Ok(self
-            .matrix(tag.start, tag.len, depth + 1)?
-            .map_or(
-                Array::Numeric {
-                    class: "double",
-                    dims: vec![0, 0],
-                    real: Vec::new(),
-                    complex: false,
-                },
-                |v| v.array,
-            ))
+        Ok(self.matrix(tag.start, tag.len, depth + 1)?.map_or(
+            Array::Numeric {
+                class: "double",
+                dims: vec![0, 0],
+                real: Vec::new(),
+                complex: false,
+            },
+            |v| v.array,
+        ))
     }
 }

@@ -15,7 +15,10 @@ fn fixture(name: &str) -> PathBuf {
 }
 
 fn names(list: &str) -> Vec<String> {
-    list.split(',').map(str::to_owned).filter(|s| !s.is_empty()).collect()
+    list.split(',')
+        .map(str::to_owned)
+        .filter(|s| !s.is_empty())
+        .collect()
 }
 
 /// The records of `file` with channels `force`, `disp` and time `time`.
@@ -33,7 +36,9 @@ fn read(file: &str, force: &str, disp: &str, time: &str) -> bearing_ident::Resul
 
 fn csv(name: &str) -> Record {
     let path = fixture(name);
-    read_file(&path, &Channels::default()).unwrap().swap_remove(0)
+    read_file(&path, &Channels::default())
+        .unwrap()
+        .swap_remove(0)
 }
 
 fn bits(v: &[f64]) -> Vec<u64> {
@@ -44,7 +49,12 @@ fn bits(v: &[f64]) -> Vec<u64> {
 fn assert_same(got: &Record, want: &Record, same_rate_bits: bool) {
     assert_eq!(got.dofs(), want.dofs());
     for i in 0..want.dofs() {
-        assert_eq!(bits(got.force(i)), bits(want.force(i)), "{} force {i}", got.label());
+        assert_eq!(
+            bits(got.force(i)),
+            bits(want.force(i)),
+            "{} force {i}",
+            got.label()
+        );
         assert_eq!(
             bits(got.displacement(i)),
             bits(want.displacement(i)),
@@ -79,9 +89,16 @@ fn matrix_columns_counted_from_one_read_as_the_csv() {
     assert_same(&r[0], &csv("a.csv"), true);
     let e = read("matrix.mat", "data,data:3", "data:4,data:5", "data:1").unwrap_err();
     assert_eq!(e.kind(), "inconsistent_records");
-    assert!(e.to_string().contains("512×5 matrix: name one column"), "{e}");
+    assert!(
+        e.to_string().contains("512×5 matrix: name one column"),
+        "{e}"
+    );
     let e = read("matrix.mat", "data:6,data:3", "data:4,data:5", "data:1").unwrap_err();
-    assert!(e.to_string().contains("column 6 of a 512×5 double, which has 5 columns"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("column 6 of a 512×5 double, which has 5 columns"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -92,7 +109,10 @@ fn struct_fields_with_a_scalar_rate_read_as_the_csv() {
     let e = read("struct.mat", "rec.fx,rec.fz", "rec.x,rec.y", "rec.t").unwrap_err();
     assert_eq!(e.kind(), "inconsistent_records");
     let message = e.to_string();
-    assert!(message.contains("`rec.fz`: no `fz` here; there are: fx, fy, x, y, fs"), "{message}");
+    assert!(
+        message.contains("`rec.fz`: no `fz` here; there are: fx, fy, x, y, fs"),
+        "{message}"
+    );
     assert!(message.contains("struct.mat"), "{message}");
 }
 
@@ -106,7 +126,11 @@ fn struct_and_cell_arrays_give_a_record_per_element_in_order() {
         assert_eq!(r.len(), 2, "{file}");
         assert_same(&r[0], &a, false);
         assert_same(&r[1], &b, false);
-        assert!(r[1].label().ends_with(&format!("{file}(2)")), "{}", r[1].label());
+        assert!(
+            r[1].label().ends_with(&format!("{file}(2)")),
+            "{}",
+            r[1].label()
+        );
     }
 }
 
@@ -133,11 +157,18 @@ fn no_rate_is_an_error_unless_given() {
 
 #[test]
 fn text_and_complex_numbers_are_not_channels() {
-    let e = read("wrong_classes.mat", "fx,x", "y,x", "t").unwrap_err();
+    let e = read("wrong_classes.mat", "fx", "x", "t").unwrap_err();
     assert_eq!(e.kind(), "inconsistent_records");
-    assert!(e.to_string().ends_with("`fx`: a 1×12 char, not numbers"), "{e}");
-    let e = read("wrong_classes.mat", "fy,x", "y,t", "t").unwrap_err();
-    assert!(e.to_string().ends_with("`fy`: a complex 1×512 double: a channel is real"), "{e}");
+    assert!(
+        e.to_string().ends_with("`fx`: a 1×12 char, not numbers"),
+        "{e}"
+    );
+    let e = read("wrong_classes.mat", "fy", "x", "t").unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("`fy`: a complex 1×512 double: a channel is real"),
+        "{e}"
+    );
 }
 
 fn bytes(name: &str) -> Vec<u8> {
@@ -191,7 +222,10 @@ fn lying_and_huge_sizes_are_refused_before_allocating() {
     let mut data = bytes("plain.mat");
     data[132..136].copy_from_slice(&0x7fff_fff0u32.to_le_bytes());
     let m = parse_error(&data);
-    assert!(m.contains("truncated: an element of type 14 declares 2147483632 bytes"), "{m}");
+    assert!(
+        m.contains("truncated: an element of type 14 declares 2147483632 bytes"),
+        "{m}"
+    );
     // Dimensions of 2³¹−1 × 2³¹−1 in a variable of a few kilobytes.
     let mut data = bytes("plain.mat");
     assert_eq!(u32::from_le_bytes(data[152..156].try_into().unwrap()), 5);
@@ -253,9 +287,14 @@ fn mutated_files_give_records_or_typed_errors_never_a_panic() {
     for (name, force, disp, time) in layouts {
         let original = bytes(name);
         let path = fixture(name);
-        let channels =
-            Channels::named(&names(force), &names(disp), &[], time, std::slice::from_ref(&path))
-                .unwrap();
+        let channels = Channels::named(
+            &names(force),
+            &names(disp),
+            &[],
+            time,
+            std::slice::from_ref(&path),
+        )
+        .unwrap();
         for _ in 0..400 {
             let mut data = original.clone();
             for _ in 0..1 + next(&mut state) % 4 {
@@ -275,7 +314,14 @@ fn mutated_files_give_records_or_typed_errors_never_a_panic() {
                 Ok(vars) => {
                     if let Err(e) = mat::records(&vars, name, &channels.mat) {
                         assert!(
-                            matches!(e.kind().as_str(), "inconsistent_records" | "invalid_argument" | "non_finite" | "record_too_short" | "invalid_sample_rate"),
+                            matches!(
+                                e.kind().as_str(),
+                                "inconsistent_records"
+                                    | "invalid_argument"
+                                    | "non_finite"
+                                    | "record_too_short"
+                                    | "invalid_sample_rate"
+                            ),
                             "{e}"
                         );
                     }
