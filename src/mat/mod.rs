@@ -26,7 +26,7 @@
 //! count is checked against the bytes that remain before anything is allocated, a compressed
 //! element inflates to at most [`MAX_INFLATE_RATIO`] times its size, and arrays nest at most
 //! [`MAX_DEPTH`] deep, so memory stays bounded by a small multiple of the file's size.
-//! Whatever is wrong is an [`Error::Mat`](crate::Error::Mat) naming the file, the byte offset
+//! Whatever is wrong is an [`Error::Mat`] naming the file, the byte offset
 //! and what was found.
 //!
 //! # Examples
@@ -37,7 +37,7 @@
 //! bytes.extend([0; 8]);
 //! bytes.extend([0x00, 0x01, b'I', b'M']);
 //! let element: Vec<u8> = [
-//!     &14u32.to_le_bytes()[..], &48u32.to_le_bytes(),           // miMATRIX, 48 bytes
+//!     &14u32.to_le_bytes()[..], &56u32.to_le_bytes(),           // miMATRIX, 56 bytes
 //!     &6u32.to_le_bytes(), &8u32.to_le_bytes(), &[6, 0, 0, 0, 0, 0, 0, 0], // flags: double
 //!     &5u32.to_le_bytes(), &8u32.to_le_bytes(), &1i32.to_le_bytes(), &1i32.to_le_bytes(),
 //!     &0x0002_0001u32.to_le_bytes(), b"fs\0\0",                     // name, small format

@@ -312,10 +312,11 @@ impl Reader<'_> {
         let name =
             String::from_utf8_lossy(&sub.bytes[name_tag.start..name_tag.start + name_tag.len])
                 .into_owned();
+        let shown = crate::error::excerpt(&name);
         let count = count.filter(|&n| n <= len).ok_or_else(|| {
             self.bad(
                 dims_tag.start,
-                format!("array `{name}` declares dimensions {dims:?}, more elements than its {len} bytes hold"),
+                format!("array `{shown}` declares dimensions {dims:?}, more elements than its {len} bytes hold"),
             )
         })?;
         let array = match class {
@@ -329,7 +330,7 @@ impl Reader<'_> {
                     return Err(self.bad(
                         at,
                         format!(
-                            "array `{name}` of dimensions {dims:?} holds {} values",
+                            "array `{shown}` of dimensions {dims:?} holds {} values",
                             real.len()
                         ),
                     ));
@@ -353,7 +354,7 @@ impl Reader<'_> {
                 let mut cells = Vec::with_capacity(count);
                 for _ in 0..count {
                     let (cell, next) = sub.element(at, false)?;
-                    cells.push(sub.cell(&cell, &name, depth)?);
+                    cells.push(sub.cell(&cell, &shown, depth)?);
                     at = next;
                 }
                 Array::Cell { dims, cells }
@@ -371,7 +372,7 @@ impl Reader<'_> {
                     return Err(self.bad(
                         names.start,
                         format!(
-                            "struct `{name}`: {} bytes of field names of width {width}",
+                            "struct `{shown}`: {} bytes of field names of width {width}",
                             raw.len()
                         ),
                     ));
@@ -387,7 +388,7 @@ impl Reader<'_> {
                     return Err(self.bad(
                         start,
                         format!(
-                            "struct `{name}`: {count} elements of {} fields in {len} bytes",
+                            "struct `{shown}`: {count} elements of {} fields in {len} bytes",
                             fields.len()
                         ),
                     ));
@@ -397,7 +398,7 @@ impl Reader<'_> {
                     let mut values = Vec::with_capacity(fields.len());
                     for _ in &fields {
                         let (cell, next) = sub.element(at, false)?;
-                        values.push(sub.cell(&cell, &name, depth)?);
+                        values.push(sub.cell(&cell, &shown, depth)?);
                         at = next;
                     }
                     elements.push(values);
@@ -427,7 +428,7 @@ impl Reader<'_> {
             other => {
                 return Err(self.bad(
                     flags.start,
-                    format!("array `{name}` of unknown class {other}"),
+                    format!("array `{shown}` of unknown class {other}"),
                 ));
             }
         };
