@@ -11,7 +11,8 @@ use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
 
 /// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 5] = ["force", "disp", "resp", "response", "time"];
+/// `rate` is the sample rate (Hz) of MAT-files that hold neither a time vector nor a rate.
+pub(super) const CHANNEL_NAMES: [&str; 6] = ["force", "disp", "resp", "response", "time", "rate"];
 
 /// Whether `name` (with `-` between words) is an option a plan can set.
 pub(super) fn is_setting(name: &str) -> bool {
@@ -73,7 +74,7 @@ pub(super) fn options(
 /// plan's `geometry`, for `files`.
 ///
 /// # Errors
-/// A response kind that does not parse; [`Channels::named`]'s.
+/// A response kind or a `rate` that does not parse; [`Channels::named`]'s.
 pub(super) fn channels(
     settings: &[Setting],
     geometry: Option<&Geometry>,
@@ -99,6 +100,18 @@ pub(super) fn channels(
         &time,
         files,
     )?;
+    channels.mat.rate = list(&["rate"])
+        .pop()
+        .map(|r| {
+            r.parse::<f64>()
+                .ok()
+                .filter(|r| r.is_finite() && *r > 0.0)
+                .ok_or_else(|| Error::InvalidOption {
+                    option: "rate",
+                    message: format!("rate `{}`: a sample rate in Hz, above 0", excerpt(&r)),
+                })
+        })
+        .transpose()?;
     channels.geometry = geometry.cloned();
     Ok(channels)
 }

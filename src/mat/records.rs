@@ -338,7 +338,7 @@ fn samples(array: &Array, column: Option<usize>, channel: &str, label: &str) -> 
         }
     };
     let dims = array.dims();
-    let rows = dims[0];
+    let rows = dims.first().copied().unwrap_or(0);
     let columns = real.len().checked_div(rows).unwrap_or(0);
     match column {
         None if dims.iter().filter(|&&d| d != 1).count() <= 1 => Ok(real.clone()),
@@ -384,7 +384,7 @@ fn rates(top: &Scope<'_>, layout: &MatLayout, label: &str) -> Result<Vec<f64>> {
     let prefix = layout
         .forces
         .first()
-        .map_or(&[][..], |c| &c.path[..c.path.len() - 1]);
+        .map_or(&[][..], |c| &c.path[..c.path.len().saturating_sub(1)]);
     for prefix in [prefix, &[][..]] {
         for (name, is_rate) in RATE_NAMES {
             let mut path = prefix.to_vec();

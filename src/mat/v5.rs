@@ -351,6 +351,13 @@ impl Reader<'_> {
                 }
             }
             1 => {
+                // Every cell is an element of at least a tag.
+                if count.saturating_mul(8) > len {
+                    return Err(self.bad(
+                        start,
+                        format!("cell `{shown}`: {count} cells in {len} bytes"),
+                    ));
+                }
                 let mut cells = Vec::with_capacity(count);
                 for _ in 0..count {
                     let (cell, next) = sub.element(at, false)?;
@@ -384,7 +391,10 @@ impl Reader<'_> {
                         String::from_utf8_lossy(c).into_owned()
                     })
                     .collect();
-                if count.checked_mul(fields.len()).is_none_or(|n| n * 8 > len) {
+                if count
+                    .checked_mul(fields.len())
+                    .is_none_or(|n| n.saturating_mul(8) > len)
+                {
                     return Err(self.bad(
                         start,
                         format!(
@@ -455,5 +465,109 @@ impl Reader<'_> {
             },
             |v| v.array,
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file holding `fs = 1000` (double, 1×1) and `n = [1 2 3]` (int16 data in a double
+    /// array, as MATLAB narrows stored values), in either byte order.
+    fn file(little: bool) -> Vec<u8> {
+        let w = |v: u32| {
+            if little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            }
+        };
+        let mut bytes = vec![b' '; 116];
+        bytes.extend([0; 8]);
+        bytes.extend(if little {
+            [0x00, 0x01, b'I', b'M']
+        } else {
+            [0x01, 0x00, b'M', b'I']
+        });
+        let double = if little {
+            1000f64.to_le_bytes()
+        } else {
+            1000f64.to_be_bytes()
+        };
+        let fs: Vec<u8> = [
+            &w(14)[..],
+            &w(56),
+            &w(6),
+            &w(8),
+            &w(6),
+            &w(0),
+            &w(5),
+            &w(8),
+            &w(1),
+            &w(1),
+            &w(0x0002_0001),
+            b"fs\0\0",
+            &w(9),
+            &w(8),
+            &double,
+        ]
+        .concat();
+        let mut shorts = Vec::new();
+        for v in [1i16, 2, 3] {
+            shorts.extend(if little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            });
+        }
+        shorts.extend([0, 0]);
+        let n: Vec<u8> = [
+            &w(14)[..],
+            &w(56),
+            &w(6),
+            &w(8),
+            &w(6),
+            &w(0),
+            &w(5),
+            &w(8),
+            &w(1),
+            &w(3),
+            &w(0x0001_0001),
+            b"n\0\0\0",
+            &w(3),
+            &w(6),
+            &shorts,
+        ]
+        .concat();
+        bytes.extend(fs);
+        bytes.extend(n);
+        bytes
+    }
+
+    #[test]
+    fn both_byte_orders_and_narrowed_storage_read_the_same() {
+        for little in [true, false] {
+            let vars = parse(&file(little), "o.mat").unwrap();
+            assert_eq!(vars.len(), 2, "little {little}");
+            assert_eq!(vars[0].array.samples(), Some(&[1000.0][..]));
+            assert_eq!(vars[1].name, "n");
+            assert_eq!(vars[1].array.samples(), Some(&[1.0, 2.0, 3.0][..]));
+            assert_eq!(vars[1].array.dims(), [1, 3]);
+            assert_eq!(vars[1].array.class(), "double");
+        }
+    }
+
+    #[test]
+    fn a_small_element_longer_than_four_bytes_is_malformed() {
+        let mut bytes = file(true);
+        // The name tag of `fs`: small format, 2 bytes → 9 bytes.
+        let at = 128 + 8 + 16 + 16;
+        bytes[at..at + 4].copy_from_slice(&0x0009_0001u32.to_le_bytes());
+        let e = parse(&bytes, "o.mat").unwrap_err();
+        assert_eq!(e.kind(), "malformed_mat");
+        assert!(
+            e.to_string().contains("small data element of 9 bytes"),
+            "{e}"
+        );
     }
 }
