@@ -122,3 +122,39 @@ fn a_bad_mat_file_exits_2_naming_it() {
         "{v}"
     );
 }
+
+#[test]
+fn a_campaign_point_reads_matrix_columns_at_a_given_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let plan = dir.path().join("plan.toml");
+    std::fs::write(
+        &plan,
+        format!(
+            "[identify]\nband = [10.0, 100.0]\nforce = \"data:2,data:3\"\n\
+             disp = \"data:4,data:5\"\nrate = 1000.0\n\
+             [[point]]\nname = \"m\"\nfiles = {:?}\n",
+            fixture("matrix.mat")
+        ),
+    )
+    .unwrap();
+    let out = run(&["campaign", plan.to_str().unwrap(), "--json"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let point = &v["points"][0];
+    let direct = identify(&[
+        "--force",
+        "data:2,data:3",
+        "--disp",
+        "data:4,data:5",
+        "--rate",
+        "1000",
+        &fixture("matrix.mat"),
+    ]);
+    assert_eq!(direct["fs"], 1000.0);
+    assert_eq!(point["K"], direct["K"], "{point}");
+}
