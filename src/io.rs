@@ -146,7 +146,11 @@ fn read_csv_limited(
 /// [`TIME_GRID_TOLERANCE`](crate::records::TIME_GRID_TOLERANCE) (1 %) of a step of its place
 /// on the grid. A time off the grid is blamed on its own line (see
 /// [`offending_sample`]).
-fn uniform_rate(time: &[f64], label: &str, line_of: &dyn Fn(usize) -> u64) -> Result<f64> {
+pub(crate) fn uniform_rate(
+    time: &[f64],
+    label: &str,
+    line_of: &dyn Fn(usize) -> u64,
+) -> Result<f64> {
     if time.len() < 2 {
         return Err(Error::RecordTooShort {
             record: label.to_owned(),

@@ -93,15 +93,17 @@
 //! - `tdms` — [`tdms`]: TDMS files of NI LabVIEW and DAQmx (every numeric type, little- and
 //!   big-endian, interleaved and contiguous, incremental metadata, linear and polynomial
 //!   scaling) and records from their channels; no dependencies;
+//! - `mat` — [`mat`]: read MATLAB MAT-files, level 5 (`-v6`, `-v7`; compressed or not), and
+//!   build records from their variables, struct fields, matrix columns, struct and cell arrays;
 //! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
 //!   (TOML or JSON), constant or per frequency; with `uff`, [`export::uff`] writes the measured
 //!   and model FRFs and the coherences of an identification as dataset 58 functions;
-//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `ross`, `csv`, `json`,
+//! - `cli` — the `bearing-ident` command-line tool (implies `uff`, `mat`, `ross`, `csv`, `json`,
 //!   `serde` and `plot`);
 //! - `rayon` — per-record FFTs in parallel and [`Identifier::identify_batch`] over many test
 //!   conditions in parallel, with results bit for bit those of the sequential build;
-//! - `job` — [`job`]: one path from record files (CSV, Universal File) to a result, as the
-//!   command line's `identify` takes it (implies `csv`, `uff` and `tdms`).
+//! - `job` — [`job`]: one path from record files (CSV, Universal File, TDMS, MAT-file) to a
+//!   result, as the command line's `identify` takes it (implies `csv`, `uff`, `tdms`, `mat`).
 //!
 //! ## References
 //! - C.-P. Fritzen (1985), *Identification of mass, damping and stiffness matrices of
@@ -139,6 +141,8 @@ pub mod json;
 mod lanes;
 pub mod limits;
 mod linalg;
+#[cfg(feature = "mat")]
+pub mod mat;
 pub mod model;
 pub mod nonlinear;
 pub mod per_frequency;

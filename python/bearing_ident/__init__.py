@@ -36,6 +36,7 @@ __all__ = [
     "read_csv",
     "read_uff",
     "read_tdms",
+    "read_mat",
     "run_campaign",
     "simulate",
 ]
@@ -496,6 +497,23 @@ def read_tdms(
     return _from_native(
         _call(_native.read_files, paths, list(force), list(disp), time, response, record_by)
     )
+def read_mat(
+    path: str,
+    force: Sequence[str] = ("fx", "fy"),
+    disp: Sequence[str] = ("x", "y"),
+    time: str = "t",
+    response: str | Sequence[str] = (),
+) -> list[Record]:
+    """Records of a MATLAB MAT-file (level 5, ``-v7``, compressed or not): one, or one per
+    element of the struct arrays or cell arrays the channels are in.
+
+    ``force`` and ``disp`` name channels as variables (``fx``), struct fields (``rec.fx``) or
+    matrix columns (``data:2``, counted from 1); ``time`` the time vector, without which the
+    rate is a scalar ``fs``, ``Fs``, ``rate`` (Hz) or ``dt`` (s) beside the first force channel
+    or at the top of the file.
+    """
+    response = [response] if isinstance(response, str) else list(response)
+    return _from_native(_call(_native.read_files, [path], list(force), list(disp), time, response))
 
 
 def simulate(

@@ -36,6 +36,7 @@ class BadBaselineError(BearingIdentError): ...  # kind 'bad_baseline'
 class MalformedUffError(BearingIdentError): ...  # kind 'malformed_uff'
 class MalformedTdmsError(BearingIdentError): ...  # kind 'malformed_tdms'
 class UnsupportedError(BearingIdentError): ...  # kind 'unsupported'
+class MalformedMatError(BearingIdentError): ...  # kind 'malformed_mat'
 class InvalidInputError(BearingIdentError): ...  # kind 'invalid_input'
 class MissingResponseError(BearingIdentError): ...  # kind 'missing_response'
 class UnderdeterminedError(BearingIdentError): ...  # kind 'underdetermined'
@@ -115,6 +116,13 @@ def read_uff(
     path: str,
     force: Sequence[str] = (),
     disp: Sequence[str] = (),
+    response: str | Sequence[str] = (),
+) -> list[Record]: ...
+def read_mat(
+    path: str,
+    force: Sequence[str] = ("fx", "fy"),
+    disp: Sequence[str] = ("x", "y"),
+    time: str = "t",
     response: str | Sequence[str] = (),
 ) -> list[Record]: ...
 def simulate(

@@ -443,3 +443,31 @@ def test_read_tdms_reads_the_samples_of_the_csv(tmp_path):
         assert np.allclose(one[key], two[key], rtol=1e-9, atol=0), key
     with pytest.raises(bi.MissingColumnError):
         bi.read_tdms(str(path))  # `fx` is in every group: ambiguous for one record per file
+
+
+MAT_FIXTURES = pathlib.Path(__file__).resolve().parents[2] / "tests" / "mat" / "fixtures"
+
+
+def test_read_mat_gives_the_csv_samples_and_a_record_per_struct_element():
+    """SciPy's MAT-files (tests/mat/make_fixtures.py) read to the samples of the CSV of the
+    same data, bit for bit; a 1×2 struct array gives two records, in order."""
+    (a,) = bi.read_csv([str(MAT_FIXTURES / "a.csv")])
+    (b,) = bi.read_csv([str(MAT_FIXTURES / "b.csv")])
+    (plain,) = bi.read_mat(str(MAT_FIXTURES / "compressed.mat"))
+    assert np.array_equal(plain.force, a.force) and np.array_equal(plain.response, a.response)
+    assert plain.fs == a.fs
+    two = bi.read_mat(
+        str(MAT_FIXTURES / "struct_array.mat"),
+        force=("recs.fx", "recs.fy"),
+        disp=("recs.x", "recs.y"),
+    )
+    assert len(two) == 2
+    assert np.array_equal(two[1].response, b.response)
+
+
+
+def test_read_mat_names_the_byte_of_a_cut_file(tmp_path):
+    cut = tmp_path / "cut.mat"
+    cut.write_bytes((MAT_FIXTURES / "compressed.mat").read_bytes()[:1000])
+    with pytest.raises(bi.MalformedMatError, match="cut.mat, byte 128"):
+        bi.read_mat(str(cut))

@@ -10,8 +10,9 @@ use crate::error::{Error, Result, excerpt};
 use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
 
-/// The options of `identify` that name channels rather than set the identification.
-pub(super) const CHANNEL_NAMES: [&str; 8] = [
+/// The options of `identify` that name channels rather than set the identification (`rate`:
+/// the sample rate, Hz, of MAT-files that hold neither a time vector nor a rate).
+pub(super) const CHANNEL_NAMES: [&str; 9] = [
     "force",
     "disp",
     "resp",
@@ -20,6 +21,7 @@ pub(super) const CHANNEL_NAMES: [&str; 8] = [
     "record-by",
     "force-unit",
     "disp-unit",
+    "rate",
 ];
 
 /// Whether `name` (with `-` between words) is an option a plan can set.
@@ -82,8 +84,8 @@ pub(super) fn options(
 /// plan's `geometry`, for `files`.
 ///
 /// # Errors
-/// A response kind or a `record_by` (TDMS files: `file` or `group`) that does not parse;
-/// [`Channels::named`]'s.
+/// A response kind, a `record_by` (TDMS files: `file` or `group`) or a `rate` that does not
+/// parse; [`Channels::named`]'s.
 pub(super) fn channels(
     settings: &[Setting],
     geometry: Option<&Geometry>,
@@ -109,6 +111,18 @@ pub(super) fn channels(
         &time,
         files,
     )?;
+    channels.mat.rate = list(&["rate"])
+        .pop()
+        .map(|r| {
+            r.parse::<f64>()
+                .ok()
+                .filter(|r| r.is_finite() && *r > 0.0)
+                .ok_or_else(|| Error::InvalidOption {
+                    option: "rate",
+                    message: format!("rate `{}`: a sample rate in Hz, above 0", excerpt(&r)),
+                })
+        })
+        .transpose()?;
     channels.geometry = geometry.cloned();
     if let Some(by) = list(&["record-by"]).pop() {
         channels.record_by = by.parse().map_err(|message| Error::InvalidOption {

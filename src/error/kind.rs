@@ -64,6 +64,8 @@ named_table! {
         /// Data of a kind the reader does not read (a TDMS channel of strings, or with a
         /// scaling other than linear or polynomial).
         Unsupported => "unsupported",
+        /// A MATLAB MAT-file that cannot be read.
+        MalformedMat => "malformed_mat",
         /// Field identification: a rotor model or test set that is not well formed.
         InvalidInput => "invalid_input",
         /// Field identification: a probe without its response at some speed and test.
@@ -190,6 +192,10 @@ impl Error {
             }
             #[cfg(feature = "tdms")]
             Error::TdmsRecord { .. } => ErrorKind::InconsistentRecords,
+            #[cfg(feature = "mat")]
+            Error::Mat { .. } => ErrorKind::MalformedMat,
+            #[cfg(feature = "mat")]
+            Error::MatRecord { .. } => ErrorKind::InconsistentRecords,
             Error::ExportDofs { .. } => ErrorKind::InvalidArgument,
             Error::SimulationDiverged { .. } => ErrorKind::NonFinite,
             Error::Plan { .. } => ErrorKind::InvalidInput,

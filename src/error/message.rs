@@ -514,6 +514,12 @@ impl fmt::Display for Error {
                 offset,
                 message,
             } => write!(f, "{path}, byte {offset}: {message}"),
+            #[cfg(feature = "mat")]
+            Error::Mat {
+                path,
+                offset,
+                message,
+            } => write!(f, "{path}, byte {offset}: {message}"),
             #[cfg(feature = "tdms")]
             Error::TdmsChannel {
                 path,
@@ -523,6 +529,12 @@ impl fmt::Display for Error {
             } => write!(f, "{path}: channel `{channel}`: {message}"),
             #[cfg(feature = "tdms")]
             Error::TdmsRecord { path, message } => write!(f, "{path}: {message}"),
+            #[cfg(feature = "mat")]
+            Error::MatRecord {
+                path,
+                variable,
+                message,
+            } => write!(f, "{path}: `{variable}`: {message}"),
             Error::ExportDofs {
                 format,
                 dofs,

@@ -589,6 +589,19 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A MATLAB MAT-file is malformed: not a level 5 MAT-file, truncated, a byte count or
+    /// dimensions larger than the bytes that hold them, zlib data that do not inflate (feature
+    /// `mat`).
+    #[cfg(feature = "mat")]
+    Mat {
+        /// The file.
+        path: String,
+        /// Byte offset in the file (of the element at fault, or of the compressed element it
+        /// is inside).
+        offset: u64,
+        /// What is wrong.
+        message: String,
+    },
     /// A channel of a TDMS file named for a record is not in it, is named ambiguously, or its
     /// samples cannot be read (strings, a scaling other than linear or polynomial).
     #[cfg(feature = "tdms")]
@@ -610,6 +623,18 @@ pub enum Error {
         /// The file (or `FILE:GROUP`).
         path: String,
         /// What is wrong.
+        message: String,
+    },
+    /// Variables of a MAT-file do not make a record: a channel that is not there, not real
+    /// numbers (`char`, complex, sparse, an object such as `timetable`), a matrix without a
+    /// column, no sample rate (feature `mat`).
+    #[cfg(feature = "mat")]
+    MatRecord {
+        /// The file.
+        path: String,
+        /// The channel or variable, as named (`rec.fx`, `data:2`).
+        variable: String,
+        /// What was found.
         message: String,
     },
     /// An identification exported to a format of a fixed number of degrees of freedom has

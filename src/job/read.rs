@@ -8,6 +8,7 @@ use std::sync::mpsc::{Receiver, sync_channel};
 
 use crate::error::{Error, Result};
 use crate::io::{self, CsvLayout};
+use crate::mat::{MatChannel, MatLayout, is_mat};
 use crate::records::{Record, Response};
 use crate::tdms::{RecordBy, TdmsLayout};
 use crate::uff::{UffChannel, UffLayout};
@@ -29,6 +30,8 @@ pub struct Channels {
     pub csv: CsvLayout,
     /// The channels of Universal Files (`.uff`, `.unv`).
     pub uff: UffLayout,
+    /// The channels of MATLAB MAT-files (`.mat`), and the sample rate when they hold none.
+    pub mat: MatLayout,
     /// What the response channels measure: empty for the files' own word (displacement for
     /// CSV, the data type for Universal Files), one kind for all, or one per degree of
     /// freedom.
@@ -139,9 +142,31 @@ impl Channels {
                 ),
             ));
         }
+        let mat = if files.iter().any(|f| is_mat(f)) {
+            let parse = |names: &[String], option: &'static str| {
+                names
+                    .iter()
+                    .map(|c| {
+                        c.parse::<MatChannel>().map_err(|e| match e {
+                            Error::InvalidOption { message, .. } => invalid(option, message),
+                            e => e,
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()
+            };
+            MatLayout {
+                forces: parse(&csv.forces, "force")?,
+                responses: parse(&csv.displacements, "disp")?,
+                time: csv.time.clone(),
+                rate: None,
+            }
+        } else {
+            MatLayout::default()
+        };
         let channels = Channels {
             csv,
             uff: uff_layout,
+            mat,
             responses: responses.to_vec(),
             geometry: None,
             record_by: RecordBy::File,
@@ -305,7 +330,8 @@ pub fn is_tdms(path: &Path) -> bool {
 
 /// Every record of a file, at least one: one from a CSV file, one per load case of the time
 /// histories of a Universal File ([`crate::uff::records_with`]), one per TDMS file or group
-/// ([`crate::tdms::records`]), with the response kinds of `channels`.
+/// ([`crate::tdms::records`]), one per element of the struct or cell arrays of a MAT-file
+/// ([`crate::mat::records`]), with the response kinds of `channels`.
 ///
 /// # Errors
 /// The reader's errors, naming the file (and line, load case or channel);
@@ -329,6 +355,8 @@ pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
         in_si_all(read_uff(path, channels)?, channels)?
     } else if is_tdms(path) {
         read_tdms(path, channels)?
+    } else if is_mat(path) {
+        in_si_all(read_mat(path, channels)?, channels)?
     } else {
         vec![with_kinds(
             in_si(io::read_record(path, &*channels.layout()?)?, channels)?,
@@ -364,6 +392,8 @@ fn read_records(
         in_si_all(read_uff(path, channels)?, channels)?
     } else if is_tdms(path) {
         read_tdms(path, channels)?
+    } else if is_mat(path) {
+        in_si_all(read_mat(path, channels)?, channels)?
     } else {
         vec![with_kinds(in_si(reader.read(path)?, channels)?, channels)?]
     };
@@ -397,6 +427,16 @@ fn read_tdms(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     };
     let file = crate::tdms::read(path)?;
     crate::tdms::records(&file, &path.display().to_string(), &layout)?
+        .into_iter()
+        .map(|r| with_kinds(r, channels))
+        .collect()
+}
+
+/// The records of a MAT-file, one per element of the struct or cell arrays its channels are
+/// in.
+fn read_mat(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
+    let variables = crate::mat::read(path)?;
+    crate::mat::records(&variables, &path.display().to_string(), &channels.mat)?
         .into_iter()
         .map(|r| with_kinds(r, channels))
         .collect()

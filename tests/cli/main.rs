@@ -9,4 +9,5 @@ mod campaign;
 mod commands;
 mod export;
 mod field;
+mod mat;
 mod readme;

@@ -2,7 +2,8 @@
 //!
 //! The `bearing-ident …` lines, and the `cargo run --release --features cli -- …` lines as the
 //! tool they build, run one after another in a temporary directory holding a copy of
-//! `examples/field/` and `examples/tdms/` (the paths the README names), as a reader types them, with the
+//! `examples/field/`, `examples/tdms/` and `tests/mat/fixtures/` (the paths the README names), as a
+//! reader types them, with the
 //! `bearing-ident` of this build first on `PATH`. Running cargo inside a test would build the
 //! crate again, so the other cargo lines are checked against the manifests as written: the
 //! package (`-p`), its features and the required features of the target run, the example, test
@@ -395,6 +396,10 @@ fn every_readme_command_runs_as_written() {
     copy_dir(
         &root.join("examples/tdms"),
         &dir.path().join("examples/tdms"),
+    );
+    copy_dir(
+        &root.join("tests/mat/fixtures"),
+        &dir.path().join("tests/mat/fixtures"),
     );
     let path = std::env::join_paths(std::iter::once(exe.parent().unwrap().to_path_buf()).chain(
         std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),

@@ -8,5 +8,7 @@ mod common;
 mod csv_reader;
 mod fuzz;
 mod fuzz_regressions;
+#[cfg(feature = "mat")]
+mod mat;
 #[cfg(feature = "cli")]
 mod tdms;

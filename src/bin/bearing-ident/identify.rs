@@ -145,7 +145,9 @@ pub struct IdentifyArgs {
     #[arg(long, value_delimiter = ',', value_parser = choice::<bearing_ident::Response>())]
     response: Vec<bearing_ident::Response>,
     /// Time column (s). TDMS files: the time channel, read when the force and response
-    /// channels have no `wf_increment` property.
+    /// channels have no `wf_increment` property. MAT-files: the time vector (`t`, `rec.t`);
+    /// without one, a scalar `fs`, `Fs`, `rate` (Hz) or `dt` (s) beside the first force
+    /// channel or at the top.
     #[arg(long, default_value = "t")]
     time: String,
     /// Units of the force channels, one for all or one per channel (comma list): N, kN, mN,
@@ -164,6 +166,9 @@ pub struct IdentifyArgs {
     /// TDMS files: one record per file, or one per group holding the named channels.
     #[arg(long, value_name = "file|group", default_value = "file")]
     record_by: bearing_ident::tdms::RecordBy,
+    /// Sample rate (Hz) of MAT-files that hold no time vector and no rate.
+    #[arg(long, value_name = "HZ")]
+    rate: Option<f64>,
     /// Move the responses (and forces) to the bearing plane before the spectra: a TOML file
     /// with the keys of a campaign plan's `[geometry]` (`mode = "conical"`, `pivot`,
     /// `bearing`, `probes` one per response channel, optional `forces`; m).
@@ -209,7 +214,10 @@ pub struct IdentifyArgs {
     /// data types 8, 11, 12 (displacement, velocity, acceleration), each sorted by direction,
     /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them),
     /// or TDMS files `.tdms` (channels named `GROUP/CHANNEL`, or `CHANNEL` when unique; a
-    /// record per file or per group, `--record-by`).
+    /// record per file or per group, `--record-by`),
+    /// or MATLAB MAT-files `.mat` (level 5, `-v7`: channels as variables `fx`, struct fields
+    /// `rec.fx` or matrix columns `data:2`, counted from 1; a record per element of a struct
+    /// or cell array on the way).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -224,6 +232,7 @@ fn channels(args: &IdentifyArgs) -> Result<Channels, Failure> {
         &args.time,
         &args.files,
     )?;
+    channels.mat.rate = args.rate;
     if let Some(path) = &args.geometry {
         channels.geometry = Some(bearing_ident::campaign::Plan::read_geometry(path)?);
     }

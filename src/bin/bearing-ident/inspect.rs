@@ -1,12 +1,14 @@
 //! `bearing-ident inspect`: the dataset 58 / 58b functions of Universal Files, as a table or as
 //! JSON with every value; the groups and channels of TDMS files with their properties
-//! (`inspect/tdms.rs`).
+//! (`inspect/tdms.rs`); the variables of MAT-files (struct fields and cells below them), with
+//! their class and size.
 
 mod tdms;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use bearing_ident::mat;
 use bearing_ident::uff::{self, Abscissa, Function, Ordinate};
 use serde_json::{Value, json};
 
@@ -20,8 +22,10 @@ pub struct InspectArgs {
     /// properties and channels (`name`, `data_type`, `n`, `unit`, `properties`).
     #[arg(long)]
     pub json: bool,
-    /// Universal Files (`.uff`, `.unv`; other datasets in them are skipped) or TDMS files
-    /// (`.tdms`).
+    /// Universal Files (`.uff`, `.unv`; other datasets in them are skipped), TDMS files
+    /// (`.tdms`) or MAT-files
+    /// (`.mat`: their variables and the fields of their structs, as `--force` names them,
+    /// with class and size, in `variables` with `--json`).
     #[arg(required = true)]
     files: Vec<PathBuf>,
 }
@@ -30,20 +34,37 @@ pub struct InspectArgs {
 pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
     let mut all = Vec::new();
     let mut tdms_files = Vec::new();
+    let mut variables = Vec::new();
+    let mut mat_text = String::new();
     for path in &args.files {
         if bearing_ident::job::is_tdms(path) {
             tdms_files.push((path.display().to_string(), bearing_ident::tdms::read(path)?));
             continue;
         }
+        let file = path.display().to_string();
+        if mat::is_mat(path) {
+            let vars = mat::read(path)?;
+            let mut lines = Vec::new();
+            for v in &vars {
+                mat_entries(&v.name, &v.array, &mut lines);
+            }
+            let _ = writeln!(mat_text, "{file}: {} MAT-file variables", vars.len());
+            for (name, class, dims) in lines {
+                let size: Vec<String> = dims.iter().map(usize::to_string).collect();
+                let _ = writeln!(mat_text, "  {name:<24} {class:<10} {}", size.join("×"));
+                variables.push(json!({ "file": file, "name": name, "class": class, "size": dims }));
+            }
+            continue;
+        }
         let functions = uff::read(path)?;
-        all.push((path.display().to_string(), functions));
+        all.push((file, functions));
     }
     if args.json {
         let records: Vec<Value> = all
             .iter()
             .flat_map(|(file, fs)| fs.iter().map(move |f| record_json(file, f)))
             .collect();
-        let mut out = json!({ "records": records });
+        let mut out = json!({ "records": records, "variables": variables });
         if !tdms_files.is_empty() {
             out["tdms"] = tdms_files.iter().map(|(p, f)| tdms::json(p, f)).collect();
         }
@@ -53,7 +74,39 @@ pub fn inspect(args: &InspectArgs) -> Result<(), Failure> {
         for (path, file) in &tdms_files {
             text.push_str(&tdms::table(path, file));
         }
+        text.push_str(&mat_text);
         print_out(format_args!("{text}"))
+    }
+}
+
+/// A MAT-file array and what is below it, as `--force` names them: `rec` then `rec.fx`
+/// (fields of every element of a struct array, once; of the structs in a cell array `c`, as
+/// `c.fx`).
+fn mat_entries(name: &str, array: &mat::Array, out: &mut Vec<(String, &'static str, Vec<usize>)>) {
+    out.push((name.to_owned(), array.class(), array.dims().to_vec()));
+    match array {
+        mat::Array::Struct {
+            fields, elements, ..
+        } => {
+            if let Some(first) = elements.first() {
+                for (field, value) in fields.iter().zip(first) {
+                    mat_entries(&format!("{name}.{field}"), value, out);
+                }
+            }
+        }
+        mat::Array::Cell { cells, .. } => {
+            if let Some(mat::Array::Struct {
+                fields, elements, ..
+            }) = cells.first()
+            {
+                if let Some(first) = elements.first() {
+                    for (field, value) in fields.iter().zip(first) {
+                        mat_entries(&format!("{name}.{field}"), value, out);
+                    }
+                }
+            }
+        }
+        _ => {}
     }
 }
 
