@@ -37,6 +37,10 @@ pub struct Facts<'a> {
     pub bearing: Option<(&'a Coefficients, Option<&'a Coefficients>, &'a str)>,
     /// Per-line coefficients, when asked for.
     pub per_frequency: Option<&'a PerFrequency>,
+    /// The coefficients in dimensionless form, when a clearance was given.
+    pub dimensionless: Option<&'a crate::rotor::Dimensionless>,
+    /// The stability of a rigid rotor on the element, when a speed or load was given.
+    pub stability: Option<&'a crate::rotor::Stability>,
 }
 
 impl Outcome {
@@ -56,6 +60,8 @@ impl Outcome {
                 .as_ref()
                 .map(|b| (&b.coefficients, b.std_dev.as_ref(), b.source.as_str())),
             per_frequency,
+            dimensionless: self.dimensionless(),
+            stability: self.stability(),
         }
     }
 
@@ -69,17 +75,20 @@ impl Outcome {
         let pf = per_frequency
             .then(|| self.identification.per_frequency())
             .transpose()?;
-        json(&self.identification, &self.facts(pf.as_ref())).map_err(|e| crate::Error::Io {
+        let io = |e: serde_json::Error| crate::Error::Io {
             path: "JSON".into(),
             message: e.to_string(),
-        })
+        };
+        json(&self.identification, &self.facts(pf.as_ref())).map_err(io)
     }
 }
 
 /// The library's serialization of `id` plus the run's own fields: `excitation`,
 /// `excitation_auto`, `crest_factor`, `nperseg`, `welch_choice`, `fs`, `n_records`, `files`,
 /// `compute_ms`, `timings_ms` (every stage of the run, [`Timings::stages`], and `total`),
-/// `bearing` and `per_frequency` when there are.
+/// `bearing` and `per_frequency` when there are; `dimensionless`
+/// ([`crate::rotor::Dimensionless`]) and `stability` ([`crate::rotor::Stability`]), null
+/// without the conditions they need.
 ///
 /// # Errors
 /// Serialization errors.
@@ -113,6 +122,11 @@ pub fn json(id: &Identification, f: &Facts<'_>) -> serde_json::Result<Value> {
         if let Some(pf) = &f.per_frequency {
             map.insert("per_frequency".into(), per_frequency_json(pf));
         }
+        map.insert(
+            "dimensionless".into(),
+            serde_json::to_value(f.dimensionless)?,
+        );
+        map.insert("stability".into(), serde_json::to_value(f.stability)?);
     }
     Ok(v)
 }

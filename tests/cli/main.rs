@@ -10,3 +10,4 @@ mod commands;
 mod export;
 mod field;
 mod readme;
+mod rotor;

@@ -52,6 +52,8 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         axes: vec!["x".into(), "y".into()],
         bearing: None,
         per_frequency: None,
+        dimensionless: None,
+        stability: None,
     };
     if let Some(dir) = &args.plot {
         write_report(

@@ -38,6 +38,10 @@ pub struct Context {
     pub bearing: Option<(Coefficients, Option<Coefficients>, String)>,
     /// Per-line coefficients, when asked for.
     pub per_frequency: Option<PerFrequency>,
+    /// The coefficients in dimensionless form, when a clearance was given.
+    pub dimensionless: Option<bearing_ident::rotor::Dimensionless>,
+    /// The stability of a rigid rotor on the element, when a speed or load was given.
+    pub stability: Option<bearing_ident::rotor::Stability>,
 }
 
 impl Context {
@@ -65,6 +69,8 @@ impl Context {
                 .bearing()
                 .map(|b| (b.coefficients.clone(), b.std_dev.clone(), b.source.clone())),
             per_frequency: per_frequency.then(|| id.per_frequency()).transpose()?,
+            dimensionless: outcome.dimensionless().cloned(),
+            stability: outcome.stability().cloned(),
         })
     }
 }
@@ -85,6 +91,8 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
             .as_ref()
             .map(|(b, std, source)| (b, std.as_ref(), source.as_str())),
         per_frequency: c.per_frequency.as_ref(),
+        dimensionless: c.dimensionless.as_ref(),
+        stability: c.stability.as_ref(),
     };
     bearing_ident::job::json(id, &facts)
 }
@@ -110,6 +118,67 @@ fn coefficient_lines(
         );
         if let (Some(truth), Some(error)) = (&row.truth, &row.error) {
             let _ = write!(out, " {truth:>15} {error:>10}");
+        }
+        let _ = writeln!(out);
+    }
+}
+
+/// The dimensionless coefficients and the stability of a rigid rotor on the element, when
+/// the conditions were given.
+fn rotor_lines(out: &mut String, axes: &[String], c: &Context) {
+    let pm = |v: Option<f64>, s: Option<f64>, digits: usize| match (v, s) {
+        (Some(v), Some(s)) => format!("{} ± {}", sig(v, digits), sig(s, 2)),
+        (Some(v), None) => sig(v, digits),
+        (None, _) => "—".into(),
+    };
+    if let Some(d) = &c.dimensionless {
+        let _ = writeln!(
+            out,
+            "Dimensionless (c = {} µm, W = {} N, Ω = {} rpm; K̄ = Kc/W, C̄ = CΩc/W, M̄ = MΩ²c/W)",
+            sig(d.clearance_m() * 1e6, 4),
+            sig(d.load_n(), 4),
+            sig(d.speed_rad_s() * 60.0 / (2.0 * std::f64::consts::PI), 5)
+        );
+        let n = d.stiffness().nrows();
+        let labels = axis_labels(axes, n);
+        let std = d.std_dev();
+        for (b, (name, m)) in [("K̄", d.stiffness()), ("C̄", d.damping()), ("M̄", d.mass())]
+            .into_iter()
+            .enumerate()
+        {
+            for i in 0..n {
+                for j in 0..n {
+                    let s = std.map(|s| s[b][(i, j)]);
+                    let _ = writeln!(
+                        out,
+                        "  {:<16} {:>24}",
+                        format!("{name}_{}{}", labels[i], labels[j]),
+                        pm(Some(m[(i, j)]), s, 5)
+                    );
+                }
+            }
+        }
+        let _ = writeln!(out);
+    }
+    if let Some(s) = &c.stability {
+        let _ = writeln!(out, "Stability of a rigid rotor on the element (Lund)");
+        let _ = writeln!(
+            out,
+            "  whirl-frequency ratio {}",
+            pm(s.whirl_frequency_ratio, s.whirl_frequency_ratio_std, 4)
+        );
+        let _ = writeln!(
+            out,
+            "  threshold speed {} rpm",
+            pm(s.threshold_speed_rpm, s.threshold_speed_rpm_std, 5)
+        );
+        let _ = writeln!(
+            out,
+            "  C_eff crossover {} Hz",
+            pm(s.c_eff_crossover_hz, s.c_eff_crossover_hz_std, 5)
+        );
+        if let Some(reason) = &s.reason {
+            out.push_str(&text::wrap("  ", reason, 4));
         }
         let _ = writeln!(out);
     }
@@ -204,6 +273,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         coefficient_lines(&mut out, &axes, b, std.as_ref(), None);
         let _ = writeln!(out);
     }
+    rotor_lines(&mut out, &axes, c);
     let _ = writeln!(out, "Modes (± one standard deviation)");
     let (sf, sz) = (id.natural_frequencies_hz_std(), id.damping_ratios_std());
     let pm = |s: &Option<Vec<f64>>, k: usize| {
