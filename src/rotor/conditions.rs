@@ -120,9 +120,10 @@ fn missing(option: &'static str, what: &str) -> Error {
     }
 }
 
-/// A number followed by a unit of `units` (`(name, factor to SI)`, names compared without
-/// case, spaces allowed between), finite and > 0, in SI.
-fn quantity(option: &'static str, text: &str, units: &[(&str, f64)]) -> Result<f64> {
+/// A number followed by a unit of `units` (`(name, numerator, denominator)` of its factor
+/// to SI, so that `100um` is exactly `100/10⁶`; names compared without case, spaces allowed
+/// between), finite and > 0, in SI.
+fn quantity(option: &'static str, text: &str, units: &[(&str, f64, f64)]) -> Result<f64> {
     let expected: Vec<&str> = units.iter().map(|u| u.0).collect();
     let bad = || Error::InvalidOption {
         option,
@@ -139,12 +140,11 @@ fn quantity(option: &'static str, text: &str, units: &[(&str, f64)]) -> Result<f
         .ok_or_else(bad)?;
     let (number, unit) = t.split_at(split);
     let value: f64 = number.trim().parse().map_err(|_| bad())?;
-    let factor = units
+    let (_, times, per) = units
         .iter()
         .find(|u| u.0.eq_ignore_ascii_case(unit.trim()))
-        .map(|u| u.1)
         .ok_or_else(bad)?;
-    let si = value * factor;
+    let si = value * times / per;
     if si.is_finite() && si > 0.0 {
         Ok(si)
     } else {
@@ -161,7 +161,7 @@ fn quantity(option: &'static str, text: &str, units: &[(&str, f64)]) -> Result<f
 /// # Examples
 /// ```
 /// use bearing_ident::rotor::parse_clearance;
-/// assert!((parse_clearance("100um")? - 1e-4).abs() < 1e-18);
+/// assert_eq!(parse_clearance("100um")?, 1e-4);
 /// assert!((parse_clearance("4 mil")? - 1.016e-4).abs() < 1e-18);
 /// assert!(parse_clearance("100").is_err());
 /// assert!(parse_clearance("-1mm").is_err());
@@ -172,7 +172,12 @@ pub fn parse_clearance(text: &str) -> Result<f64> {
     quantity(
         "clearance",
         &text,
-        &[("m", 1.0), ("mm", 1e-3), ("um", 1e-6), ("mil", 25.4e-6)],
+        &[
+            ("m", 1.0, 1.0),
+            ("mm", 1.0, 1e3),
+            ("um", 1.0, 1e6),
+            ("mil", 25.4, 1e6),
+        ],
     )
 }
 
@@ -193,7 +198,11 @@ pub fn parse_load(text: &str) -> Result<f64> {
     quantity(
         "load",
         text,
-        &[("N", 1.0), ("kN", 1e3), ("lbf", 4.448_221_615_260_5)],
+        &[
+            ("N", 1.0, 1.0),
+            ("kN", 1e3, 1.0),
+            ("lbf", 4.448_221_615_260_5, 1.0),
+        ],
     )
 }
 
@@ -218,7 +227,7 @@ pub fn parse_speed(text: &str) -> Result<f64> {
     quantity(
         "speed",
         text,
-        &[("rpm", two_pi / 60.0), ("Hz", two_pi), ("rad/s", 1.0)],
+        &[("rpm", two_pi, 60.0), ("Hz", two_pi, 1.0), ("rad/s", 1.0, 1.0)],
     )
 }
 

@@ -166,16 +166,16 @@ pub struct IdentifyArgs {
     /// The test's radial clearance with its unit (m, mm, um, mil), e.g. `100um`: with
     /// `--load` and `--speed`, the dimensionless coefficients `K̄ = Kc/W`, `C̄ = CΩc/W`,
     /// `M̄ = MΩ²c/W` (JSON `dimensionless`).
-    #[arg(long, value_name = "LENGTH")]
+    #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
     clearance: Option<String>,
     /// The static load on the element with its unit (N, kN, lbf), e.g. `500N`: with
     /// `--speed`, the threshold speed of a rigid rotor of weight W on the element (JSON
     /// `stability`).
-    #[arg(long, value_name = "FORCE")]
+    #[arg(long, value_name = "FORCE", allow_hyphen_values = true)]
     load: Option<String>,
     /// The rotor speed with its unit (rpm, Hz, rad/s), e.g. `3000rpm`: the whirl-frequency
     /// ratio (JSON `stability`).
-    #[arg(long, value_name = "SPEED")]
+    #[arg(long, value_name = "SPEED", allow_hyphen_values = true)]
     speed: Option<String>,
     /// IVF tolerance on the block-wise relative change.
     #[arg(long, default_value_t = 1e-8)]
