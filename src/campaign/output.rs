@@ -76,6 +76,9 @@ impl Campaign {
                     "K_std",
                     "bearing",
                     "per_frequency",
+                    "dimensionless",
+                    "stability",
+                    "synchronous",
                 ] {
                     if let Some(v) = fit.json.get(key) {
                         map.insert(key.into(), v.clone());

@@ -41,6 +41,8 @@ pub struct Facts<'a> {
     pub dimensionless: Option<&'a crate::rotor::Dimensionless>,
     /// The stability of a rigid rotor on the element, when a speed or load was given.
     pub stability: Option<&'a crate::rotor::Stability>,
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed, when a speed was given.
+    pub synchronous: Option<&'a crate::rotor::Synchronous>,
 }
 
 impl Outcome {
@@ -62,6 +64,7 @@ impl Outcome {
             per_frequency,
             dimensionless: self.dimensionless(),
             stability: self.stability(),
+            synchronous: self.synchronous(),
         }
     }
 
@@ -87,8 +90,8 @@ impl Outcome {
 /// `excitation_auto`, `crest_factor`, `nperseg`, `welch_choice`, `fs`, `n_records`, `files`,
 /// `compute_ms`, `timings_ms` (every stage of the run, [`Timings::stages`], and `total`),
 /// `bearing` and `per_frequency` when there are; `dimensionless`
-/// ([`crate::rotor::Dimensionless`]) and `stability` ([`crate::rotor::Stability`]), null
-/// without the conditions they need.
+/// ([`crate::rotor::Dimensionless`]), `stability` ([`crate::rotor::Stability`]) and
+/// `synchronous` ([`crate::rotor::Synchronous`]), null without the conditions they need.
 ///
 /// # Errors
 /// Serialization errors.
@@ -127,6 +130,7 @@ pub fn json(id: &Identification, f: &Facts<'_>) -> serde_json::Result<Value> {
             serde_json::to_value(f.dimensionless)?,
         );
         map.insert("stability".into(), serde_json::to_value(f.stability)?);
+        map.insert("synchronous".into(), serde_json::to_value(f.synchronous)?);
     }
     Ok(v)
 }

@@ -332,6 +332,7 @@ impl Job {
             conditions: self.options.conditions,
             dimensionless: None,
             stability: None,
+            synchronous: None,
         };
         outcome.rotor()?;
         Ok(outcome)

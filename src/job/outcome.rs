@@ -37,6 +37,7 @@ pub struct Outcome {
     pub(super) conditions: crate::rotor::Conditions,
     pub(super) dimensionless: Option<crate::rotor::Dimensionless>,
     pub(super) stability: Option<crate::rotor::Stability>,
+    pub(super) synchronous: Option<crate::rotor::Synchronous>,
 }
 
 impl Outcome {
@@ -63,8 +64,17 @@ impl Outcome {
         self.stability.as_ref()
     }
 
-    /// Computes [`Outcome::dimensionless`] and [`Outcome::stability`] from the coefficients
-    /// reported and the conditions.
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed, when a speed was
+    /// given and the lines span it ([`crate::rotor::Synchronous`]): the element model's where
+    /// one other than `kcm` was fitted, else the per-line values interpolated. With a
+    /// baseline subtracted, the bearing's own: less the dry structure's constant
+    /// coefficients, their variances added.
+    pub fn synchronous(&self) -> Option<&crate::rotor::Synchronous> {
+        self.synchronous.as_ref()
+    }
+
+    /// Computes [`Outcome::dimensionless`], [`Outcome::stability`] and
+    /// [`Outcome::synchronous`] from the coefficients reported and the conditions.
     ///
     /// # Errors
     /// As [`crate::rotor::Dimensionless::new`] (not for the conditions a job checked).
@@ -84,7 +94,47 @@ impl Outcome {
             ),
             None => self.identification.stability(&self.conditions),
         });
+        self.synchronous = self.synchronous_of()?;
         Ok(())
+    }
+
+    fn synchronous_of(&self) -> crate::Result<Option<crate::rotor::Synchronous>> {
+        use crate::rotor::Synchronous;
+        let Some(omega) = self.conditions.speed() else {
+            return Ok(None);
+        };
+        let f = omega / (2.0 * std::f64::consts::PI);
+        let id = &self.identification;
+        let system = match id.model().filter(|m| !m.is_kcm()) {
+            Some(model) => Some(Synchronous::from_model(model, f)),
+            None => Synchronous::from_lines(&id.per_frequency()?, f),
+        };
+        let (Some(system), Some(b)) = (system.clone(), &self.bearing) else {
+            return Ok(system);
+        };
+        let own = id.coefficients();
+        let minus = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
+            faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)] - y[(i, j)])
+        };
+        let variance_left = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
+            faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| {
+                (x[(i, j)].powi(2) - y[(i, j)].powi(2)).max(0.0).sqrt()
+            })
+        };
+        let k = minus(own.stiffness(), b.coefficients.stiffness());
+        let c = minus(own.damping(), b.coefficients.damping());
+        let std = match (&b.std_dev, id.std_dev()) {
+            (Some(bs), Some(ss)) => Some((
+                variance_left(bs.stiffness(), ss.stiffness()),
+                variance_left(bs.damping(), ss.damping()),
+            )),
+            _ => None,
+        };
+        Ok(Some(system.less(
+            k.as_ref(),
+            c.as_ref(),
+            std.as_ref().map(|(k, c)| (k.as_ref(), c.as_ref())),
+        )))
     }
 
     /// The coefficients reported: the bearing's own when a baseline was subtracted, else

@@ -54,6 +54,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         per_frequency: None,
         dimensionless: None,
         stability: None,
+        synchronous: None,
     };
     if let Some(dir) = &args.plot {
         write_report(

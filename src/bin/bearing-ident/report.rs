@@ -42,6 +42,8 @@ pub struct Context {
     pub dimensionless: Option<bearing_ident::rotor::Dimensionless>,
     /// The stability of a rigid rotor on the element, when a speed or load was given.
     pub stability: Option<bearing_ident::rotor::Stability>,
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed.
+    pub synchronous: Option<bearing_ident::rotor::Synchronous>,
 }
 
 impl Context {
@@ -71,6 +73,7 @@ impl Context {
             per_frequency: per_frequency.then(|| id.per_frequency()).transpose()?,
             dimensionless: outcome.dimensionless().cloned(),
             stability: outcome.stability().cloned(),
+            synchronous: outcome.synchronous().cloned(),
         })
     }
 }
@@ -93,6 +96,7 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
         per_frequency: c.per_frequency.as_ref(),
         dimensionless: c.dimensionless.as_ref(),
         stability: c.stability.as_ref(),
+        synchronous: c.synchronous.as_ref(),
     };
     bearing_ident::job::json(id, &facts)
 }
