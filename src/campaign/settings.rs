@@ -34,7 +34,8 @@ const OPERATING: [&str; 3] = ["clearance", "load", "speed"];
 
 /// The options of `point`: the command's defaults, then the `shared` settings, then the
 /// point's own, in order, then its values of the plan's `conditions` named `clearance`,
-/// `load`, `speed` with their units (a speed of 0, a test without rotation, sets none); and
+/// `load`, `speed` with their units (a speed or load of 0, a test without rotation or load,
+/// sets none); and
 /// its channel settings (name, text). `source` is the plan's file, as errors name it.
 ///
 /// # Errors
@@ -66,7 +67,7 @@ pub(super) fn options(
         let Some(Value::Number(x)) = value.as_ref().filter(|_| OPERATING.contains(&name)) else {
             continue;
         };
-        if name == "speed" && *x == 0.0 {
+        if name != "clearance" && *x == 0.0 {
             continue;
         }
         let text = format!("{x}{}", condition.unit.name());

@@ -191,6 +191,8 @@ fn points_are_identify_bit_for_bit() {
         "--geometry",
         &geometry,
         "--reject-bad-records",
+        "--speed",
+        "3000rpm",
         "--baseline",
         &saved_dry,
     ];
