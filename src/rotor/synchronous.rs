@@ -30,7 +30,8 @@ impl SyncSource {
 ///
 /// From the per-line values ([`Synchronous::from_lines`]) between lines `f_a ≤ f ≤ f_b`,
 /// `t = (f − f_a)/(f_b − f_a)`: `K = (1 − t) K_a + t K_b`, `σ² = (1 − t)² σ_a² + t² σ_b²`
-/// (the lines' errors independent); on a line, its own values. From an element model
+/// (the lines' errors independent); on a line (within
+/// [`SYNCHRONOUS_LINE`](crate::tolerance::SYNCHRONOUS_LINE) of a spacing), its own values. From an element model
 /// ([`Synchronous::from_model`]): its curve at `f`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synchronous {
@@ -67,16 +68,20 @@ impl Synchronous {
     /// ```
     pub fn from_lines(pf: &PerFrequency, frequency_hz: f64) -> Option<Self> {
         let f = pf.freqs_hz();
-        let b = f.iter().position(|&x| x >= frequency_hz)?;
-        if !(frequency_hz >= f[0]) {
+        let (first, last) = (f[0], f[f.len() - 1]);
+        let spacing = if f.len() > 1 { (last - first) / (f.len() - 1) as f64 } else { 0.0 };
+        let slack = crate::tolerance::SYNCHRONOUS_LINE * spacing;
+        if !(frequency_hz >= first - slack && frequency_hz <= last + slack) {
             return None;
         }
-        let (a, t) = if f[b] == frequency_hz || b == 0 {
-            (b, 0.0)
-        } else {
-            (b - 1, (frequency_hz - f[b - 1]) / (f[b] - f[b - 1]))
+        // The line at the speed, or the two about it.
+        let (a, b, t) = match f.iter().position(|&x| (x - frequency_hz).abs() <= slack) {
+            Some(k) => (k, k, 0.0),
+            None => {
+                let b = f.iter().position(|&x| x > frequency_hz)?;
+                (b - 1, b, (frequency_hz - f[b - 1]) / (f[b] - f[b - 1]))
+            }
         };
-        let b = if t == 0.0 { a } else { b };
         let mix = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
             Mat::from_fn(x.nrows(), x.ncols(), |i, j| {
                 if t == 0.0 {
@@ -89,7 +94,11 @@ impl Synchronous {
         let mix_std = |x: Option<faer::MatRef<'_, f64>>, y: Option<faer::MatRef<'_, f64>>| {
             let (x, y) = (x?, y?);
             Some(Mat::from_fn(x.nrows(), x.ncols(), |i, j| {
-                ((1.0 - t).powi(2) * x[(i, j)].powi(2) + t * t * y[(i, j)].powi(2)).sqrt()
+                if t == 0.0 {
+                    x[(i, j)]
+                } else {
+                    ((1.0 - t).powi(2) * x[(i, j)].powi(2) + t * t * y[(i, j)].powi(2)).sqrt()
+                }
             }))
         };
         Some(Self {
