@@ -315,7 +315,9 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         let checks = (outcome.excitation() == Excitation::Impact).then(ImpactChecks::default);
         write_report(dir, id, &records, &context, None, checks)?;
     }
-    let bearing = outcome.bearing().map(|b| &b.coefficients);
+    let bearing = outcome
+        .bearing()
+        .map(|b| (&b.coefficients, b.std_dev.as_ref()));
     crate::export::write(&args.export, id, bearing, args.per_frequency)?;
     emit(id, &context, None, args.json)
 }
