@@ -121,3 +121,50 @@ fn cli_refuses_bad_conditions_naming_the_option() {
         assert!(v["message"].as_str().unwrap().contains(option), "{v}");
     }
 }
+
+/// `--ross-samples N FILE.csv`: N rows of `sample,kxx,…,myy`, the same for the same
+/// `--ross-seed`, each near the fitted value; a count of 0 or a seed that is not a whole
+/// number refused naming the option.
+#[test]
+fn cli_writes_ross_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = cross_coupled(dir.path());
+    let csv = dir.path().join("samples.csv");
+    let csv_arg = csv.display().to_string();
+    let out = identify(
+        &["--json", "--ross-samples", "50", &csv_arg, "--ross-seed", "9"],
+        &files,
+    );
+    assert!(out.status.success(), "{out:?}");
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "sample,kxx,kxy,kyx,kyy,cxx,cxy,cyx,cyy,mxx,mxy,myx,myy"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 50);
+    let (k, k_std) = (matrix(&v["K"]), matrix(&v["K_std"]));
+    assert!(rows.iter().all(|r| (r[2] - k[0][1]).abs() < 6.0 * k_std[0][1]));
+    assert!(rows.iter().any(|r| r[1] != k[0][0]));
+    let again = dir.path().join("again.csv");
+    let again_arg = again.display().to_string();
+    let out = identify(&["--ross-samples", "50", &again_arg, "--ross-seed", "9"], &files);
+    assert!(out.status.success());
+    assert_eq!(std::fs::read_to_string(&again).unwrap(), text);
+    for (args, option) in [
+        (&["--ross-samples", "0", &csv_arg][..], "--ross-samples"),
+        (&["--ross-samples", "x", &csv_arg][..], "--ross-samples"),
+        (&["--ross-samples", "5", &csv_arg, "--ross-seed", "abc"][..], "--ross-seed"),
+        (&["--ross-samples", "5", &csv_arg, "--ross-seed", "-1"][..], "--ross-seed"),
+    ] {
+        let out = identify(&[&["--json"][..], args].concat(), &files);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["error"], "invalid_argument", "{v}");
+        assert!(v["message"].as_str().unwrap().contains(option), "{v}");
+    }
+}
