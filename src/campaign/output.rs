@@ -445,7 +445,8 @@ fn synchronous_fields(json: &Json, n: usize) -> Vec<String> {
         for r in 0..n {
             for c in 0..n {
                 let field = |m: &Option<Vec<Vec<f64>>>| {
-                    m.as_ref().map_or(String::new(), |m| format!("{:?}", m[r][c]))
+                    m.as_ref()
+                        .map_or(String::new(), |m| format!("{:?}", m[r][c]))
                 };
                 out.push(field(&v));
                 out.push(field(&sd));

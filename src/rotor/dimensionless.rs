@@ -57,7 +57,9 @@ impl Dimensionless {
         let w = conditions.needed_load(what)?;
         let omega = conditions.needed_speed(what)?;
         let factors = [c / w, omega * c / w, omega * omega * c / w];
-        let scaled = |m: faer::MatRef<'_, f64>, f: f64| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * f);
+        let scaled = |m: faer::MatRef<'_, f64>, f: f64| {
+            Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * f)
+        };
         let of = |x: &Coefficients| {
             [
                 scaled(x.stiffness(), factors[0]),
@@ -182,9 +184,15 @@ mod tests {
             ("clearance", full.clearance_m(0.0)),
             ("load", full.load_n(-1.0)),
             ("speed", full.speed_rad_s(f64::NAN)),
-            ("load", Conditions::default().clearance_m(1e-4).speed_rpm(1.0)),
+            (
+                "load",
+                Conditions::default().clearance_m(1e-4).speed_rpm(1.0),
+            ),
             ("speed", Conditions::default().clearance_m(1e-4).load_n(1.0)),
-            ("clearance", Conditions::default().load_n(1.0).speed_rpm(1.0)),
+            (
+                "clearance",
+                Conditions::default().load_n(1.0).speed_rpm(1.0),
+            ),
         ] {
             let e = Dimensionless::new(&c, None, &at).unwrap_err();
             assert_eq!(e.kind(), "invalid_argument");

@@ -45,13 +45,13 @@ pub struct Lund {
 /// ```
 pub fn lund(k: [[f64; 2]; 2], c: [[f64; 2]; 2]) -> std::result::Result<Lund, String> {
     let direct = c[0][0] + c[1][1];
-    if !(direct > 0.0) {
+    if direct.is_nan() || direct <= 0.0 {
         return Err(format!(
             "C_xx + C_yy = {direct:.4e} N·s/m ≤ 0: Lund's criterion does not apply"
         ));
     }
-    let k_eq = (k[0][0] * c[1][1] + k[1][1] * c[0][0] - k[0][1] * c[1][0] - k[1][0] * c[0][1])
-        / direct;
+    let k_eq =
+        (k[0][0] * c[1][1] + k[1][1] * c[0][0] - k[0][1] * c[1][0] - k[1][0] * c[0][1]) / direct;
     let numerator = (k[0][0] - k_eq) * (k[1][1] - k_eq) - k[0][1] * k[1][0];
     let denominator = c[0][0] * c[1][1] - c[0][1] * c[1][0];
     let nu2 = numerator / denominator;
@@ -60,7 +60,7 @@ pub fn lund(k: [[f64; 2]; 2], c: [[f64; 2]; 2]) -> std::result::Result<Lund, Str
             "ν² = {nu2:.4e} (rad/s)² ≤ 0: no real whirl frequency, no threshold speed"
         ));
     }
-    if !(k_eq > 0.0) {
+    if k_eq.is_nan() || k_eq <= 0.0 {
         return Err(format!(
             "K_eq = {k_eq:.4e} N/m ≤ 0: no positive root for the threshold speed"
         ));
@@ -171,24 +171,23 @@ impl Stability {
             (Ok(_), None) => reasons.push("no speed given: no whirl-frequency ratio".into()),
             (Ok(l), Some(omega)) => {
                 out.whirl_frequency_ratio = Some(l.whirl_rad_s / omega);
-                out.whirl_frequency_ratio_std =
-                    std(&|c| of(c).ok().map(|l| l.whirl_rad_s / omega));
+                out.whirl_frequency_ratio_std = std(&|c| of(c).ok().map(|l| l.whirl_rad_s / omega));
                 let threshold = |l: Lund, w: f64| {
-                    (l.equivalent_stiffness * STANDARD_GRAVITY / w).sqrt() * omega
-                        / l.whirl_rad_s
+                    (l.equivalent_stiffness * STANDARD_GRAVITY / w).sqrt() * omega / l.whirl_rad_s
                         * rpm
                 };
                 match load {
                     Some(w) => {
                         out.threshold_speed_rpm = Some(threshold(l, w));
-                        out.threshold_speed_rpm_std =
-                            std(&|c| of(c).ok().map(|l| threshold(l, w)));
+                        out.threshold_speed_rpm_std = std(&|c| of(c).ok().map(|l| threshold(l, w)));
                     }
                     None => reasons.push("no load given: no threshold speed".into()),
                 }
             }
         }
-        let fitted = model.filter(|m| !m.is_kcm()).and_then(ElementModel::effective);
+        let fitted = model
+            .filter(|m| !m.is_kcm())
+            .and_then(ElementModel::effective);
         let two_pi = 2.0 * std::f64::consts::PI;
         match fitted {
             Some(e) => {
@@ -286,7 +285,7 @@ mod tests {
         let gamma = s.whirl_frequency_ratio.unwrap();
         let threshold = s.threshold_speed_rpm.unwrap() * PI / 30.0;
         assert!((gamma - 0.358_547_086).abs() < 1e-8, "{gamma}");
-        assert!((threshold * 30.0 / PI - 18_177.4236).abs() < 1e-3);
+        assert!((threshold * 30.0 / PI - 18_177.423_6).abs() < 1e-3);
         let mass = w / STANDARD_GRAVITY;
         let least_damped = |speed: f64| {
             let scaled = c.map(|v| v * omega / speed);
@@ -322,22 +321,36 @@ mod tests {
             &at,
         );
         assert_eq!(plain.whirl_frequency_ratio, None);
-        assert!(plain.reason.as_deref().unwrap().contains("no real whirl frequency"));
+        assert!(
+            plain
+                .reason
+                .as_deref()
+                .unwrap()
+                .contains("no real whirl frequency")
+        );
         assert!(plain.reason.as_deref().unwrap().contains("no crossover"));
         let coupled = element([2e7, 5e6, -5e6, 2e7], [2e4, 0.0, 0.0, 2e4]);
         let no_load = Stability::new(&coupled, None, None, &Conditions::default().speed_rpm(3e3));
         assert!(no_load.whirl_frequency_ratio.is_some());
         assert_eq!(no_load.threshold_speed_rpm, None);
-        assert_eq!(no_load.reason.as_deref(), Some("no load given: no threshold speed"));
+        assert_eq!(
+            no_load.reason.as_deref(),
+            Some("no load given: no threshold speed")
+        );
         let no_speed = Stability::new(&coupled, None, None, &Conditions::default().load_n(1.0));
         assert_eq!(no_speed.whirl_frequency_ratio, None);
         assert!(no_speed.c_eff_crossover_hz.is_some());
         let negative = element([2e7, 5e6, -5e6, 2e7], [-2e4, 0.0, 0.0, -2e4]);
         let s = Stability::new(&negative, None, None, &at);
         assert!(s.reason.unwrap().contains("C_xx + C_yy"));
-        let three = Coefficients::new(Mat::zeros(3, 3), Mat::identity(3, 3), Mat::identity(3, 3))
-            .unwrap();
-        assert!(Stability::new(&three, None, None, &at).reason.unwrap().contains("2 × 2"));
+        let three =
+            Coefficients::new(Mat::zeros(3, 3), Mat::identity(3, 3), Mat::identity(3, 3)).unwrap();
+        assert!(
+            Stability::new(&three, None, None, &at)
+                .reason
+                .unwrap()
+                .contains("2 × 2")
+        );
     }
 
     /// The first-order σ of γ, Ω_th and the crossover against their scatter over 4000 draws
@@ -400,7 +413,10 @@ mod tests {
             (ours.c_eff_crossover_hz_std, spread(&draws[2])),
         ] {
             let first = first.unwrap();
-            assert!((first / sampled - 1.0).abs() < 0.05, "{first:e} vs {sampled:e}");
+            assert!(
+                (first / sampled - 1.0).abs() < 0.05,
+                "{first:e} vs {sampled:e}"
+            );
         }
     }
 }

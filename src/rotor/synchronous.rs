@@ -69,7 +69,11 @@ impl Synchronous {
     pub fn from_lines(pf: &PerFrequency, frequency_hz: f64) -> Option<Self> {
         let f = pf.freqs_hz();
         let (first, last) = (f[0], f[f.len() - 1]);
-        let spacing = if f.len() > 1 { (last - first) / (f.len() - 1) as f64 } else { 0.0 };
+        let spacing = if f.len() > 1 {
+            (last - first) / (f.len() - 1) as f64
+        } else {
+            0.0
+        };
         let slack = crate::tolerance::SYNCHRONOUS_LINE * spacing;
         if !(frequency_hz >= first - slack && frequency_hz <= last + slack) {
             return None;
@@ -172,7 +176,10 @@ impl serde::Serialize for Synchronous {
             "K_std",
             &self.stiffness_std.as_ref().map(|x| rows(x.as_ref())),
         )?;
-        m.serialize_entry("C_std", &self.damping_std.as_ref().map(|x| rows(x.as_ref())))?;
+        m.serialize_entry(
+            "C_std",
+            &self.damping_std.as_ref().map(|x| rows(x.as_ref())),
+        )?;
         m.serialize_entry("source", self.source.name())?;
         m.end()
     }
@@ -205,12 +212,18 @@ mod tests {
             let s = Synchronous::from_lines(&pf, f[k]).unwrap();
             assert_eq!(s.stiffness, pf.stiffness(k).to_owned());
             assert_eq!(s.damping, pf.damping(k).to_owned());
-            assert_eq!(s.damping_std.unwrap(), pf.damping_std(k).unwrap().to_owned());
+            assert_eq!(
+                s.damping_std.unwrap(),
+                pf.damping_std(k).unwrap().to_owned()
+            );
         }
         let mid = Synchronous::from_lines(&pf, 0.5 * (f[5] + f[6])).unwrap();
         let mean = 0.5 * (pf.stiffness(5)[(0, 1)] + pf.stiffness(6)[(0, 1)]);
         assert!((mid.stiffness[(0, 1)] - mean).abs() <= 1e-12 * mean.abs());
-        let (a, b) = (pf.stiffness_std(5).unwrap()[(0, 1)], pf.stiffness_std(6).unwrap()[(0, 1)]);
+        let (a, b) = (
+            pf.stiffness_std(5).unwrap()[(0, 1)],
+            pf.stiffness_std(6).unwrap()[(0, 1)],
+        );
         let s = mid.stiffness_std.unwrap()[(0, 1)];
         assert!((s - 0.5 * a.hypot(b)).abs() <= 1e-12 * s);
         assert!(Synchronous::from_lines(&pf, f[0] - 0.1).is_none());

@@ -859,7 +859,11 @@ fn synchronous_coefficients_are_the_lines_at_the_speed() {
         "--out".as_ref(),
         out_dir.as_os_str(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v = json_of(&out);
     let csv = std::fs::read_to_string(out_dir.join("coefficients.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
@@ -894,7 +898,10 @@ fn synchronous_coefficients_are_the_lines_at_the_speed() {
                 if k < 2 {
                     assert_eq!(got, expected, "{key}");
                 } else {
-                    assert!((got - expected).abs() <= 1e-9 * expected.abs(), "{key}: {got} vs {expected}");
+                    assert!(
+                        (got - expected).abs() <= 1e-9 * expected.abs(),
+                        "{key}: {got} vs {expected}"
+                    );
                 }
             }
         }
@@ -903,11 +910,16 @@ fn synchronous_coefficients_are_the_lines_at_the_speed() {
         let cyy_std: f64 = row[column("cyy_sync_std")].parse().unwrap();
         assert_eq!(kxx, sync["K"][0][0].as_f64().unwrap());
         assert_eq!(cyy_std, sync["C_std"][1][1].as_f64().unwrap());
-        let gamma: f64 = row[column("whirl_frequency_ratio")].parse().unwrap_or(f64::NAN);
+        let gamma: f64 = row[column("whirl_frequency_ratio")]
+            .parse()
+            .unwrap_or(f64::NAN);
         let json_gamma = point["stability"]["whirl_frequency_ratio"].as_f64();
         assert_eq!(json_gamma.is_some(), gamma.is_finite());
     }
     let table = run(&["campaign".as_ref(), path.as_os_str()]);
     let text = String::from_utf8_lossy(&table.stdout);
-    assert!(text.contains("K_xx sync [N/m]") && text.contains("whirl ratio"), "{text}");
+    assert!(
+        text.contains("K_xx sync [N/m]") && text.contains("whirl ratio"),
+        "{text}"
+    );
 }

@@ -46,20 +46,37 @@ fn matrix(v: &Value) -> Vec<Vec<f64>> {
 fn cli_dimensionless_and_stability_follow_the_closed_forms() {
     let dir = tempfile::tempdir().unwrap();
     let files = cross_coupled(dir.path());
-    let conditions = ["--clearance", "100um", "--load", "500N", "--speed", "3000rpm"];
+    let conditions = [
+        "--clearance",
+        "100um",
+        "--load",
+        "500N",
+        "--speed",
+        "3000rpm",
+    ];
     let out = identify(&[&["--json"][..], &conditions].concat(), &files);
     assert!(out.status.success(), "{out:?}");
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     let d = &v["dimensionless"];
     let pi = std::f64::consts::PI;
     let (c, w, omega) = (100e-6, 500.0, 100.0 * pi);
-    for (key, factor) in [("K", c / w), ("C", omega * c / w), ("M", omega * omega * c / w)] {
-        for (ours, theirs) in [(key.to_owned(), key.to_owned()), (format!("{key}_std"), format!("{key}_std"))] {
+    for (key, factor) in [
+        ("K", c / w),
+        ("C", omega * c / w),
+        ("M", omega * omega * c / w),
+    ] {
+        for (ours, theirs) in [
+            (key.to_owned(), key.to_owned()),
+            (format!("{key}_std"), format!("{key}_std")),
+        ] {
             let (dim, raw) = (matrix(&d[&ours]), matrix(&v[&theirs]));
             for i in 0..2 {
                 for j in 0..2 {
                     let expected = raw[i][j] * factor;
-                    assert!((dim[i][j] - expected).abs() <= 1e-12 * expected.abs(), "{ours}");
+                    assert!(
+                        (dim[i][j] - expected).abs() <= 1e-12 * expected.abs(),
+                        "{ours}"
+                    );
                 }
             }
         }
@@ -82,7 +99,10 @@ fn cli_dimensionless_and_stability_follow_the_closed_forms() {
         ("c_eff_crossover_hz", crossover),
     ] {
         let got = s[key].as_f64().unwrap();
-        assert!((got / expected - 1.0).abs() < 1e-12, "{key}: {got} vs {expected}");
+        assert!(
+            (got / expected - 1.0).abs() < 1e-12,
+            "{key}: {got} vs {expected}"
+        );
         let std = s[format!("{key}_std")].as_f64().unwrap();
         assert!(std > 0.0 && std < 0.2 * got, "{key}_std {std}");
     }
@@ -91,7 +111,10 @@ fn cli_dimensionless_and_stability_follow_the_closed_forms() {
     assert_eq!(s["reason"], Value::Null);
     let table = identify(&conditions, &files);
     let text = String::from_utf8_lossy(&table.stdout);
-    assert!(text.contains("Dimensionless (c = 100.0 µm, W = 500.0 N, Ω = 3000.0 rpm"), "{text}");
+    assert!(
+        text.contains("Dimensionless (c = 100.0 µm, W = 500.0 N, Ω = 3000.0 rpm"),
+        "{text}"
+    );
     assert!(text.contains("whirl-frequency ratio 0.2"), "{text}");
     assert!(text.contains("threshold speed"), "{text}");
     // Without conditions, both are null.
@@ -107,10 +130,16 @@ fn cli_refuses_bad_conditions_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();
     let files = cross_coupled(dir.path());
     for (args, option) in [
-        (&["--clearance", "0um", "--load", "1N", "--speed", "1Hz"][..], "--clearance"),
+        (
+            &["--clearance", "0um", "--load", "1N", "--speed", "1Hz"][..],
+            "--clearance",
+        ),
         (&["--load", "-5N"][..], "--load"),
         (&["--speed", "3000"][..], "--speed"),
-        (&["--clearance", "100um", "--speed", "3000rpm"][..], "--load"),
+        (
+            &["--clearance", "100um", "--speed", "3000rpm"][..],
+            "--load",
+        ),
         (&["--clearance", "100um", "--load", "1kN"][..], "--speed"),
     ] {
         let out = identify(&[&["--json"][..], args].concat(), &files);
@@ -132,7 +161,14 @@ fn cli_writes_ross_samples() {
     let csv = dir.path().join("samples.csv");
     let csv_arg = csv.display().to_string();
     let out = identify(
-        &["--json", "--ross-samples", "50", &csv_arg, "--ross-seed", "9"],
+        &[
+            "--json",
+            "--ross-samples",
+            "50",
+            &csv_arg,
+            "--ross-seed",
+            "9",
+        ],
         &files,
     );
     assert!(out.status.success(), "{out:?}");
@@ -148,18 +184,30 @@ fn cli_writes_ross_samples() {
         .collect();
     assert_eq!(rows.len(), 50);
     let (k, k_std) = (matrix(&v["K"]), matrix(&v["K_std"]));
-    assert!(rows.iter().all(|r| (r[2] - k[0][1]).abs() < 6.0 * k_std[0][1]));
+    assert!(
+        rows.iter()
+            .all(|r| (r[2] - k[0][1]).abs() < 6.0 * k_std[0][1])
+    );
     assert!(rows.iter().any(|r| r[1] != k[0][0]));
     let again = dir.path().join("again.csv");
     let again_arg = again.display().to_string();
-    let out = identify(&["--ross-samples", "50", &again_arg, "--ross-seed", "9"], &files);
+    let out = identify(
+        &["--ross-samples", "50", &again_arg, "--ross-seed", "9"],
+        &files,
+    );
     assert!(out.status.success());
     assert_eq!(std::fs::read_to_string(&again).unwrap(), text);
     for (args, option) in [
         (&["--ross-samples", "0", &csv_arg][..], "--ross-samples"),
         (&["--ross-samples", "x", &csv_arg][..], "--ross-samples"),
-        (&["--ross-samples", "5", &csv_arg, "--ross-seed", "abc"][..], "--ross-seed"),
-        (&["--ross-samples", "5", &csv_arg, "--ross-seed", "-1"][..], "--ross-seed"),
+        (
+            &["--ross-samples", "5", &csv_arg, "--ross-seed", "abc"][..],
+            "--ross-seed",
+        ),
+        (
+            &["--ross-samples", "5", &csv_arg, "--ross-seed", "-1"][..],
+            "--ross-seed",
+        ),
     ] {
         let out = identify(&[&["--json"][..], args].concat(), &files);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

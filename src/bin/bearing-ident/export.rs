@@ -53,7 +53,12 @@ pub struct ExportArgs {
     #[arg(long, num_args = 2, value_names = ["N", "FILE.csv"], allow_hyphen_values = true)]
     ross_samples: Vec<String>,
     /// Seed of `--ross-samples`' generator (a whole number ≥ 0).
-    #[arg(long, default_value = "0", requires = "ross_samples", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        default_value = "0",
+        requires = "ross_samples",
+        allow_hyphen_values = true
+    )]
     ross_seed: String,
 }
 
