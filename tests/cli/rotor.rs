@@ -117,6 +117,19 @@ fn cli_dimensionless_and_stability_follow_the_closed_forms() {
     );
     assert!(text.contains("whirl-frequency ratio 0.2"), "{text}");
     assert!(text.contains("threshold speed"), "{text}");
+    // The HTML report says it under its heading.
+    let report = dir.path().join("report");
+    let report_arg = report.display().to_string();
+    let out = identify(
+        &[&conditions[..], &["--plot", &report_arg]].concat(),
+        &files,
+    );
+    assert!(out.status.success(), "{out:?}");
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(
+        html.contains("(Lund): whirl-frequency ratio 0.2"),
+        "stability line"
+    );
     // Without conditions, both are null.
     let plain: Value = serde_json::from_slice(&identify(&["--json"], &files).stdout).unwrap();
     assert_eq!(plain["dimensionless"], Value::Null);

@@ -127,6 +127,28 @@ fn coefficient_lines(
     }
 }
 
+/// One line on the stability of a rigid rotor on the element, for the HTML report's head,
+/// when a speed or load was given.
+pub fn stability_line(c: &Context) -> Option<String> {
+    let s = c.stability.as_ref()?;
+    let pm = |v: Option<f64>, sd: Option<f64>, unit: &str| match (v, sd) {
+        (Some(v), Some(sd)) => format!("{} ± {}{unit}", sig(v, 4), sig(sd, 2)),
+        (Some(v), None) => format!("{}{unit}", sig(v, 4)),
+        (None, _) => "—".into(),
+    };
+    let mut line = format!(
+        "Stability of a rigid rotor on the element (Lund): whirl-frequency ratio {}, threshold \
+         speed {}, C_eff crossover {}.",
+        pm(s.whirl_frequency_ratio, s.whirl_frequency_ratio_std, ""),
+        pm(s.threshold_speed_rpm, s.threshold_speed_rpm_std, " rpm"),
+        pm(s.c_eff_crossover_hz, s.c_eff_crossover_hz_std, " Hz"),
+    );
+    if let Some(reason) = &s.reason {
+        let _ = write!(line, " ({reason})");
+    }
+    Some(line)
+}
+
 /// The dimensionless coefficients and the stability of a rigid rotor on the element, when
 /// the conditions were given.
 fn rotor_lines(out: &mut String, axes: &[String], c: &Context) {
