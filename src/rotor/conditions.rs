@@ -13,7 +13,7 @@ pub const STANDARD_GRAVITY: f64 = 9.806_65;
 /// ```
 /// use bearing_ident::rotor::Conditions;
 /// let c = Conditions::default().clearance_m(100e-6).load_n(500.0).speed_rpm(3000.0);
-/// assert!((c.speed_rad_s().unwrap() - 100.0 * std::f64::consts::PI).abs() < 1e-12);
+/// assert!((c.speed().unwrap() - 100.0 * std::f64::consts::PI).abs() < 1e-12);
 /// assert_eq!(c.clearance().unwrap(), 100e-6);
 /// assert!(Conditions::default().load().is_none());
 /// ```
