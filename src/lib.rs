@@ -150,6 +150,7 @@ pub mod per_frequency;
 pub mod plot;
 pub mod quality;
 pub mod records;
+pub mod rotor;
 pub mod screening;
 pub mod simulate;
 pub mod solve;

@@ -69,6 +69,13 @@ pub const BASELINE_LINE: f64 = 1e-9;
 /// from the one used by rounding only.
 pub const BASELINE_DECAY: f64 = 1e-9;
 
+/// A rotor speed within this fraction of the line spacing of a line is at that line for the
+/// synchronous coefficients ([`Synchronous::from_lines`](crate::rotor::Synchronous::from_lines)):
+/// a speed typed in rpm comes to Hz through `2π/60` and back by `1/2π`, which moves it by a
+/// few ulps, and interpolating over `10⁻⁹` of a spacing would blur a line's own values with
+/// its neighbour's by rounding only.
+pub const SYNCHRONOUS_LINE: f64 = 1e-9;
+
 /// A channel is flat when `max − min ≤ FLAT_CHANNEL · max(|max|, |min|)`: one value up to
 /// rounding (exactly zero for an all-zero channel). Also at its old path
 /// `screening::FLAT_TOLERANCE`.

@@ -282,6 +282,34 @@ class Identification:
                 f.write(self.to_ross_toml(n, tag, per_frequency))
             return ross.BearingElement.load(path)
 
+    def ross_samples(self, samples: int = 100, seed: int = 0) -> dict:
+        """``samples`` draws of the constant coefficients from their joint uncertainty (the
+        full covariance of the error bars), seeded with ``seed``: ``{"kxx": [...], ...,
+        "myy": [...]}``, the lists paired by index (sample ``i`` of every coefficient is one
+        draw of the whole set)."""
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
+            raise _error("invalid_argument", f"samples {samples!r}: expected a whole number >= 1")
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise _error("invalid_argument", f"seed {seed!r}: expected a whole number >= 0")
+        return dict(_call(self._native.ross_samples, samples, seed))
+
+    def to_ross_stochastic(
+        self, n: int = 0, samples: int = 100, seed: int = 0, tag: str = "bearing"
+    ):
+        """The identified bearing as a ROSS 3.x ``ST_BearingElement`` at node ``n``: every
+        coefficient (``kxx`` … ``cyy``, ``mxx`` … ``myy``) random, ``samples`` draws paired by
+        index from :meth:`ross_samples` (needs ROSS 3.x importable)."""
+        drawn = self.ross_samples(samples, seed)
+        try:
+            import ross.stochastic as srs
+        except ImportError as e:
+            raise ImportError(
+                "to_ross_stochastic needs ROSS (pip install ross-rotordynamics, Python >= 3.13); "
+                "ross_samples() gives the same samples without it"
+            ) from e
+        arrays = {name: np.asarray(values) for name, values in drawn.items()}
+        return srs.ST_BearingElement(n=n, tag=tag, is_random=list(arrays), **arrays)
+
     def __repr__(self) -> str:
         d = self._json()
         return (

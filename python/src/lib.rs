@@ -6,6 +6,7 @@
 
 use bearing_ident::campaign::{Campaign, Plan, RunOptions, Value};
 use bearing_ident::export::ross::{BearingElement, Table};
+use bearing_ident::export::samples::{BearingSamples, COLUMNS};
 use bearing_ident::job::{Channels, Job, Options, Outcome};
 use bearing_ident::records::SharedSamples;
 use bearing_ident::{Choice, Error, ErrorKind, Record, Response};
@@ -270,6 +271,19 @@ impl NativeResult {
             .to_json(self.per_frequency)
             .map(|v| v.to_string())
             .map_err(|e| raise(&e))
+    }
+
+    /// `samples` draws of the constant coefficients from their joint uncertainty, seeded with
+    /// `seed`: one list of `samples` values per column of
+    /// [`bearing_ident::export::samples::COLUMNS`] (`kxx` … `myy`), paired by index.
+    fn ross_samples(&self, samples: usize, seed: u64) -> PyResult<Vec<(&'static str, Vec<f64>)>> {
+        let s = BearingSamples::draw(self.outcome.identification(), samples, seed)
+            .map_err(|e| raise(&e))?;
+        Ok(COLUMNS
+            .iter()
+            .enumerate()
+            .map(|(c, name)| (*name, (0..s.len()).map(|i| s.row(i)[c]).collect()))
+            .collect())
     }
 
     /// The identified bearing as a ROSS 3.x `BearingElement` TOML table at node `n`.

@@ -328,6 +328,35 @@ def test_ross_hand_off():
     np.testing.assert_allclose(element.M(w)[:2, :2], result.M, rtol=1e-9)
 
 
+def test_ross_stochastic_samples():
+    """Samples paired by index, seeded, their mean near the coefficients; bad counts and
+    seeds refused naming the argument; a ROSS ST_BearingElement whose elements are the draws."""
+    result = bi.identify(bi.simulate("impact", impacts=2, noise=0.05), band=(8, 49))
+    drawn = result.ross_samples(samples=400, seed=3)
+    assert list(drawn)[:4] == ["kxx", "kxy", "kyx", "kyy"] and len(drawn) == 12
+    assert all(len(v) == 400 for v in drawn.values())
+    assert drawn == result.ross_samples(samples=400, seed=3)
+    std = result.to_dict()["K_std"][0][0]
+    assert abs(np.mean(drawn["kxx"]) - result.K[0, 0]) < 5 * std / np.sqrt(400)
+    for bad in [dict(samples=0), dict(samples=2.5), dict(seed="x"), dict(seed=-1)]:
+        with pytest.raises(bi.InvalidArgumentError, match=list(bad)[0]):
+            result.ross_samples(**bad)
+    try:
+        import ross  # noqa: F401
+    except ImportError:
+        with pytest.raises(ImportError, match="ROSS"):
+            result.to_ross_stochastic(samples=5)
+        return
+    element = result.to_ross_stochastic(n=2, samples=5, seed=3, tag="brg")
+    members = list(iter(element))
+    assert len(members) == 5
+    w = np.array(result.to_dict()["band_hz"]).mean() * 2 * np.pi
+    few = result.ross_samples(samples=5, seed=3)
+    for i, member in enumerate(members):
+        assert member.K(w)[0, 1] == pytest.approx(few["kxy"][i], rel=1e-12)
+        assert member.C(w)[1, 1] == pytest.approx(few["cyy"][i], rel=1e-12)
+
+
 @needs_cli
 def test_campaign_equals_the_cli(tmp_path):
     """A plan run from Python gives the CLI's `campaign --json`, each point's result the CLI's

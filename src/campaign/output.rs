@@ -76,6 +76,9 @@ impl Campaign {
                     "K_std",
                     "bearing",
                     "per_frequency",
+                    "dimensionless",
+                    "stability",
+                    "synchronous",
                 ] {
                     if let Some(v) = fit.json.get(key) {
                         map.insert(key.into(), v.clone());
@@ -117,8 +120,11 @@ impl Campaign {
     /// (the point subtracted, if any), then `kxx, kxx_std, kxy, …, myy, myy_std` (the
     /// bearing's own when there is a baseline, else the system's; empty for a point that
     /// failed or a term without error bar), `model` (the element model's family chosen, when a
-    /// point asked for one: `identify = { model = "auto" }`), then `status` (`ok`,
-    /// `warnings`, or `error:KIND`).
+    /// point asked for one: `identify = { model = "auto" }`), the synchronous coefficients
+    /// `kxx_sync, kxx_sync_std, …, cyy_sync_std` when a point has a speed (`K(ω)`, `C(ω)` at
+    /// the speed's frequency: [`crate::job::Outcome::synchronous`]), the stability
+    /// `whirl_frequency_ratio, …, c_eff_crossover_hz_std` when a point has a speed or load
+    /// ([`crate::rotor::Stability`]), then `status` (`ok`, `warnings`, or `error:KIND`).
     pub fn to_csv(&self) -> String {
         let n = self
             .points
@@ -141,6 +147,20 @@ impl Campaign {
         let models = self.has_models();
         if models {
             s.push_str(",model");
+        }
+        let synchronous = self.has("synchronous");
+        if synchronous {
+            for letter in ['k', 'c'] {
+                for r in &axes {
+                    for c in &axes {
+                        let _ = write!(s, ",{letter}{r}{c}_sync,{letter}{r}{c}_sync_std");
+                    }
+                }
+            }
+        }
+        let stability = self.has("stability");
+        if stability {
+            s.push_str(&STABILITY_KEYS.map(|k| format!(",{k}")).concat());
         }
         s.push_str(",status\n");
         for (i, p) in self.points.iter().enumerate() {
@@ -173,6 +193,18 @@ impl Campaign {
                     if models {
                         let _ = write!(s, ",{}", family(fit).unwrap_or_default());
                     }
+                    if synchronous {
+                        for field in synchronous_fields(&fit.json, n) {
+                            let _ = write!(s, ",{field}");
+                        }
+                    }
+                    if stability {
+                        for key in STABILITY_KEYS {
+                            let v = fit.json.get("stability").and_then(|x| x.get(key));
+                            let field = v.and_then(Json::as_f64).map(|x| format!("{x:?}"));
+                            let _ = write!(s, ",{}", field.unwrap_or_default());
+                        }
+                    }
                     let status = if fit.warning_kinds.is_empty() {
                         "ok"
                     } else {
@@ -181,7 +213,10 @@ impl Campaign {
                     let _ = writeln!(s, ",{status}");
                 }
                 other => {
-                    s.push_str(&",".repeat(6 * n * n + usize::from(models)));
+                    let extra = usize::from(models)
+                        + usize::from(synchronous) * 4 * n * n
+                        + usize::from(stability) * STABILITY_KEYS.len();
+                    s.push_str(&",".repeat(6 * n * n + extra));
                     let status = match other {
                         Err(e) => format!("error:{}", e.kind),
                         Ok(_) => "error:inconsistent_records".to_owned(),
@@ -224,7 +259,9 @@ impl Campaign {
 
     /// The text table: one row per point with its conditions, its baseline point when a plan
     /// has baselines (`dry*`: that point's files identified again at this point's settings),
-    /// the element model's family when a point asked for one, the diagonal coefficients `± σ` (the bearing's own when it has a baseline) and its
+    /// the element model's family when a point asked for one, the diagonal coefficients `± σ` (the bearing's own when it has a baseline),
+    /// the diagonal synchronous coefficients and the whirl-frequency ratio and threshold speed
+    /// of a rigid rotor when points have a speed, and its
     /// warning kinds or error, split into blocks of whole coefficient groups when wider than
     /// [`TABLE_WIDTH`](crate::text::TABLE_WIDTH); then, under `warnings`, each point's
     /// warnings with their sentences (`dry: reference_mismatch: M_xx = … is +6.8 σ from the
@@ -257,6 +294,19 @@ impl Campaign {
                 header.push(format!("{letter}_{a}{a} [{unit}]"));
             }
         }
+        let synchronous = self.has("synchronous");
+        if synchronous {
+            for (letter, unit) in [('K', "N/m"), ('C', "N·s/m")] {
+                for a in &axes {
+                    header.push(format!("{letter}_{a}{a} sync [{unit}]"));
+                }
+            }
+        }
+        let stability = self.has("stability");
+        if stability {
+            header.push("whirl ratio".into());
+            header.push("threshold [rpm]".into());
+        }
         header.push("warnings".into());
         let mut rows_out = vec![header];
         for (p, planned) in self.points.iter().zip(&self.plan.points) {
@@ -288,6 +338,12 @@ impl Campaign {
             match &p.result {
                 Ok(fit) => {
                     row.extend(diagonal(fit, n));
+                    if synchronous {
+                        row.extend(synchronous_diagonal(&fit.json, n));
+                    }
+                    if stability {
+                        row.extend(stability_cells(&fit.json));
+                    }
                     row.push(if fit.warning_kinds.is_empty() {
                         "-".into()
                     } else {
@@ -295,14 +351,23 @@ impl Campaign {
                     });
                 }
                 Err(e) => {
-                    row.extend(std::iter::repeat_n("-".to_owned(), 3 * n));
+                    let extra = usize::from(synchronous) * 2 * n + usize::from(stability) * 2;
+                    row.extend(std::iter::repeat_n("-".to_owned(), 3 * n + extra));
                     row.push(format!("error {}: {}", e.kind, e.message));
                 }
             }
             rows_out.push(row);
         }
-        let keys = rows_out[0].len() - 3 * n - 1;
-        let mut s = crate::text::table(&rows_out, keys, &[n, n, n, 1], Align::Left, 0);
+        let mut groups = vec![n, n, n];
+        if synchronous {
+            groups.extend([n, n]);
+        }
+        if stability {
+            groups.push(2);
+        }
+        groups.push(1);
+        let keys = rows_out[0].len() - groups.iter().sum::<usize>();
+        let mut s = crate::text::table(&rows_out, keys, &groups, Align::Left, 0);
         if again {
             let _ = writeln!(
                 s,
@@ -338,6 +403,95 @@ impl Campaign {
 fn family(fit: &Fit) -> Option<String> {
     let family = fit.json.get("model")?.get("family")?.as_str()?;
     Some(family.to_owned())
+}
+
+/// The stability values of the CSV, by their JSON names.
+const STABILITY_KEYS: [&str; 6] = [
+    "whirl_frequency_ratio",
+    "whirl_frequency_ratio_std",
+    "threshold_speed_rpm",
+    "threshold_speed_rpm_std",
+    "c_eff_crossover_hz",
+    "c_eff_crossover_hz_std",
+];
+
+impl Campaign {
+    /// Whether some point's JSON has a non-null `key`.
+    fn has(&self, key: &str) -> bool {
+        self.points.iter().any(|p| {
+            p.result
+                .as_ref()
+                .is_ok_and(|f| f.json.get(key).is_some_and(|v| !v.is_null()))
+        })
+    }
+}
+
+/// The `n × n` matrix `key` of a JSON object, if it has one.
+fn json_matrix(v: Option<&Json>, key: &str, n: usize) -> Option<Vec<Vec<f64>>> {
+    let rows: Vec<Vec<f64>> = serde_json::from_value(v?.get(key)?.clone()).ok()?;
+    (rows.len() == n && rows.iter().all(|r| r.len() == n)).then_some(rows)
+}
+
+/// `kxx_sync, kxx_sync_std, …, cyy_sync_std` of a point's `synchronous` (empty fields
+/// without).
+fn synchronous_fields(json: &Json, n: usize) -> Vec<String> {
+    let sync = json.get("synchronous");
+    let mut out = Vec::with_capacity(4 * n * n);
+    for key in ["K", "C"] {
+        let (v, sd) = (
+            json_matrix(sync, key, n),
+            json_matrix(sync, &format!("{key}_std"), n),
+        );
+        for r in 0..n {
+            for c in 0..n {
+                let field = |m: &Option<Vec<Vec<f64>>>| {
+                    m.as_ref()
+                        .map_or(String::new(), |m| format!("{:?}", m[r][c]))
+                };
+                out.push(field(&v));
+                out.push(field(&sd));
+            }
+        }
+    }
+    out
+}
+
+/// `value ± σ` of the diagonal synchronous `K`, `C` (`-` without).
+fn synchronous_diagonal(json: &Json, n: usize) -> Vec<String> {
+    let sync = json.get("synchronous");
+    let mut out = Vec::with_capacity(2 * n);
+    for key in ["K", "C"] {
+        let (v, sd) = (
+            json_matrix(sync, key, n),
+            json_matrix(sync, &format!("{key}_std"), n),
+        );
+        for i in 0..n {
+            out.push(match (&v, &sd) {
+                (Some(v), Some(sd)) => format!("{} ± {}", sig(v[i][i], 4), sig(sd[i][i], 2)),
+                (Some(v), None) => sig(v[i][i], 4),
+                _ => "-".into(),
+            });
+        }
+    }
+    out
+}
+
+/// The whirl-frequency ratio and threshold speed `± σ` of a point's `stability` (`-` where
+/// they do not apply).
+fn stability_cells(json: &Json) -> [String; 2] {
+    let s = json.get("stability");
+    let cell = |key: &str, digits: usize| {
+        let get = |k: &str| s.and_then(|s| s.get(k)).and_then(Json::as_f64);
+        match (get(key), get(&format!("{key}_std"))) {
+            (Some(v), Some(sd)) => format!("{} ± {}", sig(v, digits), sig(sd, 2)),
+            (Some(v), None) => sig(v, digits),
+            _ => "-".into(),
+        }
+    };
+    [
+        cell("whirl_frequency_ratio", 3),
+        cell("threshold_speed_rpm", 4),
+    ]
 }
 
 /// `value ± σ` of the diagonal terms of K, C, M (the reported set).

@@ -532,7 +532,7 @@ impl Plan {
     /// # Errors
     /// [`Options::set`]'s, named with the plan's line; [`Error::Plan`] when no band is given.
     pub(super) fn options_of(&self, point: &Point) -> Result<(Options, Vec<Setting>)> {
-        settings::options(&self.source, &self.shared, point)
+        settings::options(&self.source, &self.shared, &self.conditions, point)
     }
 
     /// The channels of a point from its channel settings and the plan's geometry, for

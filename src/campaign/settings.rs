@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::point::{Point, Setting};
+use super::point::{Condition, Point, Setting, Value};
 use crate::error::{Error, Result, excerpt};
 use crate::job::{Channels, Geometry, Options};
 use crate::records::Response;
@@ -39,16 +39,23 @@ pub(super) fn setting_names() -> String {
         .join(", ")
 }
 
+/// The conditions that are also options of `identify` ([`Options::conditions`]): a
+/// point's value with the condition's unit sets them.
+const OPERATING: [&str; 3] = ["clearance", "load", "speed"];
+
 /// The options of `point`: the command's defaults, then the `shared` settings, then the
-/// point's own, in order; and its channel settings (name, text). `source` is the plan's file,
-/// as errors name it.
+/// point's own, in order, then its values of the plan's `conditions` named `clearance`,
+/// `load`, `speed` with their units (a speed or load of 0, a test without rotation or load,
+/// sets none); and
+/// its channel settings (name, text). `source` is the plan's file, as errors name it.
 ///
 /// # Errors
-/// [`Options::set`]'s, as [`Error::Plan`] naming the setting's line; [`Error::Plan`] when no
-/// band is given.
+/// [`Options::set`]'s, as [`Error::Plan`] naming the setting's line (the point's for a
+/// condition); [`Error::Plan`] when no band is given.
 pub(super) fn options(
     source: &str,
     shared: &[Setting],
+    conditions: &[Condition],
     point: &Point,
 ) -> Result<(Options, Vec<Setting>)> {
     let mut o = Options::new(f64::NAN, f64::NAN);
@@ -64,6 +71,21 @@ pub(super) fn options(
             file: source.to_owned(),
             line: s.line,
             message: e.to_string(),
+        })?;
+    }
+    for (condition, value) in conditions.iter().zip(&point.values) {
+        let name = condition.name.as_str();
+        let Some(Value::Number(x)) = value.as_ref().filter(|_| OPERATING.contains(&name)) else {
+            continue;
+        };
+        if name != "clearance" && *x == 0.0 {
+            continue;
+        }
+        let text = format!("{x}{}", condition.unit.name());
+        o.set(name, &text).map_err(|e| Error::Plan {
+            file: source.to_owned(),
+            line: point.line,
+            message: format!("point `{}`: {e}", excerpt(&point.name)),
         })?;
     }
     if !band {

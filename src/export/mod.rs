@@ -5,11 +5,15 @@
 //!   the coherences as Universal File dataset 58 functions, for modal and data-acquisition
 //!   software (and pyuff);
 //! - [`ross`] (feature `ross`): the bearing element of a rotordynamic model in ROSS 3.x's TOML
-//!   or JSON format, constant or per frequency.
+//!   or JSON format, constant or per frequency;
+//! - [`samples`] (feature `ross`): index-aligned samples of the coefficients drawn from their
+//!   joint uncertainty, for stochastic rotor models.
 //!
 //! Both read a finished result only; nothing in the pipeline depends on them.
 
 #[cfg(feature = "ross")]
 pub mod ross;
+#[cfg(feature = "ross")]
+pub mod samples;
 #[cfg(feature = "uff")]
 pub mod uff;

@@ -332,6 +332,92 @@ impl Identification {
         PerFrequency::new(&self.frf, self.coefficients().mass(), decay)
     }
 
+    /// The covariance of the coefficients' combined uncertainty ([`Identification::std_dev`]),
+    /// over the stacked `[M; C; K]` (`3n × n`) read column by column (index `j·3n + q` for
+    /// row `q` of column `j`; `3n² × 3n²`): the fit's own covariance of each column rescaled
+    /// to the random and model components (a diagonal one where the fit carries none),
+    /// columns independent, plus the calibration's sources, which move every coefficient at
+    /// once ([`Budget::calibration_directions`]). `None` without error bars.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, noise: 0.05, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// let cov = id.covariance().unwrap();
+    /// assert_eq!(cov.nrows(), 12);
+    /// // Its diagonal is the combined variance: K_xx is row 4 of column 0.
+    /// let s = id.std_dev().unwrap().stiffness()[(0, 0)];
+    /// assert!((cov[(4, 4)].sqrt() / s - 1.0).abs() < 1e-9);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn covariance(&self) -> Option<Mat<f64>> {
+        let budget = self.budget.as_ref()?;
+        let columns = super::derived::scaled_covariance(
+            self.fit.covariance(),
+            &budget.random_and_model().ok()?,
+        );
+        let rows = columns.first()?.nrows();
+        let p = rows * columns.len();
+        let mut cov = Mat::zeros(p, p);
+        for (j, block) in columns.iter().enumerate() {
+            for a in 0..rows {
+                for b in 0..rows {
+                    cov[(j * rows + a, j * rows + b)] = block[(a, b)];
+                }
+            }
+        }
+        for d in budget.calibration_directions() {
+            let v = |i: usize| d[(i % rows, i / rows)];
+            for a in 0..p {
+                for b in 0..p {
+                    cov[(a, b)] += v(a) * v(b);
+                }
+            }
+        }
+        Some(cov)
+    }
+
+    /// The coefficients in dimensionless form under `conditions` ([`Dimensionless`](crate::rotor::Dimensionless)).
+    ///
+    /// # Errors
+    /// As [`Dimensionless::new`](crate::rotor::Dimensionless::new).
+    pub fn dimensionless(
+        &self,
+        conditions: &crate::rotor::Conditions,
+    ) -> Result<crate::rotor::Dimensionless> {
+        crate::rotor::Dimensionless::new(self.coefficients(), self.std_dev(), conditions)
+    }
+
+    /// The stability of a rigid rotor on the element under `conditions`
+    /// ([`Stability`](crate::rotor::Stability)), with the standard deviations from
+    /// [`Identification::covariance`] and the crossover of the element model where one is
+    /// fitted.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::Identifier;
+    /// use bearing_ident::rotor::Conditions;
+    /// use bearing_ident::simulate::{ImpactTest, seed_rig};
+    /// let records = ImpactTest { per_direction: 2, noise: 0.05, ..ImpactTest::seed_rig() }
+    ///     .run(&seed_rig())?;
+    /// let id = Identifier::new(8.0, 49.0).identify(&records)?;
+    /// let s = id.stability(&Conditions::default().speed_rpm(3000.0).load_n(500.0));
+    /// // The seed rig's element has no cross-coupling to drive a whirl.
+    /// assert!(s.reason.is_some());
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn stability(&self, conditions: &crate::rotor::Conditions) -> crate::rotor::Stability {
+        crate::rotor::Stability::new(
+            self.coefficients(),
+            self.covariance().as_ref(),
+            self.model.as_ref(),
+            conditions,
+        )
+    }
+
     /// What the user should know.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings

@@ -122,6 +122,6 @@ impl super::Outcome {
             std_dev,
             source: source.to_owned(),
         });
-        Ok(())
+        self.rotor()
     }
 }

@@ -37,6 +37,12 @@ pub struct Facts<'a> {
     pub bearing: Option<(&'a Coefficients, Option<&'a Coefficients>, &'a str)>,
     /// Per-line coefficients, when asked for.
     pub per_frequency: Option<&'a PerFrequency>,
+    /// The coefficients in dimensionless form, when a clearance was given.
+    pub dimensionless: Option<&'a crate::rotor::Dimensionless>,
+    /// The stability of a rigid rotor on the element, when a speed or load was given.
+    pub stability: Option<&'a crate::rotor::Stability>,
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed, when a speed was given.
+    pub synchronous: Option<&'a crate::rotor::Synchronous>,
 }
 
 impl Outcome {
@@ -56,6 +62,9 @@ impl Outcome {
                 .as_ref()
                 .map(|b| (&b.coefficients, b.std_dev.as_ref(), b.source.as_str())),
             per_frequency,
+            dimensionless: self.dimensionless(),
+            stability: self.stability(),
+            synchronous: self.synchronous(),
         }
     }
 
@@ -69,17 +78,20 @@ impl Outcome {
         let pf = per_frequency
             .then(|| self.identification.per_frequency())
             .transpose()?;
-        json(&self.identification, &self.facts(pf.as_ref())).map_err(|e| crate::Error::Io {
+        let io = |e: serde_json::Error| crate::Error::Io {
             path: "JSON".into(),
             message: e.to_string(),
-        })
+        };
+        json(&self.identification, &self.facts(pf.as_ref())).map_err(io)
     }
 }
 
 /// The library's serialization of `id` plus the run's own fields: `excitation`,
 /// `excitation_auto`, `crest_factor`, `nperseg`, `welch_choice`, `fs`, `n_records`, `files`,
 /// `compute_ms`, `timings_ms` (every stage of the run, [`Timings::stages`], and `total`),
-/// `bearing` and `per_frequency` when there are.
+/// `bearing` and `per_frequency` when there are; `dimensionless`
+/// ([`crate::rotor::Dimensionless`]), `stability` ([`crate::rotor::Stability`]) and
+/// `synchronous` ([`crate::rotor::Synchronous`]), null without the conditions they need.
 ///
 /// # Errors
 /// Serialization errors.
@@ -113,6 +125,12 @@ pub fn json(id: &Identification, f: &Facts<'_>) -> serde_json::Result<Value> {
         if let Some(pf) = &f.per_frequency {
             map.insert("per_frequency".into(), per_frequency_json(pf));
         }
+        map.insert(
+            "dimensionless".into(),
+            serde_json::to_value(f.dimensionless)?,
+        );
+        map.insert("stability".into(), serde_json::to_value(f.stability)?);
+        map.insert("synchronous".into(), serde_json::to_value(f.synchronous)?);
     }
     Ok(v)
 }

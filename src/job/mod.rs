@@ -186,6 +186,7 @@ impl Job {
         if records.is_empty() {
             return Err(Error::NoRecords);
         }
+        self.check_conditions()?;
         // Records in memory are moved to the bearing plane as files are.
         let records = match &self.channels.geometry {
             Some(g) => records
@@ -316,7 +317,7 @@ impl Job {
         timings.read = reading;
         timings.compute = start.elapsed().saturating_sub(reading);
         timings.identification = identification.timings();
-        Ok(Outcome {
+        let mut outcome = Outcome {
             identification,
             identifier,
             files,
@@ -328,7 +329,27 @@ impl Job {
             sample_rate,
             timings,
             bearing,
-        })
+            conditions: self.options.conditions,
+            dimensionless: None,
+            stability: None,
+            synchronous: None,
+        };
+        outcome.rotor()?;
+        Ok(outcome)
+    }
+
+    /// The operating conditions checked: each finite and positive, and a clearance only
+    /// with the load and speed that the dimensionless coefficients it asks for need.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the option at fault.
+    fn check_conditions(&self) -> Result<()> {
+        let c = self.options.conditions.check()?;
+        if c.clearance().is_some() {
+            c.needed_load("dimensionless coefficients")?;
+            c.needed_speed("dimensionless coefficients")?;
+        }
+        Ok(())
     }
 
     /// The identifier for `excitation`, from the first record and the options, and the

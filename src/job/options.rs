@@ -174,11 +174,16 @@ pub struct Options {
     /// standard uncertainty `x=3Hz±0.3Hz`, comma list
     /// ([`crate::frf::ChannelTransfers::parse_high_passes`]).
     pub highpass: Option<String>,
+    /// `clearance`, `load`, `speed`: the test's radial clearance, static load and rotor speed,
+    /// each with its unit (`100um`, `500N`, `3000rpm`: [`crate::rotor::parse_clearance`],
+    /// [`crate::rotor::parse_load`], [`crate::rotor::parse_speed`]), for the dimensionless
+    /// coefficients and the stability of a rigid rotor on the element.
+    pub conditions: crate::rotor::Conditions,
 }
 
 impl Options {
     /// The long names [`Options::set`] takes, in the `identify` command's spelling.
-    pub const NAMES: [&'static str; 25] = [
+    pub const NAMES: [&'static str; 28] = [
         "band",
         "method",
         "excitation",
@@ -204,6 +209,9 @@ impl Options {
         "drop-periods",
         "delay",
         "highpass",
+        "clearance",
+        "load",
+        "speed",
     ];
 
     /// The defaults of the `identify` command over the band `low_hz`–`high_hz`.
@@ -235,6 +243,7 @@ impl Options {
             channel_transfers: crate::frf::ChannelTransfers::new(),
             delay: None,
             highpass: None,
+            conditions: crate::rotor::Conditions::default(),
         }
     }
 
@@ -302,6 +311,17 @@ impl Options {
             "drop-periods" => self.drop_periods = count()?,
             "delay" => self.delay = Some(value.to_owned()),
             "highpass" => self.highpass = Some(value.to_owned()),
+            "clearance" => {
+                self.conditions = self
+                    .conditions
+                    .clearance_m(crate::rotor::parse_clearance(value)?);
+            }
+            "load" => self.conditions = self.conditions.load_n(crate::rotor::parse_load(value)?),
+            "speed" => {
+                self.conditions = self
+                    .conditions
+                    .speed_rad_s(crate::rotor::parse_speed(value)?);
+            }
             _ => unreachable!("every name of NAMES has its arm"),
         }
         Ok(())
@@ -373,6 +393,9 @@ mod tests {
             ("drop-periods", "1"),
             ("delay", "x=0.25ms±0.02ms"),
             ("highpass", "response=3Hz"),
+            ("clearance", "100um"),
+            ("load", "500N"),
+            ("speed", "3000rpm"),
         ];
         assert_eq!(values.len(), Options::NAMES.len());
         let mut o = Options::new(8.0, 49.0);
@@ -399,6 +422,12 @@ mod tests {
             "invalid_argument"
         );
         assert_eq!(o.set("band", "1;2").unwrap_err().kind(), "bad_band");
+        assert_eq!(o.conditions.load(), Some(500.0));
+        for (name, value) in [("clearance", "0um"), ("load", "-1N"), ("speed", "3000")] {
+            let e = o.set(name, value).unwrap_err();
+            assert_eq!(e.kind(), "invalid_argument");
+            assert!(e.to_string().contains(&format!("--{name}")), "{e}");
+        }
         assert_eq!(
             o.set("method", "ivff").unwrap_err().kind(),
             "invalid_argument"

@@ -34,12 +34,119 @@ pub struct Outcome {
     pub(super) sample_rate: f64,
     pub(super) timings: Timings,
     pub(super) bearing: Option<Bearing>,
+    pub(super) conditions: crate::rotor::Conditions,
+    pub(super) dimensionless: Option<crate::rotor::Dimensionless>,
+    pub(super) stability: Option<crate::rotor::Stability>,
+    pub(super) synchronous: Option<crate::rotor::Synchronous>,
 }
 
 impl Outcome {
     /// The identification.
     pub fn identification(&self) -> &Identification {
         &self.identification
+    }
+
+    /// The test's operating conditions ([`Options::conditions`](super::Options::conditions)).
+    pub fn conditions(&self) -> &crate::rotor::Conditions {
+        &self.conditions
+    }
+
+    /// The coefficients in dimensionless form (the bearing's own when a baseline was
+    /// subtracted), when a clearance was given ([`crate::rotor::Dimensionless`]).
+    pub fn dimensionless(&self) -> Option<&crate::rotor::Dimensionless> {
+        self.dimensionless.as_ref()
+    }
+
+    /// The stability of a rigid rotor on the element (the bearing's own when a baseline was
+    /// subtracted, its covariance then diagonal), when a speed or a load was given
+    /// ([`crate::rotor::Stability`]).
+    pub fn stability(&self) -> Option<&crate::rotor::Stability> {
+        self.stability.as_ref()
+    }
+
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed, when a speed was
+    /// given and the lines span it ([`crate::rotor::Synchronous`]): the element model's where
+    /// one other than `kcm` was fitted, else the per-line values interpolated. With a
+    /// baseline subtracted, the bearing's own: less the dry structure's constant
+    /// coefficients, their variances added.
+    pub fn synchronous(&self) -> Option<&crate::rotor::Synchronous> {
+        self.synchronous.as_ref()
+    }
+
+    /// Computes [`Outcome::dimensionless`], [`Outcome::stability`] and
+    /// [`Outcome::synchronous`] from the coefficients reported and the conditions.
+    ///
+    /// # Errors
+    /// As [`crate::rotor::Dimensionless::new`] (not for the conditions a job checked).
+    pub(super) fn rotor(&mut self) -> crate::Result<()> {
+        let (c, std) = self.reported();
+        self.dimensionless = match self.conditions.clearance() {
+            Some(_) => Some(crate::rotor::Dimensionless::new(c, std, &self.conditions)?),
+            None => None,
+        };
+        let asked = self.conditions.speed().is_some() || self.conditions.load().is_some();
+        self.stability = asked.then(|| match &self.bearing {
+            Some(b) => crate::rotor::Stability::new(
+                &b.coefficients,
+                b.std_dev.as_ref().map(diagonal_covariance).as_ref(),
+                None,
+                &self.conditions,
+            ),
+            None => self.identification.stability(&self.conditions),
+        });
+        self.synchronous = self.synchronous_of()?;
+        Ok(())
+    }
+
+    fn synchronous_of(&self) -> crate::Result<Option<crate::rotor::Synchronous>> {
+        use crate::rotor::Synchronous;
+        let Some(omega) = self.conditions.speed() else {
+            return Ok(None);
+        };
+        let f = omega / (2.0 * std::f64::consts::PI);
+        let id = &self.identification;
+        let system = match id.model().filter(|m| !m.is_kcm()) {
+            Some(model) => Some(Synchronous::from_model(model, f)),
+            None => Synchronous::from_lines(&id.per_frequency()?, f),
+        };
+        let (Some(system), Some(b)) = (system.clone(), &self.bearing) else {
+            return Ok(system);
+        };
+        let own = id.coefficients();
+        let minus = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
+            faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)] - y[(i, j)])
+        };
+        let variance_left = |x: faer::MatRef<'_, f64>, y: faer::MatRef<'_, f64>| {
+            faer::Mat::from_fn(x.nrows(), x.ncols(), |i, j| {
+                (x[(i, j)].powi(2) - y[(i, j)].powi(2)).max(0.0).sqrt()
+            })
+        };
+        let k = minus(own.stiffness(), b.coefficients.stiffness());
+        let c = minus(own.damping(), b.coefficients.damping());
+        let std = match (&b.std_dev, id.std_dev()) {
+            (Some(bs), Some(ss)) => Some((
+                variance_left(bs.stiffness(), ss.stiffness()),
+                variance_left(bs.damping(), ss.damping()),
+            )),
+            _ => None,
+        };
+        Ok(Some(system.less(
+            k.as_ref(),
+            c.as_ref(),
+            std.as_ref().map(|(k, c)| (k.as_ref(), c.as_ref())),
+        )))
+    }
+
+    /// The coefficients reported: the bearing's own when a baseline was subtracted, else
+    /// the system's; with their standard deviations.
+    fn reported(&self) -> (&Coefficients, Option<&Coefficients>) {
+        match &self.bearing {
+            Some(b) => (&b.coefficients, b.std_dev.as_ref()),
+            None => (
+                self.identification.coefficients(),
+                self.identification.std_dev(),
+            ),
+        }
     }
 
     /// The identification, taken out.
@@ -109,4 +216,19 @@ impl Outcome {
     pub fn bearing(&self) -> Option<&Bearing> {
         self.bearing.as_ref()
     }
+}
+
+/// A diagonal covariance of the stacked coefficients (in the order of
+/// [`Identification::covariance`]) with the variances `std²`.
+fn diagonal_covariance(std: &Coefficients) -> faer::Mat<f64> {
+    let s = std.stacked();
+    let rows = s.nrows();
+    let p = rows * s.ncols();
+    faer::Mat::from_fn(p, p, |a, b| {
+        if a == b {
+            s[(a % rows, a / rows)].powi(2)
+        } else {
+            0.0
+        }
+    })
 }

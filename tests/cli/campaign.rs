@@ -191,6 +191,8 @@ fn points_are_identify_bit_for_bit() {
         "--geometry",
         &geometry,
         "--reject-bad-records",
+        "--speed",
+        "3000rpm",
         "--baseline",
         &saved_dry,
     ];
@@ -825,4 +827,99 @@ fn the_chosen_element_model_is_a_column() {
     assert_eq!(cells(1)[at], "");
     assert_eq!(cells(2)[at], "kcm");
     assert_eq!(cells(2).len(), header.len());
+}
+
+/// With a `speed` condition, each point's synchronous coefficients are its per-line `K(ω)`,
+/// `C(ω)` and their σ at the line equal to the speed (1800 rpm = 30 Hz and 2415 rpm =
+/// 40.25 Hz are lines of these 4 s records), bit for bit; between lines (2007 rpm =
+/// 33.45 Hz, 0.8 of the way from 33.25 Hz to 33.5 Hz), the linear interpolation; in the JSON, `coefficients.csv` (`kxx_sync`, …) and the table.
+#[test]
+fn synchronous_coefficients_are_the_lines_at_the_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from(
+        "[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\nload = \"N\"\n",
+    );
+    let speeds = [1800.0, 2415.0, 2007.0];
+    for (k, rpm) in speeds.iter().enumerate() {
+        let name = format!("s{k}");
+        write_hits(&dir.join(&name), &system(80.0), 20 + k as u64, [1.0, 1.0]);
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\nload = 200\n"
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let out_dir = dir.join("out");
+    let out = run(&[
+        "campaign".as_ref(),
+        path.as_os_str(),
+        "--json".as_ref(),
+        "--per-frequency".as_ref(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = json_of(&out);
+    let csv = std::fs::read_to_string(out_dir.join("coefficients.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for (k, rpm) in speeds.iter().enumerate() {
+        let point = &v["points"][k];
+        let sync = &point["synchronous"];
+        let f = rpm / 60.0;
+        assert!((sync["frequency_hz"].as_f64().unwrap() - f).abs() < 1e-12);
+        assert_eq!(sync["source"], "lines");
+        let lines = point["per_frequency"].as_array().unwrap();
+        let at = |hz: f64| {
+            lines
+                .iter()
+                .position(|l| (l["freq_hz"].as_f64().unwrap() - hz).abs() < 1e-9)
+                .unwrap()
+        };
+        let value = |l: usize, key: &str, i: usize, j: usize| -> f64 {
+            lines[l][key][i][j].as_f64().unwrap()
+        };
+        for key in ["K", "C", "K_std", "C_std"] {
+            for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let got = sync[key][i][j].as_f64().unwrap();
+                let expected = if k < 2 {
+                    value(at(f), key, i, j)
+                } else if key.ends_with("_std") {
+                    let (a, b) = (value(at(33.25), key, i, j), value(at(33.5), key, i, j));
+                    (0.2f64.powi(2) * a * a + 0.8f64.powi(2) * b * b).sqrt()
+                } else {
+                    0.2 * value(at(33.25), key, i, j) + 0.8 * value(at(33.5), key, i, j)
+                };
+                if k < 2 {
+                    assert_eq!(got, expected, "{key}");
+                } else {
+                    assert!(
+                        (got - expected).abs() <= 1e-9 * expected.abs(),
+                        "{key}: {got} vs {expected}"
+                    );
+                }
+            }
+        }
+        let row: Vec<&str> = csv.lines().nth(k + 1).unwrap().split(',').collect();
+        let kxx: f64 = row[column("kxx_sync")].parse().unwrap();
+        let cyy_std: f64 = row[column("cyy_sync_std")].parse().unwrap();
+        assert_eq!(kxx, sync["K"][0][0].as_f64().unwrap());
+        assert_eq!(cyy_std, sync["C_std"][1][1].as_f64().unwrap());
+        let gamma: f64 = row[column("whirl_frequency_ratio")]
+            .parse()
+            .unwrap_or(f64::NAN);
+        let json_gamma = point["stability"]["whirl_frequency_ratio"].as_f64();
+        assert_eq!(json_gamma.is_some(), gamma.is_finite());
+    }
+    let table = run(&["campaign".as_ref(), path.as_os_str()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        text.contains("K_xx sync [N/m]") && text.contains("whirl ratio"),
+        "{text}"
+    );
 }

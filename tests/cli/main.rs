@@ -11,3 +11,4 @@ mod export;
 mod field;
 mod mat;
 mod readme;
+mod rotor;

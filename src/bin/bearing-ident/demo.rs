@@ -54,6 +54,9 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
         per_frequency: None,
         us_units: false,
         units: serde_json::Value::Null,
+        dimensionless: None,
+        stability: None,
+        synchronous: None,
     };
     if let Some(dir) = &args.plot {
         write_report(

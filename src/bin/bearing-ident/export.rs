@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use bearing_ident::export::ross::{BearingElement, Table};
+use bearing_ident::export::samples::BearingSamples;
 use bearing_ident::uff::ByteOrder;
 use bearing_ident::{Coefficients, Identification};
 use clap::ValueEnum;
@@ -44,6 +45,46 @@ pub struct ExportArgs {
     /// Tag of the bearing element (`tag`; the table is `BearingElement_<tag>`).
     #[arg(long, default_value = "brg1", requires = "ross")]
     ross_tag: String,
+    /// Write N samples of the constant M, C, K drawn from their joint uncertainty (the full
+    /// covariance of the error bars, the calibration's common sources among it; the bearing's
+    /// own, uncorrelated, with `--baseline`) to FILE.csv: one row per sample, columns
+    /// `sample,kxx,kxy,kyx,kyy,cxx,…,myy`, paired by index for a stochastic rotor model
+    /// (ROSS's `ST_BearingElement`). 2-DOF results with error bars only.
+    #[arg(long, num_args = 2, value_names = ["N", "FILE.csv"], allow_hyphen_values = true)]
+    ross_samples: Vec<String>,
+    /// Seed of `--ross-samples`' generator (a whole number ≥ 0).
+    #[arg(
+        long,
+        default_value = "0",
+        requires = "ross_samples",
+        allow_hyphen_values = true
+    )]
+    ross_seed: String,
+}
+
+/// `--ross-samples N FILE` and `--ross-seed` checked: the count (≥ 1), the file, the seed.
+fn samples_args(args: &ExportArgs) -> Result<Option<(usize, PathBuf, u64)>, Failure> {
+    let [count, file] = args.ross_samples.as_slice() else {
+        return Ok(None);
+    };
+    let n = count
+        .trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| n > 0)
+        .ok_or_else(|| {
+            invalid(format!(
+                "--ross-samples `{}`: expected a number of samples ≥ 1",
+                excerpt(count)
+            ))
+        })?;
+    let seed = args.ross_seed.trim().parse::<u64>().map_err(|_| {
+        invalid(format!(
+            "--ross-seed `{}`: expected a whole number ≥ 0",
+            excerpt(&args.ross_seed)
+        ))
+    })?;
+    Ok(Some((n, PathBuf::from(file), seed)))
 }
 
 /// Refuses, before any work, what [`write`] could not do: a per-frequency ROSS table of a
@@ -57,9 +98,11 @@ pub fn check(
     inputs: &[&Path],
     plot: Option<&Path>,
 ) -> Result<(), Failure> {
+    let samples = samples_args(args)?.map(|s| s.1);
     let outputs = [
         ("--uff", args.uff.as_deref()),
         ("--ross", args.ross.as_deref()),
+        ("--ross-samples", samples.as_deref()),
         ("--plot", plot),
     ];
     for (flag, out) in outputs {
@@ -96,14 +139,37 @@ pub fn check(
     Ok(())
 }
 
-/// Writes the files asked for. `bearing` is the bearing's own coefficients when a baseline
-/// was subtracted; `per_frequency` is `--per-frequency`.
+/// Writes the files asked for. `bearing` is the bearing's own coefficients (and their
+/// standard deviations) when a baseline was subtracted; `per_frequency` is `--per-frequency`.
 pub fn write(
     args: &ExportArgs,
     id: &Identification,
-    bearing: Option<&Coefficients>,
+    bearing: Option<(&Coefficients, Option<&Coefficients>)>,
     per_frequency: bool,
 ) -> Result<(), Failure> {
+    if let Some((n, path, seed)) = samples_args(args)? {
+        let samples = match bearing {
+            None => BearingSamples::draw(id, n, seed)?,
+            Some((b, std)) => {
+                let std = std.ok_or_else(|| {
+                    invalid("--ross-samples: the bearing has no error bars to draw from".into())
+                })?;
+                let s = std.stacked();
+                let rows = s.nrows();
+                let p = rows * s.ncols();
+                let cov = faer::Mat::from_fn(p, p, |a, c| {
+                    if a == c {
+                        s[(a % rows, a / rows)].powi(2)
+                    } else {
+                        0.0
+                    }
+                });
+                BearingSamples::from_covariance(b, &cov, n, seed)?
+            }
+        };
+        save(&path, samples.to_csv().as_bytes())?;
+    }
+    let bearing = bearing.map(|b| b.0);
     if let Some(path) = &args.uff {
         let functions = bearing_ident::export::uff::functions(id, 1)?;
         let mut bytes = Vec::new();

@@ -186,6 +186,20 @@ pub struct IdentifyArgs {
     /// (`x=3Hz±0.3Hz`) enters `budget.calibration`.
     #[arg(long, value_delimiter = ',')]
     highpass: Vec<String>,
+    /// The test's radial clearance with its unit (m, mm, um, mil), e.g. `100um`: with
+    /// `--load` and `--speed`, the dimensionless coefficients `K̄ = Kc/W`, `C̄ = CΩc/W`,
+    /// `M̄ = MΩ²c/W` (JSON `dimensionless`).
+    #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
+    clearance: Option<String>,
+    /// The static load on the element with its unit (N, kN, lbf), e.g. `500N`: with
+    /// `--speed`, the threshold speed of a rigid rotor of weight W on the element (JSON
+    /// `stability`).
+    #[arg(long, value_name = "FORCE", allow_hyphen_values = true)]
+    load: Option<String>,
+    /// The rotor speed with its unit (rpm, Hz, rad/s), e.g. `3000rpm`: the whirl-frequency
+    /// ratio (JSON `stability`).
+    #[arg(long, value_name = "SPEED", allow_hyphen_values = true)]
+    speed: Option<String>,
     /// IVF tolerance on the block-wise relative change.
     #[arg(long, default_value_t = 1e-8)]
     tolerance: f64,
@@ -269,6 +283,15 @@ fn options(args: &IdentifyArgs, channels: &Channels) -> Result<Options, Failure>
     o.baseline.clone_from(&args.baseline);
     o.calibration.clone_from(&args.calibration);
     o.drop_periods = args.drop_periods;
+    for (name, value) in [
+        ("clearance", &args.clearance),
+        ("load", &args.load),
+        ("speed", &args.speed),
+    ] {
+        if let Some(value) = value {
+            o.set(name, value)?;
+        }
+    }
     o.channel_transfers = crate::channels::transfers(
         &args.delay,
         &args.highpass,
@@ -324,7 +347,9 @@ pub fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         let checks = (outcome.excitation() == Excitation::Impact).then(ImpactChecks::default);
         write_report(dir, id, &records, &context, None, checks)?;
     }
-    let bearing = outcome.bearing().map(|b| &b.coefficients);
+    let bearing = outcome
+        .bearing()
+        .map(|b| (&b.coefficients, b.std_dev.as_ref()));
     crate::export::write(&args.export, id, bearing, args.per_frequency)?;
     emit(id, &context, None, args.json)
 }

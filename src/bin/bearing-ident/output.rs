@@ -16,19 +16,21 @@ pub fn write_report(
     truth: Option<&Coefficients>,
     checks: Option<ImpactChecks>,
 ) -> Result<(), Failure> {
+    let mut lines = vec![format!(
+        "{} records ({}), {} samples/s; excitation {}{}.",
+        context.files.len(),
+        summarize_files(&context.files),
+        context.sample_rate,
+        context.excitation,
+        if context.excitation_auto {
+            ", detected"
+        } else {
+            ""
+        },
+    )];
+    lines.extend(report::stability_line(context));
     let options = bearing_ident::plot::ReportOptions {
-        context: vec![format!(
-            "{} records ({}), {} samples/s; excitation {}{}.",
-            context.files.len(),
-            summarize_files(&context.files),
-            context.sample_rate,
-            context.excitation,
-            if context.excitation_auto {
-                ", detected"
-            } else {
-                ""
-            },
-        )],
+        context: lines,
         text: Some(report::table(id, context, truth)),
         truth: truth.cloned(),
         checks,

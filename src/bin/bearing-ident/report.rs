@@ -44,6 +44,12 @@ pub struct Context {
     /// The JSON's `units` (null: none): the units the channels were given in (`force`,
     /// `response`) and those of the printed coefficients (`output`, `M`, `C`, `K`).
     pub units: serde_json::Value,
+    /// The coefficients in dimensionless form, when a clearance was given.
+    pub dimensionless: Option<bearing_ident::rotor::Dimensionless>,
+    /// The stability of a rigid rotor on the element, when a speed or load was given.
+    pub stability: Option<bearing_ident::rotor::Stability>,
+    /// `K(ω)`, `C(ω)` at the excitation frequency equal to the speed.
+    pub synchronous: Option<bearing_ident::rotor::Synchronous>,
 }
 
 impl Context {
@@ -73,6 +79,9 @@ impl Context {
             per_frequency: per_frequency.then(|| id.per_frequency()).transpose()?,
             us_units: false,
             units: serde_json::Value::Null,
+            dimensionless: outcome.dimensionless().cloned(),
+            stability: outcome.stability().cloned(),
+            synchronous: outcome.synchronous().cloned(),
         })
     }
 }
@@ -93,6 +102,9 @@ pub fn json(id: &Identification, c: &Context) -> serde_json::Result<serde_json::
             .as_ref()
             .map(|(b, std, source)| (b, std.as_ref(), source.as_str())),
         per_frequency: c.per_frequency.as_ref(),
+        dimensionless: c.dimensionless.as_ref(),
+        stability: c.stability.as_ref(),
+        synchronous: c.synchronous.as_ref(),
     };
     let mut v = bearing_ident::job::json(id, &facts)?;
     if !c.units.is_null() {
@@ -203,6 +215,89 @@ fn coefficient_table(
     }
 }
 
+/// One line on the stability of a rigid rotor on the element, for the HTML report's head,
+/// when a speed or load was given.
+pub fn stability_line(c: &Context) -> Option<String> {
+    let s = c.stability.as_ref()?;
+    let pm = |v: Option<f64>, sd: Option<f64>, unit: &str| match (v, sd) {
+        (Some(v), Some(sd)) => format!("{} ± {}{unit}", sig(v, 4), sig(sd, 2)),
+        (Some(v), None) => format!("{}{unit}", sig(v, 4)),
+        (None, _) => "—".into(),
+    };
+    let mut line = format!(
+        "Stability of a rigid rotor on the element (Lund): whirl-frequency ratio {}, threshold \
+         speed {}, C_eff crossover {}.",
+        pm(s.whirl_frequency_ratio, s.whirl_frequency_ratio_std, ""),
+        pm(s.threshold_speed_rpm, s.threshold_speed_rpm_std, " rpm"),
+        pm(s.c_eff_crossover_hz, s.c_eff_crossover_hz_std, " Hz"),
+    );
+    if let Some(reason) = &s.reason {
+        let _ = write!(line, " ({reason})");
+    }
+    Some(line)
+}
+
+/// The dimensionless coefficients and the stability of a rigid rotor on the element, when
+/// the conditions were given.
+fn rotor_lines(out: &mut String, axes: &[String], c: &Context) {
+    let pm = |v: Option<f64>, s: Option<f64>, digits: usize| match (v, s) {
+        (Some(v), Some(s)) => format!("{} ± {}", sig(v, digits), sig(s, 2)),
+        (Some(v), None) => sig(v, digits),
+        (None, _) => "—".into(),
+    };
+    if let Some(d) = &c.dimensionless {
+        let _ = writeln!(
+            out,
+            "Dimensionless (c = {} µm, W = {} N, Ω = {} rpm; K̄ = Kc/W, C̄ = CΩc/W, M̄ = MΩ²c/W)",
+            sig(d.clearance_m() * 1e6, 4),
+            sig(d.load_n(), 4),
+            sig(d.speed_rad_s() * 60.0 / (2.0 * std::f64::consts::PI), 5)
+        );
+        let n = d.stiffness().nrows();
+        let labels = axis_labels(axes, n);
+        let std = d.std_dev();
+        for (b, (name, m)) in [("K̄", d.stiffness()), ("C̄", d.damping()), ("M̄", d.mass())]
+            .into_iter()
+            .enumerate()
+        {
+            for i in 0..n {
+                for j in 0..n {
+                    let s = std.map(|s| s[b][(i, j)]);
+                    let _ = writeln!(
+                        out,
+                        "  {:<16} {:>24}",
+                        format!("{name}_{}{}", labels[i], labels[j]),
+                        pm(Some(m[(i, j)]), s, 5)
+                    );
+                }
+            }
+        }
+        let _ = writeln!(out);
+    }
+    if let Some(s) = &c.stability {
+        let _ = writeln!(out, "Stability of a rigid rotor on the element (Lund)");
+        let _ = writeln!(
+            out,
+            "  whirl-frequency ratio {}",
+            pm(s.whirl_frequency_ratio, s.whirl_frequency_ratio_std, 4)
+        );
+        let _ = writeln!(
+            out,
+            "  threshold speed {} rpm",
+            pm(s.threshold_speed_rpm, s.threshold_speed_rpm_std, 5)
+        );
+        let _ = writeln!(
+            out,
+            "  C_eff crossover {} Hz",
+            pm(s.c_eff_crossover_hz, s.c_eff_crossover_hz_std, 5)
+        );
+        if let Some(reason) = &s.reason {
+            out.push_str(&text::wrap("  ", reason, 4));
+        }
+        let _ = writeln!(out);
+    }
+}
+
 /// `  timings (ms): read …, <every stage>, total …`, a line of the table.
 pub fn timings_line(out: &mut String, stages: &[(&str, Duration)], total: Duration) {
     let stages: Vec<String> = stages
@@ -292,6 +387,7 @@ pub fn table(id: &Identification, c: &Context, truth: Option<&Coefficients>) -> 
         coefficient_lines(&mut out, &axes, b, std.as_ref(), None, c.us_units);
         let _ = writeln!(out);
     }
+    rotor_lines(&mut out, &axes, c);
     let _ = writeln!(out, "Modes (± one standard deviation)");
     let (sf, sz) = (id.natural_frequencies_hz_std(), id.damping_ratios_std());
     let pm = |s: &Option<Vec<f64>>, k: usize| {
