@@ -330,8 +330,9 @@ pub const MODEL_MISFIT_P: f64 = 0.01;
 /// estimator's coefficients.
 pub const FAMILY_FIT_ITERATIONS: usize = 20;
 
-/// The model check's own fit stops when an element's stiffness changes by less than this,
-/// relative: far below any noise the check judges.
+/// The model check's own fit stops when an element's model changes by less than this,
+/// relative to its size (each coefficient's change weighted by its basis function's size in
+/// the weighted normal equations): far below any noise the check judges.
 pub const FAMILY_FIT_TOLERANCE: f64 = 1e-10;
 
 /// Fewest lines the runs test of the model check's residual signs counts over (its normal

@@ -411,15 +411,28 @@ fn robust_fit_in(
                     data.weight(t, var)
                 };
             }
-            let next =
-                weighted_solve(&gram, &projections, &weights, per).ok_or(Error::SingularFit {
+            let (next, scale) = weighted_solve(&gram, &projections, &weights, per).ok_or(
+                Error::SingularFit {
                     method: crate::Method::LeastSquares,
-                })?;
+                },
+            )?;
+            // The change of the element's model in the metric of its weighted normal
+            // equations (`θ_b s_b` is basis `b`'s part of the model), relative to the model's
+            // size there: a coefficient that is zero in truth (a mass off the diagonal) does
+            // not hold the iteration to its own relative change.
+            let size = next
+                .iter()
+                .zip(&scale)
+                .map(|(v, s)| (v * s).powi(2))
+                .sum::<f64>()
+                .sqrt();
             let change = next
                 .iter()
                 .zip(&coefficients)
-                .map(|(a, b)| (a - b).abs() / a.abs().max(f64::MIN_POSITIVE))
-                .fold(0.0, f64::max);
+                .zip(&scale)
+                .map(|((a, b), s)| ((a - b) * s).abs())
+                .fold(0.0, f64::max)
+                / size.max(f64::MIN_POSITIVE);
             coefficients = next;
             if iteration > 0 && change < FAMILY_FIT_TOLERANCE {
                 break;
@@ -479,13 +492,14 @@ fn gram_table(phi: &[c64], per: usize) -> Vec<f64> {
 
 /// The weighted least-squares coefficients of an element: the normal equations
 /// `Σ_k w_k Re(φ_b φ̄_c) θ_c = Σ_k w_k Re(y_k φ̄_b)` from their terms (`gram`, [`gram_table`];
-/// `projections`, `[k * B + b]`), columns scaled to unit diagonal.
+/// `projections`, `[k * B + b]`), columns scaled to unit diagonal; with the scales
+/// `s_b = √(Σ_k w_k |φ_b|²)`.
 fn weighted_solve(
     gram: &[f64],
     projections: &[f64],
     weights: &[f64],
     per: usize,
-) -> Option<Vec<f64>> {
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let mut a = vec![0.0; per * per];
     let mut rhs = vec![0.0; per];
     for (k, &w) in weights.iter().enumerate() {
@@ -509,7 +523,7 @@ fn weighted_solve(
     let r = Mat::from_fn(per, 1, |b, _| rhs[b] / scale[b]);
     let x = scaled.partial_piv_lu().solve(&r);
     let out: Vec<f64> = (0..per).map(|b| x[(b, 0)] / scale[b]).collect();
-    out.iter().all(|v| v.is_finite()).then_some(out)
+    out.iter().all(|v| v.is_finite()).then_some((out, scale))
 }
 
 /// The poles of a family with `count` states: variable projection from log-spaced starts
