@@ -130,7 +130,7 @@ def test_python_block_runs_as_written(document, heading, code, quoted, tmp_path,
         assert names["as_json"]["n_records"] == 8
         assert "brg" in names["element"], names["element"][:200]
         assert [b["tag"] for b in names["field"]["bearings"]] == ["brg0", "brg1"]
-    if (document, heading) == ("docs/guide/05-campaigns.md", "## From Python"):
+    if (document, heading) == ("docs/guide/05-campaigns.md", "## A plan of three points, from Python"):
         # The campaign's three points, its table and the ROSS element over the two speeds at 200 N.
         assert names["study"].failed == [] and len(names["study"].points) == 3
         assert names["table"].count("\n") == 4 and "BearingElement_bearing" in names["ross"]
