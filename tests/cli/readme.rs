@@ -56,6 +56,7 @@ const CHAPTERS: &[&str] = &[
     "10-rotor.md",
     "reference-cli.md",
     "reference-output.md",
+    "reference-performance.md",
 ];
 
 /// One command of a `sh` block: the heading it is under and its text (continuation lines
@@ -674,6 +675,65 @@ fn every_chapter_has_its_test() {
     let mut listed: Vec<String> = CHAPTERS.iter().map(|c| c.to_string()).collect();
     listed.sort();
     assert_eq!(found, listed, "docs/guide/ and CHAPTERS differ");
+}
+
+/// The output reference names every field of `identify --json` (with the options that add
+/// fields) and of `field --json`.
+#[test]
+fn the_output_reference_names_every_json_field() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("docs/guide/reference-output.md")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let exe = PathBuf::from(env!("CARGO_BIN_EXE_bearing-ident"));
+    let run = |args: &[&str]| -> serde_json::Value {
+        let out = Command::new(&exe)
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}: {out:?}");
+        serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
+    };
+    run(&["simulate", "--impacts", "2", "--noise", "0.05", "--json", "--out", "r"]);
+    let identify = run(&[
+        "identify",
+        "--band",
+        "8,49",
+        "--json",
+        "--per-frequency",
+        "--units",
+        "us",
+        "--clearance",
+        "100um",
+        "--load",
+        "500N",
+        "--speed",
+        "1800rpm",
+        "r/impact-dof0-0.csv",
+        "r/impact-dof0-1.csv",
+        "r/impact-dof1-0.csv",
+        "r/impact-dof1-1.csv",
+    ]);
+    let field = run(&[
+        "field",
+        "--json",
+        "--rotor",
+        root.join("examples/field/ROTOR.json").to_str().unwrap(),
+        "--tests",
+        root.join("examples/field/TESTS_bearings.json").to_str().unwrap(),
+    ]);
+    let mut fields: Vec<String> = Vec::new();
+    for value in [&identify, &field] {
+        fields.extend(value.as_object().unwrap().keys().cloned());
+    }
+    fields.extend(field["bearings"][0].as_object().unwrap().keys().cloned());
+    assert!(fields.len() > 60, "{fields:?}");
+    for name in fields {
+        assert!(
+            text.contains(&format!("`{name}`")),
+            "reference-output.md does not name the JSON field `{name}`"
+        );
+    }
 }
 
 /// The reference chapter names every option of every subcommand, under the subcommand's
