@@ -1,7 +1,8 @@
 """Every Python block of the README and of the guide (``docs/guide/*.md``) runs as written.
 
 A ```python block followed (after blank lines only) by a ```text block quotes what it prints:
-its standard output is compared with the text line by line, trailing blanks aside, ``[..]``
+its standard output is compared with the text line by line, trailing blanks and blank lines
+at the end aside, ``[..]``
 within a line matching any text and a line ``...`` any number of lines (as
 ``tests/cli/readme.rs`` compares the command blocks' output).
 
@@ -61,13 +62,13 @@ def python_blocks(document: str) -> list[tuple[str, str, str | None]]:
 def output_matches(quoted: str, printed: str) -> bool:
     """Whether ``printed`` is what ``quoted`` says, by the rules of the module's docstring."""
     lines = []
-    for line in quoted.splitlines():
+    for line in quoted.rstrip().splitlines():
         line = line.rstrip()
         if line == "...":
             lines.append(r"(?:[^\n]*\n)*?")
         else:
             lines.append(".*?".join(re.escape(p) for p in line.split("[..]")) + r"\n")
-    actual = "".join(l.rstrip() + "\n" for l in printed.splitlines())
+    actual = "".join(l.rstrip() + "\n" for l in printed.rstrip().splitlines())
     return re.fullmatch("".join(lines), actual, re.S) is not None
 
 

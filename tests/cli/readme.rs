@@ -15,10 +15,10 @@
 //!
 //! A ```` ```sh ```` block followed (after blank lines only) by a ```` ```text ```` block quotes
 //! its output: the standard output of the block's commands, one after another, is compared with
-//! the quoted text line by line, trailing blanks aside. Two marks stand for what varies from run
-//! to run (a time in milliseconds): `[..]` within a line matches any text, a line `...` any
-//! number of lines. Nothing else is loosened: numbers are compared as printed (the simulations
-//! are seeded). The Python blocks run in the Python package's tests
+//! the quoted text line by line, trailing blanks and blank lines at the end aside. Two marks
+//! stand for what varies from run to run (a time in milliseconds): `[..]` within a line matches
+//! any text, a line `...` any number of lines. Nothing else is loosened: numbers are compared as
+//! printed (the simulations are seeded). The Python blocks run in the Python package's tests
 //! (`python/tests/test_readme.py`), by the same rules.
 
 use std::collections::BTreeSet;
@@ -164,7 +164,8 @@ fn commands(document: &str) -> Vec<Line> {
         .collect()
 }
 
-/// Whether `actual` is what `quoted` says: line by line, trailing blanks aside; `[..]` within a
+/// Whether `actual` is what `quoted` says: line by line, trailing blanks and blank lines at the
+/// end aside; `[..]` within a
 /// quoted line matches any text, a quoted line `...` any number of lines. On a difference, the
 /// first quoted line that does not match and what stood there.
 fn matches(quoted: &str, actual: &str) -> Result<(), String> {
@@ -190,13 +191,11 @@ fn matches(quoted: &str, actual: &str) -> Result<(), String> {
         match q.split_first() {
             None => a.is_empty(),
             Some((&"...", more)) => (0..=a.len()).any(|skip| walk(more, &a[skip..])),
-            Some((p, more)) => {
-                a.first().is_some_and(|l| line_matches(p, l)) && walk(more, &a[1..])
-            }
+            Some((p, more)) => a.first().is_some_and(|l| line_matches(p, l)) && walk(more, &a[1..]),
         }
     }
-    let q: Vec<&str> = quoted.lines().map(str::trim_end).collect();
-    let a: Vec<&str> = actual.lines().map(str::trim_end).collect();
+    let q: Vec<&str> = quoted.trim_end().lines().map(str::trim_end).collect();
+    let a: Vec<&str> = actual.trim_end().lines().map(str::trim_end).collect();
     if walk(&q, &a) {
         return Ok(());
     }
@@ -448,7 +447,6 @@ fn help_options(exe: &Path, subcommand: &str) -> BTreeSet<String> {
         .collect()
 }
 
-
 /// What a document's line is, once checked.
 enum Step {
     /// A tool line to run: its text as `sh -c` takes it.
@@ -506,7 +504,6 @@ fn step(root: &Path, exe: &Path, document: &str, line: &Line) -> Result<Step, St
     Ok(Step::Checked)
 }
 
-
 /// What running a document did: its lines run and checked, and the folder it ran in.
 struct Ran {
     ran: usize,
@@ -519,8 +516,8 @@ struct Ran {
 /// folder, as a reader types them, and compares what each block quotes with what it printed.
 fn run_document(document: &str) -> Ran {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join(document))
-        .unwrap_or_else(|e| panic!("{document}: {e}"));
+    let text =
+        std::fs::read_to_string(root.join(document)).unwrap_or_else(|e| panic!("{document}: {e}"));
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_bearing-ident"));
     let dir = tempfile::tempdir().unwrap();
     for fixtures in ["examples/field", "examples/tdms", "tests/mat/fixtures"] {
@@ -633,25 +630,45 @@ fn chapter(name: &str) -> Ran {
 #[test]
 fn guide_01_one_test_point() {
     let run = chapter("01-one-test-point.md");
-    assert!(run.ran >= 3 && run.quoted >= 2, "ran {}, quoted {}", run.ran, run.quoted);
+    assert!(
+        run.ran >= 3 && run.quoted >= 2,
+        "ran {}, quoted {}",
+        run.ran,
+        run.quoted
+    );
 }
 
 #[test]
 fn guide_02_excitation() {
     let run = chapter("02-excitation.md");
-    assert!(run.ran >= 2 && run.quoted >= 1, "ran {}, quoted {}", run.ran, run.quoted);
+    assert!(
+        run.ran >= 2 && run.quoted >= 1,
+        "ran {}, quoted {}",
+        run.ran,
+        run.quoted
+    );
 }
 
 #[test]
 fn guide_03_estimators() {
     let run = chapter("03-estimators.md");
-    assert!(run.ran >= 2 && run.quoted >= 1, "ran {}, quoted {}", run.ran, run.quoted);
+    assert!(
+        run.ran >= 2 && run.quoted >= 1,
+        "ran {}, quoted {}",
+        run.ran,
+        run.quoted
+    );
 }
 
 #[test]
 fn guide_04_error_bars() {
     let run = chapter("04-error-bars.md");
-    assert!(run.ran >= 2 && run.quoted >= 1, "ran {}, quoted {}", run.ran, run.quoted);
+    assert!(
+        run.ran >= 2 && run.quoted >= 1,
+        "ran {}, quoted {}",
+        run.ran,
+        run.quoted
+    );
 }
 
 #[test]
@@ -677,6 +694,66 @@ fn every_chapter_has_its_test() {
     assert_eq!(found, listed, "docs/guide/ and CHAPTERS differ");
 }
 
+/// The anchor GitHub gives a heading: lower case, punctuation but `-` and `_` dropped, spaces
+/// turned into `-`.
+fn anchor(heading: &str) -> String {
+    heading
+        .trim_start_matches('#')
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_' || *c == ' ')
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+/// Every relative link of the README and the guide names a file of the repository, and an
+/// anchor after `#` a heading of that file.
+#[test]
+fn every_relative_link_resolves() {
+    assert_eq!(
+        anchor("## JSON of `identify --json`"),
+        "json-of-identify---json"
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut documents = vec![root.join("README.md")];
+    documents.extend(CHAPTERS.iter().map(|c| root.join("docs/guide").join(c)));
+    let mut checked = 0;
+    for document in &documents {
+        let text = std::fs::read_to_string(document).unwrap();
+        for link in text.split("](").skip(1) {
+            let target = &link[..link.find(')').unwrap_or(link.len())];
+            if target.starts_with("http") || target.contains(' ') {
+                continue;
+            }
+            let (file, fragment) = target.split_once('#').unwrap_or((target, ""));
+            let path = if file.is_empty() {
+                document.clone()
+            } else {
+                document.parent().unwrap().join(file)
+            };
+            assert!(
+                path.exists(),
+                "{}: the link `{target}` names no file",
+                document.display()
+            );
+            if !fragment.is_empty() {
+                let headings = std::fs::read_to_string(&path).unwrap();
+                assert!(
+                    headings
+                        .lines()
+                        .filter(|l| l.starts_with('#'))
+                        .any(|l| anchor(l) == fragment),
+                    "{}: the link `{target}` names no heading",
+                    document.display()
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 40, "only {checked} links");
+}
+
 /// The output reference names every field of `identify --json` (with the options that add
 /// fields) and of `field --json`.
 #[test]
@@ -694,7 +771,16 @@ fn the_output_reference_names_every_json_field() {
         assert!(out.status.success(), "{args:?}: {out:?}");
         serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
     };
-    run(&["simulate", "--impacts", "2", "--noise", "0.05", "--json", "--out", "r"]);
+    run(&[
+        "simulate",
+        "--impacts",
+        "2",
+        "--noise",
+        "0.05",
+        "--json",
+        "--out",
+        "r",
+    ]);
     let identify = run(&[
         "identify",
         "--band",
@@ -720,7 +806,9 @@ fn the_output_reference_names_every_json_field() {
         "--rotor",
         root.join("examples/field/ROTOR.json").to_str().unwrap(),
         "--tests",
-        root.join("examples/field/TESTS_bearings.json").to_str().unwrap(),
+        root.join("examples/field/TESTS_bearings.json")
+            .to_str()
+            .unwrap(),
     ]);
     let mut fields: Vec<String> = Vec::new();
     for value in [&identify, &field] {
@@ -743,7 +831,9 @@ fn the_cli_reference_lists_every_option() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_bearing-ident"));
     let text = std::fs::read_to_string(root.join("docs/guide/reference-cli.md")).unwrap();
-    for subcommand in ["identify", "simulate", "demo", "inspect", "field", "campaign"] {
+    for subcommand in [
+        "identify", "simulate", "demo", "inspect", "field", "campaign",
+    ] {
         let heading = format!("## `bearing-ident {subcommand}`");
         let start = text
             .find(&heading)
@@ -805,9 +895,20 @@ fn quoted_output_is_compared_line_by_line_with_its_marks() {
     assert!(matches("a [..] ms\n...\nd\n", printed).is_ok());
     assert!(matches("a [..]\nb\n...\n", printed).is_ok());
     assert!(matches("...\n", printed).is_ok());
-    assert!(matches("a 1.6 ms\nb\nc\nd\n", printed).unwrap_err().contains("line 1"));
-    assert!(matches("a [..] ms\nb\nc\n", printed).is_err(), "a line left over");
-    assert!(matches("a [..] ms\nb\nx\nd\n", printed).unwrap_err().contains("`x`"));
+    assert!(
+        matches("a 1.6 ms\nb\nc\nd\n", printed)
+            .unwrap_err()
+            .contains("line 1")
+    );
+    assert!(
+        matches("a [..] ms\nb\nc\n", printed).is_err(),
+        "a line left over"
+    );
+    assert!(
+        matches("a [..] ms\nb\nx\nd\n", printed)
+            .unwrap_err()
+            .contains("`x`")
+    );
     assert!(matches("[..]1.5[..]\n...\n", printed).is_ok());
     assert!(matches("[..]2.5[..]\n...\n", printed).is_err());
 }
