@@ -19,7 +19,8 @@
 //! use bearing_ident::{Identifier, Method};
 //! use bearing_ident::simulate::{ImpactTest, seed_rig};
 //!
-//! // The seed's rig: 8 impacts per direction, 6700 samples/s for 1.2 s, 2 % noise.
+//! // The 2-DOF test rig of Diaz & San Andrés (1999): 8 impacts per direction,
+//! // 6700 samples/s for 1.2 s, 2 % noise.
 //! let truth = seed_rig();
 //! let records = ImpactTest { noise: 0.02, ..ImpactTest::seed_rig() }.run(&truth)?;
 //! let id = Identifier::new(8.0, 49.0).method(Method::Ivf).identify(&records)?;
@@ -31,6 +32,12 @@
 //! assert!((modes[0].natural_frequency_hz - 27.5).abs() < 0.5);
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
+//!
+//! New to the method? The guide in the repository, `docs/guide/` (start with
+//! `01-one-test-point.md`), works one test point through by hand and then with this crate,
+//! chapter by chapter: excitations, estimators, error bars, campaigns, field identification,
+//! nonlinear elements, element models, lab files, the rotor; its reference chapters list every
+//! option and output of the command-line tool.
 //!
 //! ## The pipeline
 //! Modules follow the data, each importing only those before it:
@@ -189,3 +196,8 @@ pub use num_complex;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
+
+/// The Rust blocks of the guide run as doctests too.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/guide/01-one-test-point.md")]
+struct GuideOneTestPointDoctests;

@@ -102,8 +102,8 @@ impl serde::Serialize for ErrorKind {
 
 impl Error {
     /// The kind of error, for scripts and logs: [`ErrorKind::as_str`] is its stable
-    /// snake_case name (the CLI prints it as `{"error": KIND}`). The README's table lists
-    /// every one (a unit test checks it).
+    /// snake_case name (the CLI prints it as `{"error": KIND}`). The guide's output reference
+    /// (`docs/guide/reference-output.md`) lists every one (a unit test checks it).
     ///
     /// # Examples
     /// ```
@@ -232,10 +232,10 @@ mod tests {
         }
     }
 
-    /// README's error table and the kinds agree both ways: every kind of the library and of
+    /// The output reference's error table and the kinds agree both ways: every kind of the library and of
     /// the command-line tool has a row, and every row is such a kind.
     #[test]
-    fn readme_lists_every_error_kind() {
+    fn the_output_reference_lists_every_error_kind() {
         let mut kinds: Vec<String> = ErrorKind::ALL.iter().map(|k| k.as_str().into()).collect();
         assert!(kinds.len() >= 17, "found only {kinds:?}");
         for k in ErrorKind::ALL {
@@ -251,10 +251,10 @@ mod tests {
         kinds.extend(cli);
         kinds.sort_unstable();
         kinds.dedup();
-        let readme = include_str!("../../README.md");
-        let table = &readme[readme
+        let reference = include_str!("../../docs/guide/reference-output.md");
+        let table = &reference[reference
             .find("| KIND | cause |")
-            .expect("README's error table")..];
+            .expect("the output reference's error table")..];
         let table = &table[..table.find("\n\n").expect("the table's end")];
         let mut rows: Vec<String> = table
             .lines()
@@ -262,6 +262,9 @@ mod tests {
             .map(str::to_owned)
             .collect();
         rows.sort_unstable();
-        assert_eq!(rows, kinds, "README's error table and the kinds differ");
+        assert_eq!(
+            rows, kinds,
+            "the output reference's error table and the kinds differ"
+        );
     }
 }

@@ -159,22 +159,23 @@ fn dry_friction_is_recovered_and_removes_the_equivalent_damping() {
     let c_bias = diagonal_errors(&without, "C", &t[1]);
     eprintln!("linear only: C diagonal {c_bias:?}");
     assert!(c_bias.iter().all(|&b| b > 0.08), "{c_bias:?}");
-    // The README's nonlinear section quotes this run (its commands are this case's): linear C
-    // +120 % / +88 %; with the term, friction 0.8 % / 0.8 % low and C within 1.5 %.
+    // The guide's nonlinear chapter (docs/guide/07-nonlinear.md) quotes this run (its commands
+    // are this case's): linear C +120 % / +88 %; with the term, friction 0.8 % / 0.8 % low and
+    // C within 1.5 %.
     assert!(
         (1.15..1.25).contains(&c_bias[0]) && (0.83..0.93).contains(&c_bias[1]),
-        "README figures: {c_bias:?}"
+        "guide figures: {c_bias:?}"
     );
     let friction_low =
         [(0, 20.0), (1, 15.0)].map(|(d, f)| 1.0 - coefficient(&with, "coulomb", Some(d)).0 / f);
     assert!(
         (0.004..0.013).contains(&friction_low[0]) && (0.004..0.013).contains(&friction_low[1]),
-        "README figures: {friction_low:?}"
+        "guide figures: {friction_low:?}"
     );
     let c_with = diagonal_errors(&with, "C", &t[1]);
     assert!(
         c_with.iter().all(|b| b.abs() < 0.015),
-        "README figures: {c_with:?}"
+        "guide figures: {c_with:?}"
     );
     assert!(!warned_misfit(&with), "{}", with["nonlinear_check"]);
 }

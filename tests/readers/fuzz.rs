@@ -125,7 +125,7 @@ fn check_csv(bytes: &[u8], layout: &CsvLayout) -> Result<(), TestCaseError> {
         }
         Err(e) => {
             let message = e.to_string();
-            // A reading error of the kinds the README lists for data, naming the file.
+            // A reading error of the kinds the output reference lists for data, naming the file.
             prop_assert!(
                 READ_KINDS.contains(&e.kind().as_str()),
                 "{}: {}",

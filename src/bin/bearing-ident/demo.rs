@@ -70,7 +70,7 @@ pub fn demo(args: &DemoArgs) -> Result<(), Failure> {
     }
     if !args.json {
         let intro = format!(
-            "the seed's rig (Diaz & San Andrés 1999), {} impacts per direction, {} samples/s \
+            "the 2-DOF test rig of Diaz & San Andrés (1999), {} impacts per direction, {} samples/s \
              for {} s, noise {:.1} %, identified over 8–49 Hz by IVF.",
             test.per_direction,
             test.sample_rate,

@@ -16,7 +16,7 @@ use crate::failure::{Failure, print_out};
 #[derive(Debug, clap::Args)]
 pub struct FieldArgs {
     /// The free rotor's model: `{"dof_per_node", "dof_names", "M", "K", "G", "C" (optional),
-    /// "bearings": [{"tag", "node"}]}` (see the README's ROSS snippet).
+    /// "bearings": [{"tag", "node"}]}` (`docs/guide/06-field.md` builds one with ROSS).
     #[arg(long, value_name = "ROTOR.json")]
     rotor: PathBuf,
     /// The imbalance tests: `{"imbalances": {"1": […], "2": […]}, "responses": […]}`.

@@ -48,7 +48,8 @@ enum Command {
     /// Identify M, C, K from CSV records (one file per record) or Universal Files
     /// (`.uff`/`.unv`: a record per load case of their time histories).
     Identify(Box<IdentifyArgs>),
-    /// Simulate the seed's test rig and identify it, as the quickstart example does.
+    /// Simulate the 2-DOF test rig of Diaz & San Andrés (1999) and identify it, as the quickstart
+    /// example does.
     Demo(DemoArgs),
     /// Simulate records of a given system (linear, or with nonlinear terms) and write them as
     /// CSV files.

@@ -65,7 +65,8 @@ pub struct SimulateArgs {
     /// RMS of each random or shaker force (N).
     #[arg(long, default_value_t = defaults().force_rms)]
     force_rms: f64,
-    /// Mass matrix (kg), rows separated by `;`, e.g. "4.7,0;0,4.8". Default: the seed's rig.
+    /// Mass matrix (kg), rows separated by `;`, e.g. "4.7,0;0,4.8". Default: the 2-DOF test rig of
+    /// Diaz & San Andrés (1999).
     #[arg(long, requires_all = ["damping", "stiffness"])]
     mass: Option<String>,
     /// Damping matrix (N·s/m), same form.
