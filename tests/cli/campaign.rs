@@ -923,3 +923,66 @@ fn synchronous_coefficients_are_the_lines_at_the_speed() {
         "{text}"
     );
 }
+
+/// `campaign --plot` with a `speed` condition adds `synchronous.svg`: per element of `K` and
+/// `C`, each point's synchronous value (`±σ`) against its speed in rpm, one series per load,
+/// and the plan's predictions (`expect`) as crosses on a dashed line; `index.html` shows it.
+#[test]
+fn synchronous_figure_against_speed_with_predictions() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from(
+        "[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\nload = \"N\"\n",
+    );
+    // Damping rising with speed, as predicted (± 10 %); K as the seed rig's.
+    let speeds = [900.0, 1500.0, 2100.0, 2700.0];
+    for (k, rpm) in speeds.iter().enumerate() {
+        let name = format!("s{k}");
+        let c = 60.0 + 20.0 * k as f64;
+        write_hits(&dir.join(&name), &system(c), 40 + k as u64, [1.0, 1.0]);
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\nload = 200\n\
+             [point.expect]\nK_xx = [146.3e3, 5e3]\nC_xx = [{c}, {}]\nC_yy = [{c}, {}]\n",
+            0.1 * c,
+            0.1 * c
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let report = dir.join("report");
+    let out = run(&[
+        "campaign".as_ref(),
+        path.as_os_str(),
+        "--per-frequency".as_ref(),
+        "--plot".as_ref(),
+        report.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(report.join("synchronous.svg")).unwrap();
+    // Eight panels (K and C, 2 × 2), one series of points each; predictions where given.
+    for element in [
+        "K_xx", "K_xy", "K_yx", "K_yy", "C_xx", "C_xy", "C_yx", "C_yy",
+    ] {
+        assert!(
+            svg.contains(&format!(
+                "data-series=\"{element} sync load = 200, system\""
+            )),
+            "{element}"
+        );
+    }
+    for element in ["K_xx", "C_xx", "C_yy"] {
+        assert!(
+            svg.contains(&format!(
+                "data-series=\"{element} sync prediction load = 200, system\""
+            )),
+            "{element}"
+        );
+    }
+    assert_eq!(svg.matches("sync prediction").count(), 3 * 2);
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(html.contains("synchronous.svg"));
+}
