@@ -986,3 +986,63 @@ fn synchronous_figure_against_speed_with_predictions() {
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
     assert!(html.contains("synchronous.svg"));
 }
+
+/// `--ross` on a campaign whose points all have a speed within their lines: the 1-D table's
+/// `k`, `c` at each speed are the point's synchronous `K`, `C` (bit for bit with its JSON), `m`
+/// its fitted `M`, and the file says so.
+#[test]
+fn ross_speed_table_is_synchronous_when_every_point_has_a_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from("[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\n");
+    let speeds = [900.0, 1500.0, 2100.0, 2700.0];
+    for (k, rpm) in speeds.iter().enumerate() {
+        let name = format!("s{k}");
+        write_hits(
+            &dir.join(&name),
+            &system(60.0 + 20.0 * k as f64),
+            60 + k as u64,
+            [1.0, 1.0],
+        );
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\n"
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let ross = dir.join("brg.toml");
+    let out = run(&[
+        "campaign".as_ref(),
+        path.as_os_str(),
+        "--json".as_ref(),
+        "--ross".as_ref(),
+        ross.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = json_of(&out);
+    let text = std::fs::read_to_string(&ross).unwrap();
+    assert!(text.contains("synchronous K(w), C(w)"), "{text}");
+    let table: toml::Table = text.parse().unwrap();
+    let element = table["BearingElement_bearing"].as_table().unwrap();
+    let floats = |key: &str| -> Vec<f64> {
+        element[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_float().unwrap())
+            .collect()
+    };
+    for k in 0..speeds.len() {
+        let point = &v["points"][k];
+        let sync = &point["synchronous"];
+        assert_eq!(floats("kxx")[k], sync["K"][0][0].as_f64().unwrap());
+        assert_eq!(floats("kyx")[k], sync["K"][1][0].as_f64().unwrap());
+        assert_eq!(floats("cyy")[k], sync["C"][1][1].as_f64().unwrap());
+        assert_eq!(floats("mxx")[k], point["M"][0][0].as_f64().unwrap());
+        assert_ne!(floats("kxx")[k], point["K"][0][0].as_f64().unwrap());
+    }
+}
