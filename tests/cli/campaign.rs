@@ -1045,4 +1045,76 @@ fn ross_speed_table_is_synchronous_when_every_point_has_a_speed() {
         assert_eq!(floats("mxx")[k], point["M"][0][0].as_f64().unwrap());
         assert_ne!(floats("kxx")[k], point["K"][0][0].as_f64().unwrap());
     }
+    // `--ross-samples N FILE.csv`: N samples per speed about the same synchronous values
+    // (each sample mean within 5 standard errors), the same file for the same seed; a count
+    // of 0 or a seed that is not a whole number refused naming the option, before any work.
+    let csv = dir.join("samples.csv");
+    let n = 400;
+    let with_samples = |count: &str, seed: &str| {
+        run(&[
+            "campaign".as_ref(),
+            path.as_os_str(),
+            "--json".as_ref(),
+            "--ross-samples".as_ref(),
+            count.as_ref(),
+            csv.as_os_str(),
+            "--ross-seed".as_ref(),
+            seed.as_ref(),
+        ])
+    };
+    let out = with_samples("400", "5");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "speed_rpm,point,sample,kxx,kxy,kyx,kyy,cxx,cxy,cyx,cyy,mxx,mxy,myx,myy"
+    );
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    assert_eq!(rows.len(), n * speeds.len());
+    for (k, rpm) in speeds.iter().enumerate() {
+        let at: Vec<&Vec<String>> = rows[k * n..(k + 1) * n].iter().collect();
+        assert!(
+            at.iter()
+                .all(|r| (r[0].parse::<f64>().unwrap() - rpm).abs() < 1e-9)
+        );
+        assert!(at.iter().enumerate().all(|(i, r)| r[2] == i.to_string()));
+        let sync = &v["points"][k]["synchronous"];
+        for (column, key, i, j) in [
+            (3, "K", 0, 0),
+            (6, "K", 1, 1),
+            (7, "C", 0, 0),
+            (10, "C", 1, 1),
+        ] {
+            let mean = at
+                .iter()
+                .map(|r| r[column].parse::<f64>().unwrap())
+                .sum::<f64>()
+                / n as f64;
+            let (value, std) = (
+                sync[key][i][j].as_f64().unwrap(),
+                sync[format!("{key}_std")][i][j].as_f64().unwrap(),
+            );
+            assert!(
+                (mean - value).abs() < 5.0 * std / (n as f64).sqrt(),
+                "{key}{i}{j} at {rpm}"
+            );
+        }
+    }
+    assert!(with_samples("400", "5").status.success());
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), text);
+    for (count, seed, option) in [("0", "5", "--ross-samples"), ("4", "abc", "--ross-seed")] {
+        let out = with_samples(count, seed);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+        let e = json_of(&out);
+        assert_eq!(e["error"], "invalid_argument", "{e}");
+        assert!(e["message"].as_str().unwrap().contains(option), "{e}");
+    }
 }
