@@ -1,24 +1,5 @@
 //! The mass-sum check ([`MassSum`]): the bearings' added masses summed against the rotor's
-//! modelled mass.
-//!
-//! The free rotor's model carries the rotor's inertia, so the mass coefficients of the bearings'
-//! constant fits ([`fit_constant`](super::fit_constant)) hold only what the measurements show
-//! beyond the model: a fluid film's or a seal's own added mass, which is small against the
-//! rotor's, and the speed trend of a fluid film's stiffness, which the constant fit's `M`
-//! absorbs. Summed over the bearings per direction, `Σ_b M_b,dd`, it is set beside the rotor
-//! model's translational mass `m_d = t_dᵀ M t_d` (`t_d` the rigid translation in direction
-//! `d`: 1 on every node's `d`, 0 elsewhere), which is what "the rotor's modelled mass" means
-//! here.
-//!
-//! A rotor mass that the model gets wrong (a disk, a coupling half, an impeller left out or
-//! mistyped) puts the missing inertia force `Ω² δm q` on the bearings. It does not come back as
-//! `δm` in the sum: each bearing's `Z` divides its share of that force by its own orbits
-//! (`[q¹ q²]⁻¹`), and the disk's orbits are not the bearings'. What it gives is a sum far from
-//! anything a bearing carries: on the two-disk test rotor (58.3 kg), the 20 kg disk written as
-//! 5 kg gives `ΣM_yy = −175 ± 54 kg` at 1 % response noise where the true rotor gives
-//! `2.3 ± 1.0 kg` (truth 3 kg; `tests/estimation/field.rs`). The check is therefore a
-//! plausibility test: a sum beyond [`FIELD_MASS_SUM_SIGMAS`] standard deviations **and**
-//! above [`FIELD_MASS_SUM_FRACTION`] of the modelled mass is a warning.
+//! modelled mass (see [`MassSum`]).
 
 use super::fit::ConstantFit;
 use super::model::{Direction, RotorModel};
@@ -26,7 +7,26 @@ use crate::error::Warning;
 use crate::tolerance::{FIELD_MASS_SUM_FRACTION, FIELD_MASS_SUM_SIGMAS};
 
 /// The bearings' added masses summed per direction, against the rotor's modelled mass
-/// (index 0 is `x`, 1 is `y`; see the [module](self) documentation for what it means).
+/// (index 0 is `x`, 1 is `y`).
+///
+/// The free rotor's model carries the rotor's inertia, so the mass coefficients of the bearings'
+/// constant fits ([`fit_constant`](super::fit_constant)) hold only what the measurements show
+/// beyond the model: a fluid film's or a seal's own added mass, which is small against the
+/// rotor's, and the speed trend of a fluid film's stiffness, which the constant fit's `M`
+/// absorbs. Summed over the bearings per direction, `Σ_b M_b,dd`, it is set beside the rotor
+/// model's translational mass `m_d = t_dᵀ M t_d` (`t_d` the rigid translation in direction
+/// `d`: 1 on every node's `d`, 0 elsewhere), which is what "the rotor's modelled mass" means
+/// here.
+///
+/// A rotor mass that the model gets wrong (a disk, a coupling half, an impeller left out or
+/// mistyped) puts the missing inertia force `Ω² δm q` on the bearings. It does not come back as
+/// `δm` in the sum: each bearing's `Z` divides its share of that force by its own orbits
+/// (`[q¹ q²]⁻¹`), and the disk's orbits are not the bearings'. What it gives is a sum far from
+/// anything a bearing carries: on the two-disk test rotor (58.3 kg), the 20 kg disk written as
+/// 5 kg gives `ΣM_yy = −175 ± 54 kg` at 1 % response noise where the true rotor gives
+/// `2.3 ± 1.0 kg` (truth 3 kg; `tests/estimation/field.rs`). The check is therefore a
+/// plausibility test: a sum beyond [`FIELD_MASS_SUM_SIGMAS`] standard deviations **and**
+/// above [`FIELD_MASS_SUM_FRACTION`] of the modelled mass is a warning.
 ///
 /// $$ \Sigma_d = \sum_b M_{b,dd}, \qquad \sigma_{\Sigma_d} = \Big(\sum_b \sigma_{M_{b,dd}}^2\Big)^{1/2},
 ///    \qquad m_d = t_d^\top M\, t_d, $$
