@@ -62,7 +62,16 @@ pub fn campaign_report(
         let svg = super::campaign(campaign, block, x, &options.figure)?;
         written.push(write_file(&dir.join(file), &svg)?);
     }
-    let synchronous = super::synchronous(campaign, &options.figure).ok();
+    let any_synchronous = campaign.points.iter().any(|p| {
+        p.result
+            .as_ref()
+            .is_ok_and(|f| f.json.get("synchronous").is_some_and(|s| !s.is_null()))
+    });
+    let synchronous = if any_synchronous {
+        Some(super::synchronous(campaign, &options.figure)?)
+    } else {
+        None
+    };
     if let Some(svg) = &synchronous {
         written.push(write_file(&dir.join("synchronous.svg"), svg)?);
     }
