@@ -110,7 +110,7 @@ impl FieldIdentification {
     /// let tests = ImbalanceRuns { speeds_rad_s: vec![100.0, 200.0, 300.0], probes,
     ///     residual: at(3, 1.0), added: [at(2, 0.0), at(5, 2.0)], noise: 0.0, repeats: 1, seed: 1 }
     ///     .simulate(&rotor, brg)?;
-    /// let sum = field::identify(&rotor, &tests)?.mass_sum().unwrap();
+    /// let sum = *field::identify(&rotor, &tests)?.mass_sum().unwrap();
     /// assert!((sum.sum[0] - 6.0).abs() < 1e-4 && sum.sum[1].abs() < 1e-4);
     /// // The shaft (0.9 m of 50 mm steel, 13.87 kg) and the 15 kg disk.
     /// assert!((sum.rotor_mass[0] - 28.87).abs() < 0.01);
