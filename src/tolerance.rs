@@ -242,6 +242,19 @@ pub const FIELD_NEAR_CRITICAL: f64 = 0.05;
 /// of the test rotor give 5–15 away from the pinned critical speeds.
 pub const FIELD_NOISE_GAIN: f64 = 50.0;
 
+/// The bearings' added masses summed per direction ([`MassSum`](crate::field::MassSum)) are a
+/// warning beyond this many standard deviations (and [`FIELD_MASS_SUM_FRACTION`]): normal
+/// noise passes 3σ with probability 0.27 % per direction.
+pub const FIELD_MASS_SUM_SIGMAS: f64 = 3.0;
+
+/// ... and above this fraction of the rotor's modelled translational mass. Below it a sum is
+/// what a careful model's mass error, a fluid film's or a seal's added mass, or the speed trend
+/// of a fluid film's stiffness give: the test rotor's speed-dependent bearings (stiffening
+/// 10–20 % over the speeds) sum to −6.7 ± 1.5 kg in x and −7.6 ± 2.8 kg in y, 11–13 % of its
+/// 58.3 kg, where a mistyped disk mass gives sums of 100 % and more
+/// ([`MassSum`](crate::field::MassSum)).
+pub const FIELD_MASS_SUM_FRACTION: f64 = 0.25;
+
 /// Largest accepted ratio of the extreme diagonal entries of `R` in the column-scaled QR of the
 /// field least-squares system: above it the probes do not determine the unknowns at that speed.
 pub const FIELD_LS_RANK: f64 = 1e12;

@@ -85,6 +85,7 @@ mod plan;
 mod point;
 mod ross;
 mod run;
+mod samples;
 mod settings;
 
 pub use output::json_file_name;
@@ -93,3 +94,4 @@ pub(crate) use point::axis_names;
 pub use point::{Coefficient, Condition, Expectation, Point, Setting, Unit, Value};
 pub use ross::SpeedTable;
 pub use run::{Campaign, Check, Failure, Fit, PointResult, RunOptions};
+pub use samples::SpeedSamples;

@@ -32,6 +32,10 @@ pub struct SpeedTable {
     pub damping: Vec<Vec<Matrix2>>,
     /// `M`, as `stiffness` (the fitted, constant over frequency).
     pub mass: Vec<Vec<Matrix2>>,
+    /// Whether a 1-D table holds the synchronous `K`, `C` (each point's `K(ω)`, `C(ω)` at `ω`
+    /// equal to its speed, [`crate::job::Outcome::synchronous`]) rather than the constant
+    /// fit's.
+    pub synchronous: bool,
 }
 
 fn bad(option: &'static str, message: String) -> Error {
@@ -59,7 +63,12 @@ impl Campaign {
     /// The bearing as a ROSS element over the `speed` condition ([`SpeedTable`]), at ROSS node `node` with tag `tag`, from the points whose
     /// conditions equal `slice` (`(name, value)` pairs, e.g. `load = 200`), less those that
     /// are another chosen point's baseline (the structure). Each point gives its bearing's
-    /// own coefficients when it has a baseline, else the system's; a mix of both is refused. With
+    /// own coefficients when it has a baseline, else the system's; a mix of both is refused.
+    /// When every point has synchronous coefficients (its speed within its lines, or an
+    /// element model fitted; JSON `synchronous`), the 1-D table's `K`, `C` at each speed are
+    /// the point's at that speed and `M` the fitted one, so that ROSS's `K − Ω²M + iΩC` at the
+    /// speed is the measured impedance there ([`SpeedTable::synchronous`]); otherwise every
+    /// point's constant `K`, `C`, `M`. With
     /// per-line coefficients ([`super::RunOptions::per_frequency`]) the table is 2-D, each
     /// point's `K(ω)`, `C(ω)` less its baseline's at the same lines.
     ///
@@ -206,13 +215,24 @@ impl Campaign {
             stiffness: Vec::new(),
             damping: Vec::new(),
             mass: Vec::new(),
+            synchronous: false,
         };
+        let synchronous_of = |i: usize| -> Option<(Matrix2, Matrix2)> {
+            let fit = self.points[i].result.as_ref().ok()?;
+            let sync = fit.json.get("synchronous")?;
+            Some((two_json(sync, "K")?, two_json(sync, "C")?))
+        };
+        table.synchronous =
+            !self.per_frequency && rows.iter().all(|&(_, i)| synchronous_of(i).is_some());
         for &(_, i) in &rows {
             let fit = self.points[i].result.as_ref().expect("checked");
             let (c, _) = fit.reported();
             if !self.per_frequency {
-                table.stiffness.push(vec![two(c.stiffness())]);
-                table.damping.push(vec![two(c.damping())]);
+                let (k, d) = synchronous_of(i)
+                    .filter(|_| table.synchronous)
+                    .unwrap_or((two(c.stiffness()), two(c.damping())));
+                table.stiffness.push(vec![k]);
+                table.damping.push(vec![d]);
                 table.mass.push(vec![two(c.mass())]);
                 continue;
             }
@@ -318,6 +338,11 @@ impl SpeedTable {
             env!("CARGO_PKG_VERSION"),
             self.points.join(", ").replace('\n', " ")
         );
+        if self.synchronous {
+            s.push_str(
+                "# k, c: each point's synchronous K(w), C(w) at w equal to its speed; m: the fitted M\n",
+            );
+        }
         let _ = writeln!(s, "[{}]", quoted(&format!("BearingElement_{}", self.tag)));
         let _ = writeln!(s, "n = {}", self.node);
         let _ = writeln!(s, "tag = {}", quoted(&self.tag));

@@ -358,6 +358,20 @@ pub enum Warning {
         /// The threshold.
         threshold: f64,
     },
+    /// Field identification: the bearings' added masses (their constant fits' `M_dd`) sum to a
+    /// mass beyond its error bars and a fair fraction of the rotor's modelled mass: the rotor
+    /// model's mass is off by about that much, or the bearings carry that inertia, or their
+    /// stiffness changes with speed (see [`MassSum`](crate::field::MassSum)).
+    MassSum {
+        /// `"x"` or `"y"`.
+        direction: &'static str,
+        /// `Σ_b M_b,dd` (kg).
+        sum_kg: f64,
+        /// Its standard deviation (kg).
+        std_kg: f64,
+        /// The rotor model's translational mass in that direction (kg).
+        rotor_mass_kg: f64,
+    },
     // ---- Predicted bias (issue 25, item 8) ----
     /// Impact records whose response has not decayed by the record's end: the truncation
     /// biases the coefficients by more than half a standard deviation
@@ -559,6 +573,7 @@ impl Warning {
             Warning::IllConditionedPair { .. } => "ill_conditioned_pair",
             Warning::NearPinnedCritical { .. } => "near_pinned_critical",
             Warning::HighNoiseGain { .. } => "high_noise_gain",
+            Warning::MassSum { .. } => "mass_sum",
             Warning::ModelMisfit { .. } => "model_misfit",
             Warning::FrequencyDependent { .. } => "frequency_dependent",
             Warning::NotDecayed { .. } => "not_decayed",

@@ -5,6 +5,7 @@ use std::fmt;
 use super::{NoiseBiasBasis, Warning};
 use crate::Choice;
 use crate::frf::Estimator;
+use crate::text::significant;
 
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -408,6 +409,22 @@ impl fmt::Display for Warning {
                 "a negative diagonal mass from channels read as displacement; read as {suggested} they \
                  fit with every diagonal positive (relative residual {residual:.2e} against \
                  {original:.2e}): try `--response {suggested}`"
+            ),
+            Warning::MassSum {
+                direction,
+                sum_kg,
+                std_kg,
+                rotor_mass_kg,
+            } => write!(
+                f,
+                "the bearings' added masses in {direction} sum to {} ± {} kg, {:.0} % of the \
+                 rotor's modelled {} kg: the rotor model's mass is off by about that much, or \
+                 the bearings carry that inertia (squeeze films, seals), or their stiffness \
+                 changes with speed (the constant fit's M takes the trend)",
+                significant(*sum_kg, 3),
+                significant(*std_kg, 2),
+                100.0 * sum_kg.abs() / rotor_mass_kg,
+                significant(*rotor_mass_kg, 4)
             ),
             Warning::HighNoiseGain {
                 bearing,

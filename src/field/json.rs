@@ -275,7 +275,8 @@ impl FieldIdentification {
     /// (`bearings`) its `tag`, `node`, `K`, `C`, `K_std`, `C_std` per speed (rows, null where the
     /// pair is singular), `condition_number`, `noise_gain` and the constant fit `fit`
     /// (`K`, `C`, `M`, their `*_std`, `speeds`); `measured` probes, `model_residual`,
-    /// `residual_ratio`, `pinned_critical_speeds_rad_s`, `compute_ms` (given), `warnings` and
+    /// `residual_ratio`, `pinned_critical_speeds_rad_s`, `mass_sum` (`M_sum_kg`, `M_sum_std_kg`,
+    /// `rotor_mass_kg`, each `[x, y]`, or null; see [`MassSum`](super::MassSum)), `compute_ms` (given), `warnings` and
     /// `warning_kinds`. Numbers that are not finite are null.
     pub fn to_json(&self, compute_ms: f64) -> Value {
         let id = self;
@@ -319,6 +320,10 @@ impl FieldIdentification {
             "model_residual": id.model_residual().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
             "residual_ratio": id.residual_ratio().iter().map(|r| r.map_or(Value::Null, finite)).collect::<Vec<_>>(),
             "pinned_critical_speeds_rad_s": id.pinned_critical_speeds(),
+            "mass_sum": id.mass_sum().map(|s| json!({
+                "M_sum_kg": s.sum.map(finite), "M_sum_std_kg": s.sum_std.map(finite),
+                "rotor_mass_kg": s.rotor_mass.map(finite),
+            })),
             "compute_ms": compute_ms,
             "warnings": id.warnings().iter().map(ToString::to_string).collect::<Vec<_>>(),
             "warning_kinds": id.warnings().iter().map(|w| w.kind()).collect::<Vec<_>>(),

@@ -51,6 +51,11 @@
 //!    model, the probe positions or the phase convention do not fit the measurements.
 //! 6. **Constant fit** ([`fit_constant`]): `Re Z = K − Ω²M`, `Im Z = ΩC` over the speeds, which
 //!    separates `K` and `M` (one speed cannot).
+//! 7. **Mass-sum check** ([`MassSum`]): the bearings' added masses `M_dd` of the constant fits
+//!    summed per direction, with σ, beside the rotor model's translational mass `t_dᵀ M t_d`.
+//!    The model already carries the rotor's inertia, so the sum is what the measurements add
+//!    to it, small for a sound model; a wrong rotor mass makes it large (not equal to the
+//!    error). A sum beyond 3σ and 25 % of the modelled mass is a warning.
 //!
 //! The rotor model is read from JSON ([`RotorModel::from_json`], feature `json`): ROSS 3.x
 //! users write it in a few lines (6 degrees of freedom per node, `x, y, z, alpha, beta, theta`;
@@ -115,6 +120,7 @@ mod fit;
 mod inputs;
 #[cfg(feature = "json")]
 mod json;
+mod mass_sum;
 mod model;
 mod result;
 mod simulate;
@@ -123,6 +129,7 @@ mod solve;
 pub use beam::{BeamRotor, DOF_NAMES, Disk};
 pub use fit::{ConstantFit, fit_constant};
 pub use inputs::{FieldTests, Imbalance, Probe, Response, Run};
+pub use mass_sum::MassSum;
 pub use model::{BearingSite, Direction, RotorModel};
 pub use result::{BearingIdentification, FieldIdentification, SpeedCoefficients};
 pub use simulate::{BearingCoefficients, ImbalanceRuns};
@@ -315,13 +322,19 @@ pub fn identify(rotor: &RotorModel, tests: &FieldTests) -> Result<FieldIdentific
             limit: FIELD_RESIDUAL_RATIO,
         });
     }
-    Ok(FieldIdentification {
+    let mut id = FieldIdentification {
         speeds: m.speeds,
         probes: m.probes,
         bearings,
         model_residual,
         residual_ratio,
         pinned_critical_speeds,
+        mass_sum: None,
         warnings,
-    })
+    };
+    id.mass_sum = MassSum::of(rotor, &fit_constant(&id));
+    if let Some(sum) = &id.mass_sum {
+        id.warnings.extend(sum.warnings());
+    }
+    Ok(id)
 }

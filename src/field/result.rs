@@ -3,6 +3,7 @@
 //! residual per speed; the warnings.
 
 use super::inputs::Probe;
+use super::mass_sum::MassSum;
 use crate::error::Warning;
 
 /// A bearing's coefficients at one speed: `K = Re Z`, `C = Im Z / Ω` (2×2, rows and columns
@@ -48,6 +49,7 @@ pub struct FieldIdentification {
     pub(super) model_residual: Vec<Option<f64>>,
     pub(super) residual_ratio: Vec<Option<f64>>,
     pub(super) pinned_critical_speeds: Vec<f64>,
+    pub(super) mass_sum: Option<MassSum>,
     pub(super) warnings: Vec<Warning>,
 }
 
@@ -87,8 +89,39 @@ impl FieldIdentification {
         &self.pinned_critical_speeds
     }
 
+    /// The bearings' added masses summed per direction against the rotor's modelled mass
+    /// (see [`MassSum`]); `None` when a bearing has fewer than 3 speeds identified.
+    ///
+    /// # Examples
+    /// ```
+    /// # use bearing_ident::field::{self, *};
+    /// # let rotor = BeamRotor { element_lengths: vec![0.15; 6], diameter: 0.05, density: 7850.0,
+    /// #     young: 2.1e11, poisson: 0.3,
+    /// #     disks: vec![Disk { node: 2, mass: 15.0, polar: 0.12, diametral: 0.06 }],
+    /// #     bearings: vec![BearingSite::new("brg0", 0), BearingSite::new("brg1", 6)] }.model()?;
+    /// # let probes = [0, 6].into_iter()
+    /// #     .flat_map(|node| [Direction::X, Direction::Y].map(|dir| Probe { node, dir })).collect();
+    /// # let at = |node, phase_rad| vec![Imbalance { node, magnitude_kg_m: 1e-4, phase_rad }];
+    /// // Each bearing carries an added mass of 3 kg in x and none in y.
+    /// let brg = |_b: usize, w: f64| BearingCoefficients {
+    ///     stiffness: [[2e7 - 3.0 * w * w, 3e6], [-4e6, 3e7]],
+    ///     damping: [[2e4, 1e3], [-1e3, 3e4]],
+    /// };
+    /// let tests = ImbalanceRuns { speeds_rad_s: vec![100.0, 200.0, 300.0], probes,
+    ///     residual: at(3, 1.0), added: [at(2, 0.0), at(5, 2.0)], noise: 0.0, repeats: 1, seed: 1 }
+    ///     .simulate(&rotor, brg)?;
+    /// let sum = *field::identify(&rotor, &tests)?.mass_sum().unwrap();
+    /// assert!((sum.sum[0] - 6.0).abs() < 1e-4 && sum.sum[1].abs() < 1e-4);
+    /// // The shaft (0.9 m of 50 mm steel, 13.87 kg) and the 15 kg disk.
+    /// assert!((sum.rotor_mass[0] - 28.87).abs() < 0.01);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    pub fn mass_sum(&self) -> Option<&MassSum> {
+        self.mass_sum.as_ref()
+    }
+
     /// What a user should know: dependent tests, singular or ill-conditioned pairs, speeds
-    /// near a pinned critical speed.
+    /// near a pinned critical speed, a mass sum off the model's.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
     }

@@ -12,7 +12,8 @@ use crate::error::{Error, Result, excerpt};
 
 /// Writes `stiffness.svg`, `damping.svg`, `mass.svg` (the figure
 /// [`campaign`](super::campaign) of each block against condition `x`, by name; the first
-/// condition when `None`) and an `index.html` into `dir` (created if needed): the figures
+/// condition when `None`), `synchronous.svg` when points have synchronous coefficients (the
+/// figure [`synchronous`](super::synchronous)) and an `index.html` into `dir` (created if needed): the figures
 /// (shown from their files, each stored once), then per point its conditions, the diagonal
 /// coefficients `± σ` (`K_xx`, …), the references checked with their z-scores, its warnings
 /// or error, and a link to its own report: each
@@ -61,6 +62,19 @@ pub fn campaign_report(
         let svg = super::campaign(campaign, block, x, &options.figure)?;
         written.push(write_file(&dir.join(file), &svg)?);
     }
+    let any_synchronous = campaign.points.iter().any(|p| {
+        p.result
+            .as_ref()
+            .is_ok_and(|f| f.json.get("synchronous").is_some_and(|s| !s.is_null()))
+    });
+    let synchronous = if any_synchronous {
+        Some(super::synchronous(campaign, &options.figure)?)
+    } else {
+        None
+    };
+    if let Some(svg) = &synchronous {
+        written.push(write_file(&dir.join("synchronous.svg"), svg)?);
+    }
     // Each point identified in this run (not taken from a cache) gets its own report.
     for p in &campaign.points {
         let Some(outcome) = p.result.as_ref().ok().and_then(|f| f.outcome.as_deref()) else {
@@ -96,7 +110,7 @@ pub fn campaign_report(
     }
     written.push(write_file(
         &dir.join("index.html"),
-        &page(campaign, x, options),
+        &page(campaign, x, synchronous.is_some(), options),
     )?);
     Ok(written)
 }
@@ -118,7 +132,7 @@ const BLOCKS: [(char, &str, &str); 3] = [
     ('M', "mass.svg", "Added mass M"),
 ];
 
-fn page(campaign: &Campaign, x: usize, options: &ReportOptions) -> String {
+fn page(campaign: &Campaign, x: usize, synchronous: bool, options: &ReportOptions) -> String {
     let mut h = String::new();
     page_head(&mut h, options, Kind::Campaign);
     let conditions = &campaign.plan.conditions;
@@ -137,6 +151,16 @@ fn page(campaign: &Campaign, x: usize, options: &ReportOptions) -> String {
             esc(&conditions[x].name)
         );
         figure_html(&mut h, file.trim_end_matches(".svg"), None, file, &caption);
+    }
+    if synchronous {
+        figure_html(
+            &mut h,
+            "synchronous",
+            None,
+            "synchronous.svg",
+            "Synchronous K and C per element (each point's K(ω), C(ω) at ω equal to its speed, \
+             ± σ) against speed; crosses on a dashed line: the plan's predictions ± σ.",
+        );
     }
     let _ = write!(h, "<h2>Points</h2>\n<table>\n<tr><th>point</th>");
     for c in conditions {

@@ -16,6 +16,7 @@
 //! | [`convergence`] | the IVF history: the block-wise relative changes of `M`, `C`, `K` per iteration (log scale) |
 //! | [`residual`] | the model check: each line's share of the χ² statistic over its expectation ([`ModelCheck::line_ratios`](crate::identify::ModelCheck::line_ratios)), about 1 where the model fits, with the 95 % band of pure error |
 //! | [`nonlinear`] | the reverse path's coefficient spectra `Âⱼ(ω)`: real part with the fitted constant, imaginary part with zero, `±σ` |
+//! | `synchronous` | a campaign's synchronous `K`, `C` (each point's at its speed) against speed with `±σ` and the plan's predictions (feature `campaign`; [`campaign_report`] writes it as `synchronous.svg`) |
 //! | [`field`] | field identification: per bearing `K(Ω)`, `C(Ω)` with `±σ` and the condition number of the response pair against speed ([`field_report`] writes it with a table) |
 //!
 //! [`report`] writes all of them as `.svg` files into a directory together with an `index.html`
@@ -63,7 +64,7 @@ pub use crate::text::significant;
 pub use campaign_report::campaign_report;
 pub use field_report::{field_cells, field_report};
 #[cfg(feature = "campaign")]
-pub use figures::campaign;
+pub use figures::{campaign, synchronous};
 pub use figures::{
     coherence, convergence, field, flexibility, impedance, nonlinear, per_frequency, records,
     residual,
@@ -107,6 +108,9 @@ pub enum Figure {
     /// `campaign` (feature `campaign`): one block of coefficients against a test condition
     /// over the points of a campaign (not in [`Figure::REPORT`]).
     Campaign,
+    /// `synchronous` (feature `campaign`): the synchronous `K`, `C` of a campaign's points
+    /// against their speed, with the predictions (not in [`Figure::REPORT`]).
+    Synchronous,
 }
 
 impl Figure {
@@ -134,6 +138,7 @@ impl Figure {
             Figure::Nonlinear => "Nonlinear terms",
             Figure::Field => "Field identification",
             Figure::Campaign => "Campaign",
+            Figure::Synchronous => "Synchronous coefficients",
         }
     }
 
@@ -166,7 +171,9 @@ impl Figure {
                  error), about 1 where the model fits; the shaded band holds 95 % of the lines \
                  of a right model. Lines far above it are what the model misses."
             }
-            Figure::Nonlinear | Figure::Field | Figure::Campaign => crate::Choice::describe(self),
+            Figure::Nonlinear | Figure::Field | Figure::Campaign | Figure::Synchronous => {
+                crate::Choice::describe(self)
+            }
         }
     }
 
@@ -189,7 +196,11 @@ impl Figure {
             }
             Figure::Convergence => convergence(id, fig)?,
             Figure::Residual => residual(id, fig)?,
-            Figure::Records | Figure::Nonlinear | Figure::Field | Figure::Campaign => {
+            Figure::Records
+            | Figure::Nonlinear
+            | Figure::Field
+            | Figure::Campaign
+            | Figure::Synchronous => {
                 return Ok(None);
             }
         }))
@@ -209,11 +220,12 @@ impl crate::Choice for Figure {
         Figure::Nonlinear,
         Figure::Field,
         Figure::Campaign,
+        Figure::Synchronous,
     ];
 
     /// The figure's file stem: `"flexibility"`, `"impedance"`, `"coherence"`,
     /// `"per_frequency"`, `"records"`, `"convergence"`, `"residual"`, `"nonlinear"`,
-    /// `"field"` or `"campaign"`.
+    /// `"field"`, `"campaign"` or `"synchronous"`.
     fn name(self) -> &'static str {
         match self {
             Figure::Flexibility => "flexibility",
@@ -226,6 +238,7 @@ impl crate::Choice for Figure {
             Figure::Nonlinear => "nonlinear",
             Figure::Field => "field",
             Figure::Campaign => "campaign",
+            Figure::Synchronous => "synchronous",
         }
     }
 
@@ -241,6 +254,9 @@ impl crate::Choice for Figure {
             Figure::Nonlinear => "the coefficient spectra of nonlinear terms",
             Figure::Field => "K(Ω), C(Ω) per bearing of a field identification",
             Figure::Campaign => "coefficients against a test condition over a campaign",
+            Figure::Synchronous => {
+                "synchronous K, C against speed over a campaign, with predictions"
+            }
         }
     }
 }

@@ -923,3 +923,198 @@ fn synchronous_coefficients_are_the_lines_at_the_speed() {
         "{text}"
     );
 }
+
+/// `campaign --plot` with a `speed` condition adds `synchronous.svg`: per element of `K` and
+/// `C`, each point's synchronous value (`±σ`) against its speed in rpm, one series per load,
+/// and the plan's predictions (`expect`) as crosses on a dashed line; `index.html` shows it.
+#[test]
+fn synchronous_figure_against_speed_with_predictions() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from(
+        "[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\nload = \"N\"\n",
+    );
+    // Damping rising with speed, as predicted (± 10 %); K as the seed rig's.
+    let speeds = [900.0, 1500.0, 2100.0, 2700.0];
+    for (k, rpm) in speeds.iter().enumerate() {
+        let name = format!("s{k}");
+        let c = 60.0 + 20.0 * k as f64;
+        write_hits(&dir.join(&name), &system(c), 40 + k as u64, [1.0, 1.0]);
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\nload = 200\n\
+             [point.expect]\nK_xx = [146.3e3, 5e3]\nC_xx = [{c}, {}]\nC_yy = [{c}, {}]\n",
+            0.1 * c,
+            0.1 * c
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let report = dir.join("report");
+    let out = run(&[
+        "campaign".as_ref(),
+        path.as_os_str(),
+        "--per-frequency".as_ref(),
+        "--plot".as_ref(),
+        report.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(report.join("synchronous.svg")).unwrap();
+    // Eight panels (K and C, 2 × 2), one series of points each; predictions where given.
+    for element in [
+        "K_xx", "K_xy", "K_yx", "K_yy", "C_xx", "C_xy", "C_yx", "C_yy",
+    ] {
+        assert!(
+            svg.contains(&format!(
+                "data-series=\"{element} sync load = 200, system\""
+            )),
+            "{element}"
+        );
+    }
+    for element in ["K_xx", "C_xx", "C_yy"] {
+        assert!(
+            svg.contains(&format!(
+                "data-series=\"{element} sync prediction load = 200, system\""
+            )),
+            "{element}"
+        );
+    }
+    assert_eq!(svg.matches("sync prediction").count(), 3 * 2);
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(html.contains("synchronous.svg"));
+}
+
+/// `--ross` on a campaign whose points all have a speed within their lines: the 1-D table's
+/// `k`, `c` at each speed are the point's synchronous `K`, `C` (bit for bit with its JSON), `m`
+/// its fitted `M`, and the file says so.
+#[test]
+fn ross_speed_table_is_synchronous_when_every_point_has_a_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut plan = String::from("[identify]\nband = [8.0, 49.0]\n[conditions]\nspeed = \"rpm\"\n");
+    let speeds = [900.0, 1500.0, 2100.0, 2700.0];
+    for (k, rpm) in speeds.iter().enumerate() {
+        let name = format!("s{k}");
+        write_hits(
+            &dir.join(&name),
+            &system(60.0 + 20.0 * k as f64),
+            60 + k as u64,
+            [1.0, 1.0],
+        );
+        plan.push_str(&format!(
+            "[[point]]\nname = \"{name}\"\nfiles = \"{name}/*.csv\"\nspeed = {rpm}\n"
+        ));
+    }
+    let path = dir.join("plan.toml");
+    std::fs::write(&path, &plan).unwrap();
+    let ross = dir.join("brg.toml");
+    let out = run(&[
+        "campaign".as_ref(),
+        path.as_os_str(),
+        "--json".as_ref(),
+        "--ross".as_ref(),
+        ross.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = json_of(&out);
+    let text = std::fs::read_to_string(&ross).unwrap();
+    assert!(text.contains("synchronous K(w), C(w)"), "{text}");
+    let table: toml::Table = text.parse().unwrap();
+    let element = table["BearingElement_bearing"].as_table().unwrap();
+    let floats = |key: &str| -> Vec<f64> {
+        element[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_float().unwrap())
+            .collect()
+    };
+    for k in 0..speeds.len() {
+        let point = &v["points"][k];
+        let sync = &point["synchronous"];
+        assert_eq!(floats("kxx")[k], sync["K"][0][0].as_f64().unwrap());
+        assert_eq!(floats("kyx")[k], sync["K"][1][0].as_f64().unwrap());
+        assert_eq!(floats("cyy")[k], sync["C"][1][1].as_f64().unwrap());
+        assert_eq!(floats("mxx")[k], point["M"][0][0].as_f64().unwrap());
+        assert_ne!(floats("kxx")[k], point["K"][0][0].as_f64().unwrap());
+    }
+    // `--ross-samples N FILE.csv`: N samples per speed about the same synchronous values
+    // (each sample mean within 5 standard errors), the same file for the same seed; a count
+    // of 0 or a seed that is not a whole number refused naming the option, before any work.
+    let csv = dir.join("samples.csv");
+    let n = 400;
+    let with_samples = |count: &str, seed: &str| {
+        run(&[
+            "campaign".as_ref(),
+            path.as_os_str(),
+            "--json".as_ref(),
+            "--ross-samples".as_ref(),
+            count.as_ref(),
+            csv.as_os_str(),
+            "--ross-seed".as_ref(),
+            seed.as_ref(),
+        ])
+    };
+    let out = with_samples("400", "5");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "speed_rpm,point,sample,kxx,kxy,kyx,kyy,cxx,cxy,cyx,cyy,mxx,mxy,myx,myy"
+    );
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    assert_eq!(rows.len(), n * speeds.len());
+    for (k, rpm) in speeds.iter().enumerate() {
+        let at: Vec<&Vec<String>> = rows[k * n..(k + 1) * n].iter().collect();
+        assert!(
+            at.iter()
+                .all(|r| (r[0].parse::<f64>().unwrap() - rpm).abs() < 1e-9)
+        );
+        assert!(at.iter().enumerate().all(|(i, r)| r[2] == i.to_string()));
+        let sync = &v["points"][k]["synchronous"];
+        for (column, key, i, j) in [
+            (3, "K", 0, 0),
+            (6, "K", 1, 1),
+            (7, "C", 0, 0),
+            (10, "C", 1, 1),
+        ] {
+            let mean = at
+                .iter()
+                .map(|r| r[column].parse::<f64>().unwrap())
+                .sum::<f64>()
+                / n as f64;
+            let (value, std) = (
+                sync[key][i][j].as_f64().unwrap(),
+                sync[format!("{key}_std")][i][j].as_f64().unwrap(),
+            );
+            assert!(
+                (mean - value).abs() < 5.0 * std / (n as f64).sqrt(),
+                "{key}{i}{j} at {rpm}"
+            );
+        }
+    }
+    assert!(with_samples("400", "5").status.success());
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), text);
+    for (count, seed, option) in [("0", "5", "--ross-samples"), ("4", "abc", "--ross-seed")] {
+        let out = with_samples(count, seed);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+        let e = json_of(&out);
+        assert_eq!(e["error"], "invalid_argument", "{e}");
+        assert!(e["message"].as_str().unwrap().contains(option), "{e}");
+    }
+}

@@ -456,3 +456,89 @@ fn recovers_the_bearings_of_a_rotor_built_with_ross() {
         assert!(worst < 1e-6, "{worst:e}");
     }
 }
+
+/// The mass-sum check on a rotor whose truth is known, at 1 % response noise: bearings with a
+/// constant added mass of 1 kg (x) and 1.5 kg (y) each sum to 2 and 3 kg, within 3σ, and the
+/// check is quiet against the 58.3 kg rotor; the speed-dependent bearings (whose trend the
+/// constant fit's `M` takes) stay quiet too; the same responses read with a model whose 20 kg
+/// disk is written as 5 kg give a sum of −175 ± 54 kg in y and warn.
+#[test]
+fn mass_sum_is_quiet_on_the_true_rotor_and_warns_on_a_wrong_mass() {
+    use bearing_ident::field::{BeamRotor, BearingSite, Disk};
+    let beam = |disk_mass: f64| {
+        BeamRotor {
+            element_lengths: vec![0.15; 7],
+            diameter: 0.06,
+            density: 7850.0,
+            young: 2.1e11,
+            poisson: 0.3,
+            disks: vec![
+                Disk {
+                    node: 2,
+                    mass: disk_mass,
+                    polar: 0.25,
+                    diametral: 0.13,
+                },
+                Disk {
+                    node: 5,
+                    mass: 15.0,
+                    polar: 0.2,
+                    diametral: 0.1,
+                },
+            ],
+            bearings: vec![BearingSite::new("brg0", 0), BearingSite::new("brg1", 7)],
+        }
+        .model()
+        .unwrap()
+    };
+    let truth = beam(20.0);
+    assert_eq!(truth, rotor());
+    let added = [[1.0, 0.0], [0.0, 1.5]];
+    let law = |b: usize, w: f64| {
+        let base = bearings(b, 0.0);
+        BearingCoefficients {
+            stiffness: std::array::from_fn(|i| {
+                std::array::from_fn(|j| base.stiffness[i][j] - w * w * added[i][j])
+            }),
+            damping: base.damping,
+        }
+    };
+    let kinds = |id: &FieldIdentification| -> Vec<&str> {
+        id.warnings().iter().map(|w| w.kind()).collect()
+    };
+    let tests = runs([0, 7], 0.01, 300).simulate(&truth, law).unwrap();
+    let right = field::identify(&truth, &tests).unwrap();
+    let sum = *right.mass_sum().unwrap();
+    assert!((sum.rotor_mass[0] - 58.305).abs() < 1e-3, "{sum:?}");
+    for (d, t) in [(0, 2.0), (1, 3.0)] {
+        assert!((sum.sum[d] - t).abs() < 3.0 * sum.sum_std[d], "{sum:?}");
+    }
+    assert!(
+        !kinds(&right).contains(&"mass_sum"),
+        "{:?}",
+        right.warnings()
+    );
+    let trend = runs([0, 7], 0.01, 1).simulate(&truth, bearings).unwrap();
+    let trend = field::identify(&truth, &trend).unwrap();
+    assert!(
+        !kinds(&trend).contains(&"mass_sum"),
+        "{:?}",
+        trend.warnings()
+    );
+    let wrong = field::identify(&beam(5.0), &tests).unwrap();
+    let sum = *wrong.mass_sum().unwrap();
+    assert!((sum.rotor_mass[1] - 43.305).abs() < 1e-3, "{sum:?}");
+    let warned: Vec<_> = wrong
+        .warnings()
+        .iter()
+        .filter_map(|w| match w {
+            Warning::MassSum {
+                direction, sum_kg, ..
+            } => Some((*direction, *sum_kg)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(warned.len(), 1, "{sum:?}");
+    assert_eq!(warned[0].0, "y");
+    assert!(warned[0].1 < -100.0, "{sum:?}");
+}

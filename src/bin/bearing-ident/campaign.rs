@@ -48,6 +48,20 @@ pub struct CampaignArgs {
     /// Pick one slice of the points for the ROSS table: `CONDITION=VALUE` (comma list).
     #[arg(long, value_delimiter = ',', value_name = "CONDITION=VALUE")]
     ross_where: Vec<String>,
+    /// Write N samples of the bearing at each speed of the ROSS table (the same points and
+    /// slice) to FILE.csv: rows `speed_rpm,point,sample,kxx,…,myy`, sample i at every speed
+    /// one stochastic bearing (ROSS's `ST_BearingElement` over speed); drawn about what the
+    /// table holds (the synchronous K, C when every point has them).
+    #[arg(long, num_args = 2, value_names = ["N", "FILE.csv"], allow_hyphen_values = true)]
+    ross_samples: Vec<String>,
+    /// Seed of `--ross-samples`' generator (a whole number ≥ 0; speed k uses seed + k).
+    #[arg(
+        long,
+        default_value = "0",
+        requires = "ross_samples",
+        allow_hyphen_values = true
+    )]
+    ross_seed: String,
 }
 
 /// Runs the campaign; `Ok(false)` when a point failed (everything written all the same).
@@ -73,6 +87,13 @@ pub fn campaign(args: &CampaignArgs) -> Result<bool, Failure> {
             Ok((name.trim().to_owned(), value))
         })
         .collect::<Result<Vec<_>, Failure>>()?;
+    let samples = match args.ross_samples.as_slice() {
+        [count, file] => Some((
+            crate::export::samples_count_and_seed(count, &args.ross_seed)?,
+            PathBuf::from(file),
+        )),
+        _ => None,
+    };
     let mut run = RunOptions {
         cache: args.cache.clone(),
         per_frequency: args.per_frequency,
@@ -107,6 +128,13 @@ pub fn campaign(args: &CampaignArgs) -> Result<bool, Failure> {
                 bearing_ident::export::ross::MIN_POINTS
             ));
         }
+    }
+    if let Some(((n, seed), path)) = &samples {
+        let samples = campaign.ross_samples(&slice, *n, *seed)?;
+        std::fs::write(path, samples.to_csv()).map_err(|e| Failure {
+            kind: "io_error",
+            message: format!("{}: {e}", excerpt(&path.display().to_string())),
+        })?;
     }
     if args.json {
         print_out(format_args!("{}\n", campaign.to_json()))?;

@@ -67,6 +67,13 @@ fn samples_args(args: &ExportArgs) -> Result<Option<(usize, PathBuf, u64)>, Fail
     let [count, file] = args.ross_samples.as_slice() else {
         return Ok(None);
     };
+    let (n, seed) = samples_count_and_seed(count, &args.ross_seed)?;
+    Ok(Some((n, PathBuf::from(file), seed)))
+}
+
+/// The `N` of `--ross-samples N FILE` (≥ 1) and the `--ross-seed` (a whole number ≥ 0),
+/// each refused as `invalid_argument` naming its option.
+pub fn samples_count_and_seed(count: &str, seed: &str) -> Result<(usize, u64), Failure> {
     let n = count
         .trim()
         .parse::<usize>()
@@ -78,13 +85,13 @@ fn samples_args(args: &ExportArgs) -> Result<Option<(usize, PathBuf, u64)>, Fail
                 excerpt(count)
             ))
         })?;
-    let seed = args.ross_seed.trim().parse::<u64>().map_err(|_| {
+    let seed = seed.trim().parse::<u64>().map_err(|_| {
         invalid(format!(
             "--ross-seed `{}`: expected a whole number ≥ 0",
-            excerpt(&args.ross_seed)
+            excerpt(seed)
         ))
     })?;
-    Ok(Some((n, PathBuf::from(file), seed)))
+    Ok((n, seed))
 }
 
 /// Refuses, before any work, what [`write`] could not do: a per-frequency ROSS table of a

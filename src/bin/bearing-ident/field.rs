@@ -78,7 +78,8 @@ pub fn field(args: &FieldArgs) -> Result<(), Failure> {
 
 /// The result as a text table: per bearing and speed, `K` and `C` (with `±σ` when known), the
 /// condition number and the noise gain (split into a `K` and a `C` block when wider than
-/// [`TABLE_WIDTH`](bearing_ident::text::TABLE_WIDTH)); the model residual; the warnings.
+/// [`TABLE_WIDTH`](bearing_ident::text::TABLE_WIDTH)); the model residual; the bearings'
+/// added masses summed against the rotor model's mass; the warnings.
 pub fn table(id: &FieldIdentification) -> String {
     let mut out = String::new();
     let probes: Vec<String> = id
@@ -130,6 +131,17 @@ pub fn table(id: &FieldIdentification) -> String {
         &residual.join(" "),
         2,
     ));
+    if let Some(m) = id.mass_sum() {
+        let _ = writeln!(
+            out,
+            "bearings' added mass ΣM_xx = {} ± {} kg, ΣM_yy = {} ± {} kg; rotor model {} kg",
+            sig(m.sum[0], 3),
+            sig(m.sum_std[0], 2),
+            sig(m.sum[1], 3),
+            sig(m.sum_std[1], 2),
+            sig(m.rotor_mass[0], 4)
+        );
+    }
     for w in id.warnings() {
         let _ = writeln!(out, "warning: {w}");
     }

@@ -28,29 +28,7 @@ fn groups(campaign: &Campaign, x: usize) -> Vec<Group<'_>> {
         let (Some(xv), Ok(fit)) = (p.values[x].as_ref().and_then(Value::number), &p.result) else {
             continue;
         };
-        // The system's coefficients and a bearing's own (less a baseline point) are other
-        // quantities: never one series.
-        let what = match campaign.plan.points[i].baseline {
-            Some(j) => format!("less {}", campaign.plan.points[j].name),
-            None => "system".to_owned(),
-        };
-        let label = campaign
-            .plan
-            .conditions
-            .iter()
-            .zip(&p.values)
-            .enumerate()
-            .filter(|(c, _)| *c != x)
-            .map(|(_, (c, v))| {
-                format!(
-                    "{} = {}",
-                    c.name,
-                    v.as_ref().map_or("-".into(), Value::to_string)
-                )
-            })
-            .chain([what])
-            .collect::<Vec<_>>()
-            .join(", ");
+        let label = label(campaign, i, Some(x));
         let (c, s) = fit.reported();
         match out.iter_mut().find(|g| g.0 == label) {
             Some(g) => g.1.push((xv, c, s, i)),
@@ -61,6 +39,33 @@ fn groups(campaign: &Campaign, x: usize) -> Vec<Group<'_>> {
         g.1.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
     out
+}
+
+/// The series label of point `i`: its values of the conditions other than `skip`, and what
+/// is drawn (`system`, or `less NAME`: the system's coefficients and a bearing's own, less a
+/// baseline point, are other quantities and never one series).
+pub(super) fn label(campaign: &Campaign, i: usize, skip: Option<usize>) -> String {
+    let what = match campaign.plan.points[i].baseline {
+        Some(j) => format!("less {}", campaign.plan.points[j].name),
+        None => "system".to_owned(),
+    };
+    campaign
+        .plan
+        .conditions
+        .iter()
+        .zip(&campaign.points[i].values)
+        .enumerate()
+        .filter(|(c, _)| Some(*c) != skip)
+        .map(|(_, (c, v))| {
+            format!(
+                "{} = {}",
+                c.name,
+                v.as_ref().map_or("-".into(), Value::to_string)
+            )
+        })
+        .chain([what])
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// One block (`'K'`, `'C'` or `'M'`) of `campaign`'s points against condition `x` (an index

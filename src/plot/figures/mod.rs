@@ -14,6 +14,8 @@ mod nonlinear;
 mod per_frequency;
 mod records;
 mod residual;
+#[cfg(feature = "campaign")]
+mod synchronous;
 mod trace;
 
 #[cfg(feature = "campaign")]
@@ -28,3 +30,5 @@ pub use nonlinear::nonlinear;
 pub use per_frequency::per_frequency;
 pub use records::records;
 pub use residual::residual;
+#[cfg(feature = "campaign")]
+pub use synchronous::synchronous;
