@@ -53,6 +53,7 @@
 
 mod records;
 mod v5;
+mod v73;
 
 use std::io::Read;
 use std::path::Path;
@@ -60,7 +61,7 @@ use std::path::Path;
 use crate::error::{Error, Result, excerpt};
 
 pub use records::{MatChannel, MatLayout, records};
-pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO, parse};
+pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO};
 
 /// Largest MAT-file read (2 GiB, the size past which MATLAB itself saves as `-v7.3`).
 pub const MAX_FILE_BYTES: u64 = 1 << 31;
@@ -182,6 +183,41 @@ impl Array {
     }
 }
 
+/// Parses the bytes of a MAT-file, level 5 or `-v7.3` (HDF5): every named variable, in the
+/// file's order.
+///
+/// A file whose first bytes read `MATLAB 7.3`, or that holds HDF5's signature at byte 0 or
+/// 512, is read as `-v7.3`; any other as level 5. The unnamed subsystem data MATLAB appends
+/// for objects (level 5) and its `#refs#` and `#subsystem#` groups (`-v7.3`) are skipped.
+///
+/// # Errors
+/// [`Error::Mat`] naming `label`, the byte offset and what is wrong. Level 5: a header that
+/// is not a MAT-file's (a `-v4` file has none), a truncated element, a byte count or
+/// dimensions larger than the bytes that hold them, zlib data that does not inflate, an
+/// unknown element type. `-v7.3`: no HDF5 superblock, an address or size past the end of the
+/// file, a structure without its signature, a cycle of links, references or B-tree nodes, an
+/// HDF5 feature MATLAB does not write (offsets other than 8 bytes, filters other than
+/// deflate and shuffle, HDF5 1.10's chunk indexes, dense link storage), data larger than
+/// [`MAX_INFLATE_RATIO`] times the file. Both: arrays nested deeper than [`MAX_DEPTH`].
+///
+/// # Examples
+/// ```
+/// let e = bearing_ident::mat::parse(b"not a MAT-file", "x.mat").unwrap_err();
+/// assert_eq!(e.kind(), "malformed_mat");
+/// assert!(e.to_string().starts_with("x.mat, byte 0:"), "{e}");
+/// let e = bearing_ident::mat::parse(&[b"MATLAB 7.3 MAT-file".as_slice(), &[0; 600]].concat(), "y.mat")
+///     .unwrap_err();
+/// assert!(e.to_string().contains("no HDF5 signature"), "{e}");
+/// ```
+pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
+    let hdf5 = |at: usize| bytes.get(at..at + 8) == Some(v73::SIGNATURE.as_slice());
+    if bytes.starts_with(b"MATLAB 7.3") || hdf5(0) || hdf5(512) {
+        v73::parse(bytes, label)
+    } else {
+        v5::parse(bytes, label)
+    }
+}
+
 /// Whether `path` is a MAT-file (`.mat`, any case).
 ///
 /// # Examples
@@ -195,7 +231,7 @@ pub fn is_mat(path: &Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("mat"))
 }
 
-/// Reads every variable of a level 5 MAT-file ([`parse`]).
+/// Reads every variable of a MAT-file, level 5 or `-v7.3` ([`parse`]).
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be opened or read; [`Error::FileLimit`] past
