@@ -154,12 +154,13 @@ def write_v73(p, a, b, names):
         c = f.create_dataset("c", shape=(1, 1), dtype=h5py.ref_dtype)
         c[0, 0] = c.ref
         cls(c, "cell")
+    with v73(p("loop_v73.mat")) as f:
         s = cls(f.create_group("s"), "struct")
         matrix(s, "fs", FS)
         s["self"] = s
     for name in [
         "plain", "compressed", "latest", "struct", "matrix", "struct_array", "cell",
-        "wrong_classes", "cycle",
+        "wrong_classes", "cycle", "loop",
     ]:
         matlab_header(p(f"{name}_v73.mat"))
 
