@@ -1,9 +1,11 @@
-//! Edge: MATLAB MAT-files, level 5 (`save -v6`, `-v7`; compressed or not) (feature `mat`).
+//! Edge: MATLAB MAT-files, level 5 (`save -v6`, `-v7`; compressed or not) and `-v7.3` (HDF5)
+//! (feature `mat`).
 //!
 //! MATLAB, SciPy (`scipy.io.savemat`) and dynamic-signal analysers save arrays as MAT-files.
-//! This module reads the level 5 format ([`read`], [`parse`]) into [`Variable`]s — numeric
+//! This module reads both formats ([`read`], [`parse`]) into the same [`Variable`]s — numeric
 //! arrays of every class, structs, struct arrays and cell arrays, nested — and builds
-//! [`Record`](crate::Record)s from them ([`records`], [`MatLayout`]).
+//! [`Record`](crate::Record)s from them ([`records`], [`MatLayout`]). The `-v7.3` reader is
+//! pure Rust (no HDF5 library): it reads the part of HDF5 that MATLAB and h5py write.
 //!
 //! # The layout of a level 5 MAT-file
 //! | bytes | content |
@@ -21,12 +23,34 @@
 //! a struct, the cells of a cell array), or a `miCOMPRESSED` element holding one `miMATRIX`
 //! deflated with zlib. Arrays are stored column by column (column-major).
 //!
+//! # The layout of a `-v7.3` MAT-file
+//! A 512-byte user block whose first 128 bytes are a level 5 header (text `MATLAB 7.3
+//! MAT-file, …`, version `0x0200`), then an HDF5 file (superblock version 0, or 2 and 3 as
+//! h5py writes with `libver='latest'`; addresses count from the superblock). Each variable is
+//! an object of the root group with an attribute `MATLAB_class`:
+//! | MATLAB | HDF5 |
+//! |---|---|
+//! | numeric, logical array, M×N | dataset of dimensions N×M (C order: MATLAB's column-major bytes) |
+//! | complex array | dataset of a compound `{real, imag}` (the imaginary parts are not kept) |
+//! | struct | group, one member per field |
+//! | struct array | group, each field a dataset of references, one per element |
+//! | cell array | dataset of object references (to arrays in the group `#refs#`) |
+//! | empty array | dataset holding its dimensions, attribute `MATLAB_empty` |
+//! | `char`, sparse, objects | named by class, not read |
+//!
+//! Groups are read in both styles (symbol table: B-tree and local heap; link messages), object
+//! headers in versions 1 and 2 with their continuation blocks, data compact, contiguous or
+//! chunked (a version 1 B-tree, or one chunk), filtered by deflate and shuffle.
+//!
 //! # Safety on bad files
 //! A file is read whole (at most [`MAX_FILE_BYTES`]); every byte count, dimension and field
 //! count is checked against the bytes that remain before anything is allocated, a compressed
 //! element inflates to at most [`MAX_INFLATE_RATIO`] times its size, and arrays nest at most
-//! [`MAX_DEPTH`] deep, so memory stays bounded by a small multiple of the file's size.
-//! Whatever is wrong is an [`Error::Mat`] naming the file, the byte offset
+//! [`MAX_DEPTH`] deep, so memory stays bounded by a small multiple of the file's size. In a
+//! `-v7.3` file every address and size is checked against the file's length, the data
+//! decoded add up to at most [`MAX_INFLATE_RATIO`] times the file's size, its structures are
+//! read at most 64 times over, and a link or reference back to an array that holds it (a cycle) is
+//! refused. Whatever is wrong is an [`Error::Mat`] naming the file, the byte offset
 //! and what was found.
 //!
 //! # Examples

@@ -285,7 +285,12 @@ fn mutated_files_give_records_or_typed_errors_never_a_panic() {
         ("plain_v73.mat", "fx,fy", "x,y", "t"),
         ("compressed_v73.mat", "fx,fy", "x,y", "t"),
         ("latest_v73.mat", "fx,fy", "x,y", "t"),
-        ("struct_array_v73.mat", "recs.fx,recs.fy", "recs.x,recs.y", "t"),
+        (
+            "struct_array_v73.mat",
+            "recs.fx,recs.fy",
+            "recs.x,recs.y",
+            "t",
+        ),
         ("cell_v73.mat", "hits.fx,hits.fy", "hits.x,hits.y", "t"),
     ];
     let mut state = 38;
@@ -416,9 +421,15 @@ fn v73_text_and_complex_numbers_are_not_channels() {
 #[test]
 fn v73_cycles_are_malformed() {
     let m = parse_error(&bytes("cycle_v73.mat"));
-    assert!(m.contains("`c{1}` refers back to an array that holds it"), "{m}");
+    assert!(
+        m.contains("`c{1}` refers back to an array that holds it"),
+        "{m}"
+    );
     let m = parse_error(&bytes("loop_v73.mat"));
-    assert!(m.contains("`s.self` refers back to an array that holds it"), "{m}");
+    assert!(
+        m.contains("`s.self` refers back to an array that holds it"),
+        "{m}"
+    );
 }
 
 /// Where the 16 bytes `pattern` start in `data` (once).
@@ -435,7 +446,12 @@ fn find(data: &[u8], pattern: &[u8]) -> usize {
 
 #[test]
 fn v73_truncated_lying_and_foreign_files_are_malformed() {
-    for name in ["plain_v73.mat", "compressed_v73.mat", "latest_v73.mat", "cell_v73.mat"] {
+    for name in [
+        "plain_v73.mat",
+        "compressed_v73.mat",
+        "latest_v73.mat",
+        "cell_v73.mat",
+    ] {
         let data = bytes(name);
         let cuts = (0..700)
             .step_by(7)

@@ -300,7 +300,11 @@ impl<'a> Matlab<'a> {
         if columns.is_empty() || columns.len() < links.len() {
             let mut values = Vec::with_capacity(links.len());
             for (field, address) in &links {
-                values.push(self.array(*address, &format!("{name}.{}", excerpt(field)), depth + 1)?);
+                values.push(self.array(
+                    *address,
+                    &format!("{name}.{}", excerpt(field)),
+                    depth + 1,
+                )?);
             }
             return Ok(Array::Struct {
                 dims: vec![1, 1],
@@ -310,7 +314,11 @@ impl<'a> Matlab<'a> {
         }
         let (dims, first) = &columns[0];
         let count = first.len();
-        if let Some((i, _)) = columns.iter().enumerate().find(|(_, (_, r))| r.len() != count) {
+        if let Some((i, _)) = columns
+            .iter()
+            .enumerate()
+            .find(|(_, (_, r))| r.len() != count)
+        {
             return Err(self.file.bad(
                 0,
                 format!(
