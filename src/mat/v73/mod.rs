@@ -178,7 +178,7 @@ impl<'a> Matlab<'a> {
                 .into_iter()
                 .map(|x| x as usize)
                 .collect();
-            if dims.len() < 2 || dims.iter().product::<usize>() != 0 {
+            if dims.len() < 2 || !dims.contains(&0) {
                 return Err(self.file.bad(
                     d.at,
                     format!("`{name}`: an empty {class} of dimensions {dims:?}"),

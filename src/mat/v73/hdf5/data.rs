@@ -194,7 +194,9 @@ impl<'a> File<'a> {
             } => {
                 let chunk = self.chunk_shape(d, chunk, name)?;
                 let (size, mask) = filtered.unwrap_or((
-                    chunk.iter().product::<u64>().saturating_mul(element as u64),
+                    chunk
+                        .iter()
+                        .fold(element as u64, |n, &x| n.saturating_mul(x)),
                     0,
                 ));
                 let raw = self.slice(*address, size, d.at, &format!("the chunk of `{name}`"))?;

@@ -625,7 +625,10 @@ mod tests {
             assert!(m.contains("truncated: the superblock needs"), "{cut}: {m}");
         }
         let m = error(&bytes);
-        assert!(m.contains("an object header at address 0x30, past the end"), "{m}");
+        assert!(
+            m.contains("an object header at address 0x30, past the end"),
+            "{m}"
+        );
     }
 
     #[test]
@@ -633,7 +636,9 @@ mod tests {
         let bytes = file(&header(10_000, &[]), &[]);
         let m = error(&bytes);
         assert!(
-            m.contains("t.mat, byte 64: truncated: an object header block of 10000 bytes, 0 remain"),
+            m.contains(
+                "t.mat, byte 64: truncated: an object header block of 10000 bytes, 0 remain"
+            ),
             "{m}"
         );
     }
@@ -644,7 +649,10 @@ mod tests {
         let continuation = [64u64.to_le_bytes(), 24u64.to_le_bytes()].concat();
         let bytes = file(&header(24, &message(MSG_CONTINUATION, &continuation)), &[]);
         let m = error(&bytes);
-        assert!(m.contains("byte 64: object header continuations form a cycle"), "{m}");
+        assert!(
+            m.contains("byte 64: object header continuations form a cycle"),
+            "{m}"
+        );
     }
 
     #[test]
