@@ -115,9 +115,11 @@ def write_v73(p, a, b, names):
         for n, v in zip(names[1:], a[1:]):
             matrix(rec, n, column(v))
         matrix(rec, "fs", FS)
-    # Matrix columns: [t fx fy x y], 512×5.
+    # Matrix columns: [t fx fy x y], 512×5; the same in 2×100 chunks of its 5×512 dataset
+    # (edge chunks cut in both dimensions), deflated.
     with v73(p("matrix_v73.mat")) as f:
         matrix(f, "data", np.column_stack(a))
+        matrix(f, "tiles", np.column_stack(a), chunks=(2, 100), compression="gzip")
     # A 1×2 struct array: each field a 1×2 array of references, one per element; `dt` beside.
     with v73(p("struct_array_v73.mat")) as f:
         recs = cls(f.create_group("recs"), "struct")

@@ -372,6 +372,10 @@ fn v73_matrix_columns_are_matlab_columns() {
     assert_same(&r[0], &csv("a.csv"), true);
     let vars = mat::read(fixture("matrix_v73.mat")).unwrap();
     assert_eq!(vars[0].array.size_text(), "512×5");
+    // The same matrix in 2×100 chunks (cut at both edges) reads to the same values.
+    assert_eq!(vars[1].name, "tiles");
+    let (data, tiles) = (vars[0].array.samples(), vars[1].array.samples());
+    assert_eq!(bits(tiles.unwrap()), bits(data.unwrap()));
 }
 
 #[test]

@@ -55,7 +55,10 @@ pub(super) fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
     let file = File::open(bytes, label)?;
     let (_, root) = file.object(file.root)?;
     let Node::Group(links) = root else {
-        return Err(file.bad(0, "the root object is a dataset, not a group".into()));
+        return Err(file.bad(
+            file.position(file.root),
+            "the root object is a dataset, not a group".into(),
+        ));
     };
     let mut reader = Matlab {
         file,
@@ -141,7 +144,7 @@ impl<'a> Matlab<'a> {
         let marks = self.marks(&attributes)?;
         let array = match node {
             Node::Dataset(d) => self.dataset(&d, &marks, name, depth),
-            Node::Group(links) => self.group(links, &marks, name, depth),
+            Node::Group(links) => self.group(links, &marks, name, depth, at),
         };
         self.path.remove(&address);
         array
@@ -244,13 +247,15 @@ impl<'a> Matlab<'a> {
     }
 
     /// A group: a struct (its members are the fields), a struct array (its fields are
-    /// datasets of references, one per element), or another class (sparse, objects), named.
+    /// datasets of references, one per element), or another class (sparse, objects), named;
+    /// `at` is its object header's file offset.
     fn group(
         &mut self,
         links: Vec<(String, u64)>,
         marks: &Marks,
         name: &str,
         depth: usize,
+        at: usize,
     ) -> Result<Array> {
         if let Some(rows) = marks.sparse {
             let columns = links
@@ -320,7 +325,7 @@ impl<'a> Matlab<'a> {
             .find(|(_, (_, r))| r.len() != count)
         {
             return Err(self.file.bad(
-                0,
+                at,
                 format!(
                     "struct array `{name}`: field `{}` has {} elements, `{}` {count}",
                     excerpt(&fields[i]),
