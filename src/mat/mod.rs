@@ -242,6 +242,15 @@ pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
     }
 }
 
+/// Dimensions as `[a, b, c]` for messages: at most four, then how many more.
+fn dims_text<T: std::fmt::Display>(dims: &[T]) -> String {
+    let shown: Vec<String> = dims.iter().take(4).map(T::to_string).collect();
+    match dims.len() {
+        0..=4 => format!("[{}]", shown.join(", ")),
+        n => format!("[{}, … {} more]", shown.join(", "), n - 4),
+    }
+}
+
 /// Whether `path` is a MAT-file (`.mat`, any case).
 ///
 /// # Examples

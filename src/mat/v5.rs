@@ -285,7 +285,10 @@ impl Reader<'_> {
         if dims.len() < 2 || dims.contains(&usize::MAX) {
             return Err(self.bad(
                 dims_tag.start,
-                format!("dimensions {dims:?}: at least two, none negative"),
+                format!(
+                    "dimensions {}: at least two, none negative",
+                    super::dims_text(&dims)
+                ),
             ));
         }
         let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
@@ -297,7 +300,7 @@ impl Reader<'_> {
         let count = count.filter(|&n| n <= len).ok_or_else(|| {
             self.bad(
                 dims_tag.start,
-                format!("array `{shown}` declares dimensions {dims:?}, more elements than its {len} bytes hold"),
+                format!("array `{shown}` declares dimensions {}, more elements than its {len} bytes hold", super::dims_text(&dims)),
             )
         })?;
         let array = match class {
@@ -311,7 +314,8 @@ impl Reader<'_> {
                     return Err(self.bad(
                         at,
                         format!(
-                            "array `{shown}` of dimensions {dims:?} holds {} values",
+                            "array `{shown}` of dimensions {} holds {} values",
+                            super::dims_text(&dims),
                             real.len()
                         ),
                     ));

@@ -184,7 +184,10 @@ impl<'a> Matlab<'a> {
             if dims.len() < 2 || !dims.contains(&0) {
                 return Err(self.file.bad(
                     d.at,
-                    format!("`{name}`: an empty {class} of dimensions {dims:?}"),
+                    format!(
+                        "`{name}`: an empty {class} of dimensions {}",
+                        super::dims_text(&dims)
+                    ),
                 ));
             }
             return Ok(empty(class, dims));
@@ -220,7 +223,11 @@ impl<'a> Matlab<'a> {
                 let references = self.references(d, name)?;
                 let mut cells = Vec::with_capacity(references.len());
                 for (i, r) in references.into_iter().enumerate() {
-                    cells.push(self.array(r, &format!("{name}{{{}}}", i + 1), depth + 1)?);
+                    cells.push(self.array(
+                        r,
+                        &excerpt(&format!("{name}{{{}}}", i + 1)),
+                        depth + 1,
+                    )?);
                 }
                 Ok(Array::Cell { dims, cells })
             }
@@ -307,7 +314,7 @@ impl<'a> Matlab<'a> {
             for (field, address) in &links {
                 values.push(self.array(
                     *address,
-                    &format!("{name}.{}", excerpt(field)),
+                    &excerpt(&format!("{name}.{field}")),
                     depth + 1,
                 )?);
             }
@@ -319,18 +326,12 @@ impl<'a> Matlab<'a> {
         }
         let (dims, first) = &columns[0];
         let count = first.len();
-        if let Some((i, _)) = columns
-            .iter()
-            .enumerate()
-            .find(|(_, (_, r))| r.len() != count)
-        {
+        if let Some((_, other)) = columns.iter().find(|(_, r)| r.len() != count) {
             return Err(self.file.bad(
                 at,
                 format!(
-                    "struct array `{name}`: field `{}` has {} elements, `{}` {count}",
-                    excerpt(&fields[i]),
-                    columns[i].1.len(),
-                    excerpt(&fields[0])
+                    "struct array `{name}`: its fields hold {count} and {} elements",
+                    other.len()
                 ),
             ));
         }
@@ -339,7 +340,7 @@ impl<'a> Matlab<'a> {
         for e in 0..count {
             let mut values = Vec::with_capacity(fields.len());
             for (f, (_, references)) in columns.iter().enumerate() {
-                let shown = format!("{name}({}).{}", e + 1, excerpt(&fields[f]));
+                let shown = excerpt(&format!("{name}({}).{}", e + 1, fields[f]));
                 values.push(self.array(references[e], &shown, depth + 1)?);
             }
             elements.push(values);

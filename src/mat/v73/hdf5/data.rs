@@ -6,6 +6,7 @@ use std::collections::HashSet;
 use crate::error::Result;
 
 use super::{Dataset, Datatype, File, Layout, UNDEFINED};
+use crate::mat::dims_text;
 
 impl Datatype {
     /// Bytes per element.
@@ -120,7 +121,10 @@ impl<'a> File<'a> {
         let len = count.and_then(|n| n.checked_mul(element)).ok_or_else(|| {
             self.bad(
                 d.at,
-                format!("`{name}` of dimensions {:?}: too many elements", d.dims),
+                format!(
+                    "`{name}` of dimensions {}: too many elements",
+                    dims_text(&d.dims)
+                ),
             )
         })?;
         self.allocate(d.at, len, name)?;
@@ -222,8 +226,9 @@ impl<'a> File<'a> {
             return Err(self.bad(
                 d.at,
                 format!(
-                    "`{name}`: chunk dimensions {chunk:?} for data of dimensions {:?}",
-                    d.dims
+                    "`{name}`: chunk dimensions {} for data of dimensions {}",
+                    dims_text(chunk),
+                    dims_text(&d.dims)
                 ),
             ));
         }
@@ -249,7 +254,10 @@ impl<'a> File<'a> {
             .ok_or_else(|| {
                 self.bad(
                     d.at,
-                    format!("`{name}`: chunks of {chunk:?} elements, more than the file holds"),
+                    format!(
+                        "`{name}`: chunks of {} elements, more than the file holds",
+                        dims_text(chunk)
+                    ),
                 )
             })?;
         let mut data = raw.to_vec();

@@ -1,7 +1,8 @@
 //! The object header messages read: dataspace, datatype, data layout, filter pipeline,
 //! attribute, link.
 
-use crate::error::Result;
+use crate::error::{Result, excerpt};
+use crate::mat::dims_text;
 
 use super::{Attribute, Cursor, Datatype, File, Layout, UNDEFINED};
 
@@ -91,7 +92,7 @@ impl<'a> File<'a> {
                     {
                         return Err(self.bad(
                             from,
-                            format!("compound member `{name}` at byte {offset} past its {size}-byte element"),
+                            format!("compound member `{}` at byte {offset} past its {size}-byte element", excerpt(&name)),
                         ));
                     }
                     members.push((name, offset, member));
@@ -297,7 +298,11 @@ impl<'a> File<'a> {
             None => {
                 return Err(self.bad(
                     a.at,
-                    format!("attribute `{}` of dimensions {dims:?}", a.name),
+                    format!(
+                        "attribute `{}` of dimensions {}",
+                        excerpt(&a.name),
+                        dims_text(&dims)
+                    ),
                 ));
             }
         };
