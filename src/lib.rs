@@ -100,8 +100,8 @@
 //! - `tdms` — [`tdms`]: TDMS files of NI LabVIEW and DAQmx (every numeric type, little- and
 //!   big-endian, interleaved and contiguous, incremental metadata, linear and polynomial
 //!   scaling) and records from their channels; no dependencies;
-//! - `mat` — [`mat`]: read MATLAB MAT-files, level 5 (`-v6`, `-v7`; compressed or not), and
-//!   build records from their variables, struct fields, matrix columns, struct and cell arrays;
+//! - `mat` — [`mat`]: read MATLAB MAT-files, level 5 (`-v6`, `-v7`; compressed or not) and
+//!   `-v7.3` (HDF5, read in pure Rust), and build records from their variables, struct fields, matrix columns, struct and cell arrays;
 //! - `ross` — [`export::ross`]: an identified 2-DOF bearing as a ROSS 3.x bearing element
 //!   (TOML or JSON), constant or per frequency; with `uff`, [`export::uff`] writes the measured
 //!   and model FRFs and the coherences of an identification as dataset 58 functions;

@@ -532,7 +532,7 @@ def read_mat(
     time: str = "t",
     response: str | Sequence[str] = (),
 ) -> list[Record]:
-    """Records of a MATLAB MAT-file (level 5, ``-v7``, compressed or not): one, or one per
+    """Records of a MATLAB MAT-file (``-v6``, ``-v7``, ``-v7.3``): one, or one per
     element of the struct arrays or cell arrays the channels are in.
 
     ``force`` and ``disp`` name channels as variables (``fx``), struct fields (``rec.fx``) or

@@ -495,6 +495,23 @@ def test_read_mat_gives_the_csv_samples_and_a_record_per_struct_element():
 
 
 
+def test_read_mat_reads_v73_hdf5_files_as_the_csv():
+    """MATLAB -v7.3 files (HDF5, written by h5py in MATLAB's layout) read to the samples of
+    the CSV of the same data, bit for bit; a 1×2 cell array of structs gives two records."""
+    (a,) = bi.read_csv([str(MAT_FIXTURES / "a.csv")])
+    (b,) = bi.read_csv([str(MAT_FIXTURES / "b.csv")])
+    (plain,) = bi.read_mat(str(MAT_FIXTURES / "compressed_v73.mat"))
+    assert np.array_equal(plain.force, a.force) and np.array_equal(plain.response, a.response)
+    assert plain.fs == a.fs
+    two = bi.read_mat(
+        str(MAT_FIXTURES / "cell_v73.mat"),
+        force=("hits.fx", "hits.fy"),
+        disp=("hits.x", "hits.y"),
+    )
+    assert len(two) == 2
+    assert np.array_equal(two[1].response, b.response)
+
+
 def test_read_mat_names_the_byte_of_a_cut_file(tmp_path):
     cut = tmp_path / "cut.mat"
     cut.write_bytes((MAT_FIXTURES / "compressed.mat").read_bytes()[:1000])

@@ -589,8 +589,9 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// A MATLAB MAT-file is malformed: not a level 5 MAT-file, truncated, a byte count or
-    /// dimensions larger than the bytes that hold them, zlib data that do not inflate (feature
+    /// A MATLAB MAT-file is malformed: not a MAT-file, truncated, a byte count, address or
+    /// dimensions larger than the bytes that hold them, zlib data that do not inflate, a cycle
+    /// of HDF5 links or references, an HDF5 feature a `-v7.3` file does not use (feature
     /// `mat`).
     #[cfg(feature = "mat")]
     Mat {

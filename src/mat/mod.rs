@@ -1,9 +1,11 @@
-//! Edge: MATLAB MAT-files, level 5 (`save -v6`, `-v7`; compressed or not) (feature `mat`).
+//! Edge: MATLAB MAT-files, level 5 (`save -v6`, `-v7`; compressed or not) and `-v7.3` (HDF5)
+//! (feature `mat`).
 //!
 //! MATLAB, SciPy (`scipy.io.savemat`) and dynamic-signal analysers save arrays as MAT-files.
-//! This module reads the level 5 format ([`read`], [`parse`]) into [`Variable`]s — numeric
+//! This module reads both formats ([`read`], [`parse`]) into the same [`Variable`]s — numeric
 //! arrays of every class, structs, struct arrays and cell arrays, nested — and builds
-//! [`Record`](crate::Record)s from them ([`records`], [`MatLayout`]).
+//! [`Record`](crate::Record)s from them ([`records`], [`MatLayout`]). The `-v7.3` reader is
+//! pure Rust (no HDF5 library): it reads the part of HDF5 that MATLAB and h5py write.
 //!
 //! # The layout of a level 5 MAT-file
 //! | bytes | content |
@@ -21,12 +23,34 @@
 //! a struct, the cells of a cell array), or a `miCOMPRESSED` element holding one `miMATRIX`
 //! deflated with zlib. Arrays are stored column by column (column-major).
 //!
+//! # The layout of a `-v7.3` MAT-file
+//! A 512-byte user block whose first 128 bytes are a level 5 header (text `MATLAB 7.3
+//! MAT-file, …`, version `0x0200`), then an HDF5 file (superblock version 0, or 2 and 3 as
+//! h5py writes with `libver='latest'`; addresses count from the superblock). Each variable is
+//! an object of the root group with an attribute `MATLAB_class`:
+//! | MATLAB | HDF5 |
+//! |---|---|
+//! | numeric, logical array, M×N | dataset of dimensions N×M (C order: MATLAB's column-major bytes) |
+//! | complex array | dataset of a compound `{real, imag}` (the imaginary parts are not kept) |
+//! | struct | group, one member per field |
+//! | struct array | group, each field a dataset of references, one per element |
+//! | cell array | dataset of object references (to arrays in the group `#refs#`) |
+//! | empty array | dataset holding its dimensions, attribute `MATLAB_empty` |
+//! | `char`, sparse, objects | named by class, not read |
+//!
+//! Groups are read in both styles (symbol table: B-tree and local heap; link messages), object
+//! headers in versions 1 and 2 with their continuation blocks, data compact, contiguous or
+//! chunked (a version 1 B-tree, or one chunk), filtered by deflate and shuffle.
+//!
 //! # Safety on bad files
 //! A file is read whole (at most [`MAX_FILE_BYTES`]); every byte count, dimension and field
 //! count is checked against the bytes that remain before anything is allocated, a compressed
 //! element inflates to at most [`MAX_INFLATE_RATIO`] times its size, and arrays nest at most
-//! [`MAX_DEPTH`] deep, so memory stays bounded by a small multiple of the file's size.
-//! Whatever is wrong is an [`Error::Mat`] naming the file, the byte offset
+//! [`MAX_DEPTH`] deep, so memory stays bounded by a small multiple of the file's size. In a
+//! `-v7.3` file every address and size is checked against the file's length, the data
+//! decoded add up to at most [`MAX_INFLATE_RATIO`] times the file's size, its structures are
+//! read at most 64 times over, and a link or reference back to an array that holds it (a cycle) is
+//! refused. Whatever is wrong is an [`Error::Mat`] naming the file, the byte offset
 //! and what was found.
 //!
 //! # Examples
@@ -53,6 +77,7 @@
 
 mod records;
 mod v5;
+mod v73;
 
 use std::io::Read;
 use std::path::Path;
@@ -60,7 +85,7 @@ use std::path::Path;
 use crate::error::{Error, Result, excerpt};
 
 pub use records::{MatChannel, MatLayout, records};
-pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO, parse};
+pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO};
 
 /// Largest MAT-file read (2 GiB, the size past which MATLAB itself saves as `-v7.3`).
 pub const MAX_FILE_BYTES: u64 = 1 << 31;
@@ -182,6 +207,50 @@ impl Array {
     }
 }
 
+/// Parses the bytes of a MAT-file, level 5 or `-v7.3` (HDF5): every named variable, in the
+/// file's order.
+///
+/// A file whose first bytes read `MATLAB 7.3`, or that holds HDF5's signature at byte 0 or
+/// 512, is read as `-v7.3`; any other as level 5. The unnamed subsystem data MATLAB appends
+/// for objects (level 5) and its `#refs#` and `#subsystem#` groups (`-v7.3`) are skipped.
+///
+/// # Errors
+/// [`Error::Mat`] naming `label`, the byte offset and what is wrong. Level 5: a header that
+/// is not a MAT-file's (a `-v4` file has none), a truncated element, a byte count or
+/// dimensions larger than the bytes that hold them, zlib data that does not inflate, an
+/// unknown element type. `-v7.3`: no HDF5 superblock, an address or size past the end of the
+/// file, a structure without its signature, a cycle of links, references or B-tree nodes, an
+/// HDF5 feature MATLAB does not write (offsets other than 8 bytes, filters other than
+/// deflate and shuffle, HDF5 1.10's chunk indexes, dense link storage), data larger than
+/// [`MAX_INFLATE_RATIO`] times the file. Both: arrays nested deeper than [`MAX_DEPTH`].
+///
+/// # Examples
+/// ```
+/// let e = bearing_ident::mat::parse(b"not a MAT-file", "x.mat").unwrap_err();
+/// assert_eq!(e.kind(), "malformed_mat");
+/// assert!(e.to_string().starts_with("x.mat, byte 0:"), "{e}");
+/// let e = bearing_ident::mat::parse(&[b"MATLAB 7.3 MAT-file".as_slice(), &[0; 600]].concat(), "y.mat")
+///     .unwrap_err();
+/// assert!(e.to_string().contains("no HDF5 signature"), "{e}");
+/// ```
+pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
+    let hdf5 = |at: usize| bytes.get(at..at + 8) == Some(v73::SIGNATURE.as_slice());
+    if bytes.starts_with(b"MATLAB 7.3") || hdf5(0) || hdf5(512) {
+        v73::parse(bytes, label)
+    } else {
+        v5::parse(bytes, label)
+    }
+}
+
+/// Dimensions as `[a, b, c]` for messages: at most four, then how many more.
+fn dims_text<T: std::fmt::Display>(dims: &[T]) -> String {
+    let shown: Vec<String> = dims.iter().take(4).map(T::to_string).collect();
+    match dims.len() {
+        0..=4 => format!("[{}]", shown.join(", ")),
+        n => format!("[{}, … {} more]", shown.join(", "), n - 4),
+    }
+}
+
 /// Whether `path` is a MAT-file (`.mat`, any case).
 ///
 /// # Examples
@@ -195,7 +264,7 @@ pub fn is_mat(path: &Path) -> bool {
         .is_some_and(|x| x.eq_ignore_ascii_case("mat"))
 }
 
-/// Reads every variable of a level 5 MAT-file ([`parse`]).
+/// Reads every variable of a MAT-file, level 5 or `-v7.3` ([`parse`]).
 ///
 /// # Errors
 /// [`Error::Io`] if the file cannot be opened or read; [`Error::FileLimit`] past

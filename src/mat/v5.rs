@@ -28,20 +28,7 @@ const MI_UTF8: u32 = 16;
 
 /// Parses the bytes of a level 5 MAT-file: every named variable, in the file's order (the
 /// unnamed subsystem data MATLAB appends for objects is skipped).
-///
-/// # Errors
-/// [`Error::Mat`] naming `label`, the byte offset and what is wrong: a header that is not a
-/// level 5 MAT-file's (a `-v7.3` file is HDF5, a `-v4` file has no header), a truncated
-/// element, a byte count or dimensions larger than the bytes that hold them, zlib data that
-/// does not inflate, an unknown element type, arrays nested deeper than [`MAX_DEPTH`].
-///
-/// # Examples
-/// ```
-/// let e = bearing_ident::mat::parse(b"not a MAT-file", "x.mat").unwrap_err();
-/// assert_eq!(e.kind(), "malformed_mat");
-/// assert!(e.to_string().starts_with("x.mat, byte 0:"), "{e}");
-/// ```
-pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
+pub(super) fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
     let bad = |offset: usize, message: String| Error::Mat {
         path: label.to_owned(),
         offset: offset as u64,
@@ -54,12 +41,6 @@ pub fn parse(bytes: &[u8], label: &str) -> Result<Vec<Variable>> {
                 "{} bytes: shorter than the 128-byte header of a level 5 MAT-file",
                 bytes.len()
             ),
-        ));
-    }
-    if bytes.starts_with(b"MATLAB 7.3") || bytes.get(512..520) == Some(b"\x89HDF\r\n\x1a\n") {
-        return Err(bad(
-            0,
-            "a MATLAB -v7.3 file (HDF5), which this reader does not read: save with -v7".into(),
         ));
     }
     let little = match &bytes[126..128] {
@@ -304,7 +285,10 @@ impl Reader<'_> {
         if dims.len() < 2 || dims.contains(&usize::MAX) {
             return Err(self.bad(
                 dims_tag.start,
-                format!("dimensions {dims:?}: at least two, none negative"),
+                format!(
+                    "dimensions {}: at least two, none negative",
+                    super::dims_text(&dims)
+                ),
             ));
         }
         let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
@@ -316,7 +300,7 @@ impl Reader<'_> {
         let count = count.filter(|&n| n <= len).ok_or_else(|| {
             self.bad(
                 dims_tag.start,
-                format!("array `{shown}` declares dimensions {dims:?}, more elements than its {len} bytes hold"),
+                format!("array `{shown}` declares dimensions {}, more elements than its {len} bytes hold", super::dims_text(&dims)),
             )
         })?;
         let array = match class {
@@ -330,7 +314,8 @@ impl Reader<'_> {
                     return Err(self.bad(
                         at,
                         format!(
-                            "array `{shown}` of dimensions {dims:?} holds {} values",
+                            "array `{shown}` of dimensions {} holds {} values",
+                            super::dims_text(&dims),
                             real.len()
                         ),
                     ));

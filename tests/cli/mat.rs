@@ -158,3 +158,56 @@ fn a_campaign_point_reads_matrix_columns_at_a_given_rate() {
     assert_eq!(direct["fs"], 1000.0);
     assert_eq!(point["K"], direct["K"], "{point}");
 }
+
+#[test]
+fn identify_gives_the_csv_result_bit_for_bit_from_each_v73_layout() {
+    let csv = result(&identify(&[&fixture("a.csv")]));
+    for file in ["plain_v73.mat", "compressed_v73.mat", "latest_v73.mat"] {
+        assert_eq!(result(&identify(&[&fixture(file)])), csv, "{file}");
+    }
+    let columns = [
+        "--force",
+        "data:2,data:3",
+        "--disp",
+        "data:4,data:5",
+        "--time",
+        "data:1",
+    ];
+    let matrix = identify(&[&columns[..], &[&fixture("matrix_v73.mat")]].concat());
+    assert_eq!(result(&matrix), csv);
+    // The struct array reads as its level 5 twin, bit for bit.
+    let fields = ["--force", "recs.fx,recs.fy", "--disp", "recs.x,recs.y"];
+    let v5 = identify(&[&fields[..], &[&fixture("struct_array.mat")]].concat());
+    let v73 = identify(&[&fields[..], &[&fixture("struct_array_v73.mat")]].concat());
+    assert_eq!(v73["n_records"], 2);
+    assert_eq!(result(&v73), result(&v5));
+}
+
+#[test]
+fn inspect_lists_v73_variables_fields_class_and_size() {
+    let out = run(&[
+        "inspect",
+        &fixture("struct_array_v73.mat"),
+        &fixture("cell_v73.mat"),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("struct_array_v73.mat: 2 MAT-file variables"),
+        "{text}"
+    );
+    for line in [
+        "recs                     struct     1×2",
+        "recs.fx                  double     512×1",
+        "hits                     cell       1×2",
+        "hits.Fs                  double     1×1",
+    ] {
+        assert!(text.contains(line), "{line}\n{text}");
+    }
+    let out = run(&["inspect", "--json", &fixture("wrong_classes_v73.mat")]);
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let fx = &v["variables"][0];
+    assert_eq!(fx["name"], "fx");
+    assert_eq!(fx["class"], "char");
+    assert_eq!(fx["size"], serde_json::json!([1, 12]));
+}

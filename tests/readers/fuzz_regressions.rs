@@ -138,3 +138,36 @@ fn escaped_quotes_stay_within_their_limit() {
     assert!(message.chars().count() <= 200, "{message}");
     assert!(!message.contains('\0'), "{message}");
 }
+
+/// A MAT-file array of 300 dimensions, all negative, made an error message of 2148 characters
+/// (every dimension listed; found by `fuzz/fuzz_targets/mat.rs`); four are shown now.
+#[cfg(feature = "mat")]
+#[test]
+fn a_mat_array_of_300_dimensions_is_refused_in_a_short_message() {
+    let le = |v: u32| v.to_le_bytes();
+    let mut file = vec![b' '; 116];
+    file.extend([0; 8]);
+    file.extend([0x00, 0x01, b'I', b'M']);
+    let dims = vec![0xff; 4 * 300];
+    let body = [
+        &le(6)[..],
+        &le(8),
+        &[6, 0, 0, 0, 0, 0, 0, 0], // flags: double
+        &le(5),
+        &le(dims.len() as u32),
+        &dims,
+    ]
+    .concat();
+    file.extend([&le(14)[..], &le(body.len() as u32), &body].concat());
+    let e = bearing_ident::mat::parse(&file, "dims.mat").unwrap_err();
+    assert_eq!(e.kind(), "malformed_mat");
+    let m = e.to_string();
+    assert!(
+        m.ends_with(
+            ": dimensions [18446744073709551615, 18446744073709551615, 18446744073709551615, \
+             18446744073709551615, … 296 more]: at least two, none negative"
+        ),
+        "{m}"
+    );
+    assert!(m.len() < MAX_MESSAGE, "{m}");
+}

@@ -238,7 +238,7 @@ fn lying_and_huge_sizes_are_refused_before_allocating() {
     let mut v73 = b"MATLAB 7.3 MAT-file".to_vec();
     v73.resize(600, 0);
     let m = parse_error(&v73);
-    assert!(m.contains("-v7.3"), "{m}");
+    assert!(m.contains("no HDF5 signature at byte 0, 512"), "{m}");
 }
 
 #[test]
@@ -282,6 +282,16 @@ fn mutated_files_give_records_or_typed_errors_never_a_panic() {
         ("compressed.mat", "fx,fy", "x,y", "t"),
         ("struct_array.mat", "recs.fx,recs.fy", "recs.x,recs.y", "t"),
         ("cell.mat", "hits.fx,hits.fy", "hits.x,hits.y", "t"),
+        ("plain_v73.mat", "fx,fy", "x,y", "t"),
+        ("compressed_v73.mat", "fx,fy", "x,y", "t"),
+        ("latest_v73.mat", "fx,fy", "x,y", "t"),
+        (
+            "struct_array_v73.mat",
+            "recs.fx,recs.fy",
+            "recs.x,recs.y",
+            "t",
+        ),
+        ("cell_v73.mat", "hits.fx,hits.fy", "hits.x,hits.y", "t"),
     ];
     let mut state = 38;
     for (name, force, disp, time) in layouts {
@@ -333,4 +343,146 @@ fn mutated_files_give_records_or_typed_errors_never_a_panic() {
             }
         }
     }
+}
+
+// MATLAB -v7.3 (HDF5) files written by h5py in MATLAB's layout.
+
+#[test]
+fn v73_variables_contiguous_chunked_and_new_style_read_as_the_csv() {
+    let a = csv("a.csv");
+    for file in ["plain_v73.mat", "compressed_v73.mat", "latest_v73.mat"] {
+        let r = read(file, "", "", "t").unwrap();
+        assert_eq!(r.len(), 1, "{file}");
+        assert_same(&r[0], &a, true);
+    }
+    // Columns (N×1) and rows (1×N) as MATLAB saw them.
+    let vars = mat::read(fixture("plain_v73.mat")).unwrap();
+    let names: Vec<&str> = vars.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(names, ["fx", "fy", "t", "x", "y"]);
+    assert_eq!(vars[0].array.dims(), [512, 1]);
+    assert_eq!(vars[0].array.class(), "double");
+    let vars = mat::read(fixture("compressed_v73.mat")).unwrap();
+    assert_eq!(vars[0].array.dims(), [1, 512]);
+}
+
+#[test]
+fn v73_matrix_columns_are_matlab_columns() {
+    let r = read("matrix_v73.mat", "data:2,data:3", "data:4,data:5", "data:1").unwrap();
+    assert_eq!(r.len(), 1);
+    assert_same(&r[0], &csv("a.csv"), true);
+    let vars = mat::read(fixture("matrix_v73.mat")).unwrap();
+    assert_eq!(vars[0].array.size_text(), "512×5");
+    // The same matrix in 2×100 chunks (cut at both edges) reads to the same values.
+    assert_eq!(vars[1].name, "tiles");
+    let (data, tiles) = (vars[0].array.samples(), vars[1].array.samples());
+    assert_eq!(bits(tiles.unwrap()), bits(data.unwrap()));
+}
+
+#[test]
+fn v73_struct_fields_with_a_scalar_rate_read_as_the_csv() {
+    let r = read("struct_v73.mat", "rec.fx,rec.fy", "rec.x,rec.y", "rec.t").unwrap();
+    assert_eq!(r.len(), 1);
+    assert_same(&r[0], &csv("a.csv"), false);
+    let e = read("struct_v73.mat", "rec.fx,rec.fz", "rec.x,rec.y", "rec.t").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`rec.fz`: no `fz` here; there are: fs, fx, fy, x, y"),
+        "{e}"
+    );
+}
+
+#[test]
+fn v73_struct_and_cell_arrays_give_a_record_per_element_in_order() {
+    let (a, b) = (csv("a.csv"), csv("b.csv"));
+    for (file, prefix) in [("struct_array_v73.mat", "recs"), ("cell_v73.mat", "hits")] {
+        let f = format!("{prefix}.fx,{prefix}.fy");
+        let x = format!("{prefix}.x,{prefix}.y");
+        let r = read(file, &f, &x, "t").unwrap();
+        assert_eq!(r.len(), 2, "{file}");
+        assert_same(&r[0], &a, false);
+        assert_same(&r[1], &b, false);
+    }
+    let vars = mat::read(fixture("struct_array_v73.mat")).unwrap();
+    assert_eq!(vars[1].name, "recs");
+    assert_eq!(vars[1].array.size_text(), "1×2");
+}
+
+#[test]
+fn v73_text_and_complex_numbers_are_not_channels() {
+    let e = read("wrong_classes_v73.mat", "fx", "x", "t").unwrap_err();
+    assert!(
+        e.to_string().ends_with("`fx`: a 1×12 char, not numbers"),
+        "{e}"
+    );
+    let e = read("wrong_classes_v73.mat", "fy", "x", "t").unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("`fy`: a complex 1×512 double: a channel is real"),
+        "{e}"
+    );
+}
+
+#[test]
+fn v73_cycles_are_malformed() {
+    let m = parse_error(&bytes("cycle_v73.mat"));
+    assert!(
+        m.contains("`c{1}` refers back to an array that holds it"),
+        "{m}"
+    );
+    let m = parse_error(&bytes("loop_v73.mat"));
+    assert!(
+        m.contains("`s.self` refers back to an array that holds it"),
+        "{m}"
+    );
+}
+
+/// Where the 16 bytes `pattern` start in `data` (once).
+fn find(data: &[u8], pattern: &[u8]) -> usize {
+    let hits: Vec<usize> = data
+        .windows(pattern.len())
+        .enumerate()
+        .filter(|(_, w)| *w == pattern)
+        .map(|(i, _)| i)
+        .collect();
+    assert!(!hits.is_empty(), "{pattern:?} not found");
+    hits[0]
+}
+
+#[test]
+fn v73_truncated_lying_and_foreign_files_are_malformed() {
+    for name in [
+        "plain_v73.mat",
+        "compressed_v73.mat",
+        "latest_v73.mat",
+        "cell_v73.mat",
+    ] {
+        let data = bytes(name);
+        let cuts = (0..700)
+            .step_by(7)
+            .chain((700..data.len()).step_by(61))
+            .chain(data.len() - 9..data.len());
+        for cut in cuts {
+            match mat::parse(&data[..cut], "bad.mat") {
+                Ok(vars) => assert!(vars.len() < 5, "{name} cut at {cut}"),
+                Err(e) => assert_eq!(e.kind(), "malformed_mat", "{name} cut at {cut}: {e}"),
+            }
+        }
+    }
+    let m = parse_error(&bytes("plain_v73.mat")[..3000]);
+    assert!(m.contains("past the end of the file"), "{m}");
+    // Dimensions 1×2⁴⁰ in a dataspace that says 1×512.
+    let mut data = bytes("plain_v73.mat");
+    let dims = [1u64.to_le_bytes(), 512u64.to_le_bytes()].concat();
+    let at = find(&data, &dims);
+    data[at + 8..at + 16].copy_from_slice(&(1u64 << 40).to_le_bytes());
+    let m = parse_error(&data);
+    assert!(m.contains("more than a file of 25088 bytes holds"), "{m}");
+    // Offsets of 4 bytes; a superblock version 9.
+    let mut data = bytes("plain_v73.mat");
+    data[512 + 13] = 4;
+    let m = parse_error(&data);
+    assert!(m.contains("HDF5 offsets of 4 bytes"), "{m}");
+    data[512 + 8] = 9;
+    let m = parse_error(&data);
+    assert!(m.contains("superblock version 9"), "{m}");
 }

@@ -229,7 +229,7 @@ pub struct IdentifyArgs {
     /// then node; or the channels `--force`, `--disp` name; `--time` does not apply to them),
     /// or TDMS files `.tdms` (channels named `GROUP/CHANNEL`, or `CHANNEL` when unique; a
     /// record per file or per group, `--record-by`),
-    /// or MATLAB MAT-files `.mat` (level 5, `-v7`: channels as variables `fx`, struct fields
+    /// or MATLAB MAT-files `.mat` (`-v6`, `-v7`, `-v7.3`: channels as variables `fx`, struct fields
     /// `rec.fx` or matrix columns `data:2`, counted from 1; a record per element of a struct
     /// or cell array on the way).
     #[arg(required = true)]
