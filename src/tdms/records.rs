@@ -71,7 +71,8 @@ pub struct TdmsLayout {
 /// [`Error::TdmsChannel`] for a channel that is not in the file, named ambiguously, or whose
 /// samples cannot be read (strings, a scaling other than linear or polynomial, a unit of
 /// another quantity, a given unit that is not a recognised one: kind `unsupported`);
-/// [`Error::TdmsRecord`] for channels of different lengths or rates, no rate,
+/// [`Error::TdmsRecord`] for channels of different lengths or rates, no rate, a number of
+/// given units other than one or one per channel,
 /// a time channel off its grid, or no group holding the channels; the errors of
 /// [`Record::new`].
 ///
@@ -279,48 +280,55 @@ fn record(
         }
     };
     let mut warnings = Vec::new();
-    let mut own = |set: &[(&String, &Channel)],
-                   given: &[String],
-                   force: bool|
-     -> Result<Vec<Vec<f64>>> {
-        set.iter()
-            .enumerate()
-            .map(|(i, (n, c))| {
-                let mut v = samples(c, n, label)?.to_vec();
-                let given = crate::units::given(given, i, set.len());
-                let Some(stated) = given.or_else(|| c.unit()) else {
-                    return Ok(v);
-                };
-                let to_si = match si_factor(stated, force) {
-                    Ok(to_si) => to_si,
-                    // A unit the file states and this crate does not know: used as read (SI),
-                    // with a warning naming it; one the user gives is never guessed.
-                    Err(Unknown::Name) if given.is_none() => {
-                        warnings.push(Warning::UnknownUnit {
-                            record: excerpt(label),
-                            channel: excerpt(n),
-                            unit: excerpt(stated),
-                            force,
-                        });
+    let mut own =
+        |set: &[(&String, &Channel)], given: &[String], force: bool| -> Result<Vec<Vec<f64>>> {
+            set.iter()
+                .enumerate()
+                .map(|(i, (n, c))| {
+                    let mut v = samples(c, n, label)?.to_vec();
+                    let count = given.len();
+                    let given = crate::units::given(given, i, set.len());
+                    if given.is_none() && count > 0 {
+                        return Err(bad(format!(
+                            "--{} names {count} units for {} channels: give one for all or one per \
+                         channel",
+                            if force { "force-unit" } else { "disp-unit" },
+                            set.len()
+                        )));
+                    }
+                    let Some(stated) = given.or_else(|| c.unit()) else {
                         return Ok(v);
+                    };
+                    let to_si = match si_factor(stated, force) {
+                        Ok(to_si) => to_si,
+                        // A unit the file states and this crate does not know: used as read (SI),
+                        // with a warning naming it; one the user gives is never guessed.
+                        Err(Unknown::Name) if given.is_none() => {
+                            warnings.push(Warning::UnknownUnit {
+                                record: excerpt(label),
+                                channel: excerpt(n),
+                                unit: excerpt(stated),
+                                force,
+                            });
+                            return Ok(v);
+                        }
+                        Err(why) => {
+                            return Err(Error::TdmsChannel {
+                                path: excerpt(label),
+                                channel: excerpt(n),
+                                message: why.message(stated, force),
+                                unsupported: true,
+                            });
+                        }
+                    };
+                    // SI stays bit for bit as read.
+                    if to_si != 1.0 {
+                        v.iter_mut().for_each(|x| *x *= to_si);
                     }
-                    Err(why) => {
-                        return Err(Error::TdmsChannel {
-                            path: excerpt(label),
-                            channel: excerpt(n),
-                            message: why.message(stated, force),
-                            unsupported: true,
-                        });
-                    }
-                };
-                // SI stays bit for bit as read.
-                if to_si != 1.0 {
-                    v.iter_mut().for_each(|x| *x *= to_si);
-                }
-                Ok(v)
-            })
-            .collect()
-    };
+                    Ok(v)
+                })
+                .collect()
+        };
     let forces = own(&forces, &layout.force_units, true)?;
     let responses = own(&responses, &layout.response_units, false)?;
     Ok(Record::new(label, rate, forces, responses)?.with_warnings(warnings))

@@ -475,19 +475,37 @@ fn stated_units_convert_to_si_and_unknown_ones_warn() {
         "record `volts.tdms`: channel `fx` has unit `V`, not one this crate converts: its \
          samples were used as read, in N; give --force-unit to convert them"
     );
-    assert!(records(&file("N", "m"), "si.tdms", &layout).unwrap()[0]
-        .warnings()
-        .is_empty());
+    assert!(
+        records(&file("N", "m"), "si.tdms", &layout).unwrap()[0]
+            .warnings()
+            .is_empty()
+    );
     let unknown_given = TdmsLayout {
         response_units: vec!["furlong".into()],
         ..layout.clone()
     };
     for (f, x, layout, named) in [
         ("N", "lbf", &layout, "`lbf` is not a response unit"),
-        ("N", "m", &unknown_given, "`furlong` is not one this reader converts"),
+        (
+            "N",
+            "m",
+            &unknown_given,
+            "`furlong` is not one this reader converts",
+        ),
     ] {
         let e = records(&file(f, x), "bad.tdms", layout).unwrap_err();
         assert_eq!(e.kind(), "unsupported", "{e}");
         assert!(e.to_string().contains(named), "{e}");
     }
+    // Units given for more channels than there are: refused, never matched up by guess.
+    let two = TdmsLayout {
+        force_units: vec!["N".into(), "lbf".into()],
+        ..layout.clone()
+    };
+    let e = records(&file("N", "m"), "bad.tdms", &two).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("--force-unit names 2 units for 1 channels"),
+        "{e}"
+    );
 }

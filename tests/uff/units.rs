@@ -2,9 +2,9 @@
 //! and converted to SI, as pyuff writes it; a label the crate does not know is a warning, the
 //! values used as read; a unit of another quantity, or a given one not known, an error.
 
+use bearing_ident::Warning;
 use bearing_ident::uff::{self, UffLayout};
 use bearing_ident::units::{INCH, LBF};
-use bearing_ident::Warning;
 
 /// Three time histories as pyuff 2.5.8 writes them (`prepare_58` with
 /// `ordinate_axis_units_lab` `lbf`, `mil`, `V`; exponents 0/1, 1/0, 0/0; trailing spaces
@@ -77,7 +77,10 @@ fn units_labels_convert_to_si_and_unknown_ones_warn() {
     for k in 0..8 {
         let (f, x) = (k as f64 - 2.0, 0.5 * k as f64);
         assert_eq!(r.force(0)[k].to_bits(), (f * LBF).to_bits(), "sample {k}");
-        assert_eq!(r.displacement(0)[k].to_bits(), (x * (1e-3 * INCH)).to_bits());
+        assert_eq!(
+            r.displacement(0)[k].to_bits(),
+            (x * (1e-3 * INCH)).to_bits()
+        );
     }
     assert!(r.warnings().is_empty());
     // V: not a unit the crate converts: read as SI, and a warning names file, channel, unit.
