@@ -53,6 +53,7 @@
 
 mod records;
 mod v5;
+mod write;
 
 use std::io::Read;
 use std::path::Path;
@@ -61,6 +62,7 @@ use crate::error::{Error, Result, excerpt};
 
 pub use records::{MatChannel, MatLayout, records};
 pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO, parse};
+pub use write::write;
 
 /// Largest MAT-file read (2 GiB, the size past which MATLAB itself saves as `-v7.3`).
 pub const MAX_FILE_BYTES: u64 = 1 << 31;

@@ -1,5 +1,6 @@
 //! TDMS files (NI LabVIEW and DAQmx): groups of channels with their properties, read into
-//! scaled samples, and records built from them (feature `tdms`, no dependencies).
+//! scaled samples, and records built from them; records written as one (feature `tdms`, no
+//! dependencies).
 //!
 //! A TDMS file is a run of segments. Each begins with a 28-byte lead-in: the tag `TDSm`, a
 //! table of contents (which parts the segment holds: metadata, a new object list, raw data,
@@ -22,6 +23,7 @@
 mod parse;
 mod records;
 mod scaling;
+mod write;
 
 use std::io::Read;
 use std::path::Path;
@@ -29,6 +31,7 @@ use std::path::Path;
 use crate::error::{Error, Result, excerpt};
 
 pub use records::{RecordBy, TdmsLayout, records};
+pub use write::write;
 
 /// A TDMS file read whole: its own properties and its groups in order of first appearance.
 #[derive(Debug, Clone, PartialEq, Default)]
