@@ -255,10 +255,10 @@ impl Record {
     ///     unit: "kgf".into(),
     ///     force: true,
     /// };
-    /// let r = Record::new("run3.tdms", 100.0, vec![vec![1.0; 8]], vec![vec![0.5; 8]])?
+    /// let r = Record::new("run3.tdms", 100.0, vec![vec![1.0; 16]], vec![vec![0.5; 16]])?
     ///     .with_warnings(vec![w]);
     /// assert_eq!(r.warnings()[0].kind(), "unknown_unit");
-    /// assert_eq!(r.trimmed(2..8)?.warnings().len(), 1);
+    /// assert_eq!(r.trimmed(2..16)?.warnings().len(), 1);
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
     #[must_use]
