@@ -61,6 +61,38 @@ pub fn open(path: &Path, pattern: Option<&str>) -> Result<std::fs::File> {
     std::fs::File::open(path).map_err(|e| io(e.to_string()))
 }
 
+/// The bytes of the file at `path` (opened as [`open`] opens it), at most `limit` of them:
+/// read into a buffer sized from the file's length, so that a large file is copied once.
+///
+/// # Errors
+/// As [`open`]; [`Error::Io`] if it cannot be read; [`Error::FileLimit`] (naming `what`)
+/// past `limit` bytes.
+pub(crate) fn read_bytes(
+    path: &Path,
+    pattern: Option<&str>,
+    limit: u64,
+    what: &str,
+) -> Result<Vec<u8>> {
+    let label = || excerpt(&path.display().to_string());
+    let file = open(path, pattern)?;
+    let stated = file.metadata().map_or(0, |m| m.len()).min(limit + 1);
+    let mut bytes = Vec::with_capacity(usize::try_from(stated).unwrap_or(0));
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::Io {
+            path: label(),
+            message: e.to_string(),
+        })?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::FileLimit {
+            path: label(),
+            what: what.into(),
+            limit,
+        });
+    }
+    Ok(bytes)
+}
+
 /// Reads the whole text of a JSON file, at most [`MAX_JSON_BYTES`] of it; invalid UTF-8 is
 /// replaced (the JSON parser then names it).
 ///

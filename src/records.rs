@@ -14,7 +14,7 @@
 
 use std::ops::Range;
 
-use crate::error::{Channel, Error, Result};
+use crate::error::{Channel, Error, Result, Warning};
 use crate::lanes;
 
 mod probes;
@@ -63,6 +63,8 @@ pub struct Record {
     /// The force channel with the largest energy about its mean ([`Record::dominant_force`]),
     /// found once when the record is built.
     dominant: usize,
+    /// What its reader noticed and did not refuse ([`Record::warnings`]).
+    warnings: Vec<Warning>,
 }
 
 impl Record {
@@ -207,6 +209,7 @@ impl Record {
             displacements,
             responses,
             dominant,
+            warnings: Vec::new(),
         })
     }
 
@@ -237,6 +240,37 @@ impl Record {
         }
         self.responses = responses;
         Ok(self)
+    }
+
+    /// The same record carrying `warnings`, in place of any it carried: what its reader
+    /// noticed and did not refuse (a unit it does not convert, [`Warning::UnknownUnit`]). A
+    /// [`Job`](crate::job::Job) reports them with its result's warnings.
+    ///
+    /// # Examples
+    /// ```
+    /// use bearing_ident::{Record, Warning};
+    /// let w = Warning::UnknownUnit {
+    ///     record: "run3.tdms".into(),
+    ///     channel: "fx".into(),
+    ///     unit: "kgf".into(),
+    ///     force: true,
+    /// };
+    /// let r = Record::new("run3.tdms", 100.0, vec![vec![1.0; 16]], vec![vec![0.5; 16]])?
+    ///     .with_warnings(vec![w]);
+    /// assert_eq!(r.warnings()[0].kind(), "unknown_unit");
+    /// assert_eq!(r.trimmed(2..16)?.warnings().len(), 1);
+    /// # Ok::<(), bearing_ident::Error>(())
+    /// ```
+    #[must_use]
+    pub fn with_warnings(mut self, warnings: Vec<Warning>) -> Self {
+        self.warnings = warnings;
+        self
+    }
+
+    /// What the record's reader noticed and did not refuse ([`Record::with_warnings`]);
+    /// empty for a record built in memory.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
     }
 
     /// What response channel `i` measures.
@@ -352,6 +386,7 @@ impl Record {
             false,
         )?
         .with_responses(self.responses.clone())
+        .map(|r| r.with_warnings(self.warnings.clone()))
     }
 
     /// The force channel with the largest energy about its mean: the direction this record

@@ -218,6 +218,20 @@ pub enum Warning {
         needed: usize,
     },
     // ---- Record screening (`crate::screening`) ----
+    /// A channel's unit, as its file states it (a TDMS `unit_string`, a Universal File's units
+    /// label), is not one this crate converts ([`Unit::named`](crate::units::Unit::named)):
+    /// its samples were used as read, that is as SI (N for a force; m, m/s or m/s² for a
+    /// response). A unit given by the user is never guessed: an unknown one is an error.
+    UnknownUnit {
+        /// Label of the record (the file, or `FILE:GROUP`).
+        record: String,
+        /// The channel, as the file or the user names it.
+        channel: String,
+        /// The unit as the file writes it.
+        unit: String,
+        /// Whether it is a force channel (else a response).
+        force: bool,
+    },
     /// A channel holds one value throughout (no variation beyond rounding): a dead,
     /// disconnected or unpowered sensor (see [`screening`](crate::screening)).
     FlatChannel {
@@ -559,6 +573,7 @@ impl Warning {
             Warning::ForceGateShort { .. } => "force_gate_short",
             Warning::CoarseResolution { .. } => "coarse_resolution",
             Warning::FewLines { .. } => "few_lines",
+            Warning::UnknownUnit { .. } => "unknown_unit",
             Warning::FlatChannel { .. } => "flat_channel",
             Warning::DeadChannel { .. } => "dead_channel",
             Warning::LevelOutlier { .. } => "level_outlier",

@@ -157,6 +157,24 @@ impl fmt::Display for Warning {
                 "only {lines} lines in the band ({needed} wanted): little redundancy in the fit"
             ),
             // ---- Record screening ----
+            Warning::UnknownUnit {
+                record,
+                channel,
+                unit,
+                force,
+            } => {
+                let (si, option) = if *force {
+                    ("N", "--force-unit")
+                } else {
+                    ("m (m/s, m/s² for velocity, acceleration)", "--disp-unit")
+                };
+                write!(
+                    f,
+                    "record `{record}`: channel `{channel}` has unit `{unit}`, not one this \
+                     crate converts: its samples were used as read, in {si}; give {option} to \
+                     convert them"
+                )
+            }
             Warning::FlatChannel {
                 record,
                 channel,

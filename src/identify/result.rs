@@ -423,6 +423,14 @@ impl Identification {
         &self.warnings
     }
 
+    /// The same result with `warnings` of its records' readers (a unit not converted) ahead of
+    /// its own: the job reports what reading noticed with what the identification found.
+    #[cfg(feature = "job")]
+    pub(crate) fn with_read_warnings(mut self, warnings: Vec<Warning>) -> Self {
+        self.warnings.splice(0..0, warnings);
+        self
+    }
+
     /// Wall time per stage of the run that produced this result ([`Timings`]; not part of
     /// the result's value, so not compared by `==` nor serialized).
     ///

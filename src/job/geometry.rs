@@ -354,7 +354,8 @@ impl Geometry {
                 forces,
                 responses,
                 kinds[..n].to_vec(),
-            );
+            )
+            .map(|r| r.with_warnings(record.warnings().to_vec()));
         }
         let Mode::Conical { pivot, .. } = self.mode else {
             unreachable!("two planes returned above")
@@ -388,6 +389,7 @@ impl Geometry {
             responses,
             kinds,
         )
+        .map(|r| r.with_warnings(record.warnings().to_vec()))
     }
 }
 

@@ -52,7 +52,7 @@ pub use read::{Channels, is_tdms, is_uff, read_file, read_first, response_column
 pub use timings::Timings;
 
 use crate::Method;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Warning};
 use crate::excitation::{
     Evidence, Excitation, IMPACT_CREST_FACTOR, WelchChoice, choose_with_spectra, crest_factor,
     deciding_record, response_crest_factor,
@@ -113,6 +113,7 @@ enum Start<'a> {
     Transformed {
         spectra: Box<Spectra>,
         labels: Vec<String>,
+        warnings: Vec<Warning>,
     },
 }
 
@@ -507,6 +508,7 @@ impl Job {
         let start = Start::Transformed {
             spectra: Box::new(spectra),
             labels: records.iter().map(|r| r.label().to_owned()).collect(),
+            warnings: read_warnings(&records),
         };
         let identifier = identifier.segmentation(Segmentation::Welch { len });
         Ok((identifier, Some(len), Some(choice), start))
@@ -526,21 +528,27 @@ fn identify(
     observe: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Identification> {
     let source = match start {
-        Start::Transformed { spectra, labels } => {
+        Start::Transformed {
+            spectra,
+            labels,
+            warnings,
+        } => {
             files.extend(labels);
-            return spectra.finish();
+            return Ok(spectra.finish()?.with_read_warnings(warnings));
         }
         Start::Records(source) => source,
     };
     let (first, mut ahead, paths) = match source {
         Source::Read(records) => {
             files.extend(records.iter().map(|r| r.label().to_owned()));
-            return identify_records(
+            let warnings = read_warnings(&records);
+            return Ok(identify_records(
                 identifier,
                 excitation,
                 step_tolerance_hz,
                 records.into_iter().map(Ok),
-            );
+            )?
+            .with_read_warnings(warnings));
         }
         Source::Streamed {
             first,
@@ -567,12 +575,20 @@ fn identify(
         })
     })
     .flatten();
+    let mut warnings = Vec::new();
     let records = first.into_iter().map(Ok).chain(rest).inspect(|r| {
         if let Ok(r) = r {
             files.push(r.label().to_owned());
+            warnings.extend_from_slice(r.warnings());
         }
     });
-    identify_records(identifier, excitation, step_tolerance_hz, records)
+    let identification = identify_records(identifier, excitation, step_tolerance_hz, records)?;
+    Ok(identification.with_read_warnings(warnings))
+}
+
+/// What the readers of `records` noticed ([`Record::warnings`]), in record order.
+fn read_warnings(records: &[Record]) -> Vec<Warning> {
+    records.iter().flat_map(|r| r.warnings()).cloned().collect()
 }
 
 /// Identifies `records` as they arrive, or all together for a stepped-sine test (each record

@@ -44,7 +44,7 @@ pub struct Channels {
     pub record_by: RecordBy,
     /// Units of the force channels ([`crate::units::Unit::named`]), one for all or one per
     /// channel: each channel is converted to SI on reading. None: SI, or as a TDMS file
-    /// states them (`unit_string`).
+    /// (`unit_string`) or a Universal File (units label of the ordinate) states them.
     pub force_units: Vec<String>,
     /// Units of the response channels, as `force_units`.
     pub response_units: Vec<String>,
@@ -123,6 +123,7 @@ impl Channels {
                 forces: parse(force, "force")?,
                 responses: parse(disp, "disp")?,
                 kinds: responses.to_vec(),
+                ..UffLayout::default()
             }
         } else {
             UffLayout::default()
@@ -296,6 +297,12 @@ impl Channels {
                 return twice((*a, *b), x.to_string());
             }
         }
+        for name in &self.force_units {
+            unit_factor(name, true)?;
+        }
+        for name in &self.response_units {
+            unit_factor(name, false)?;
+        }
         Ok(())
     }
 }
@@ -352,7 +359,7 @@ pub fn is_tdms(path: &Path) -> bool {
 /// ```
 pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
-        in_si_all(read_uff(path, channels)?, channels)?
+        read_uff(path, channels)?
     } else if is_tdms(path) {
         read_tdms(path, channels)?
     } else if is_mat(path) {
@@ -389,7 +396,7 @@ fn read_records(
     reader: &mut io::CsvReader,
 ) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
-        in_si_all(read_uff(path, channels)?, channels)?
+        read_uff(path, channels)?
     } else if is_tdms(path) {
         read_tdms(path, channels)?
     } else if is_mat(path) {
@@ -408,10 +415,16 @@ fn moved(records: Vec<Record>, channels: &Channels) -> Result<Vec<Record>> {
     }
 }
 
-/// The records of a Universal File, one per load case.
+/// The records of a Universal File, one per load case, converted to SI from the units given
+/// or, failing those, the units labels of the file.
 fn read_uff(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
     let functions = crate::uff::read(path)?;
-    crate::uff::records_with(&functions, &path.display().to_string(), &channels.uff)
+    let layout = UffLayout {
+        force_units: channels.force_units.clone(),
+        response_units: channels.response_units.clone(),
+        ..channels.uff.clone()
+    };
+    crate::uff::records_with(&functions, &path.display().to_string(), &layout)
 }
 
 /// The records of a TDMS file, its channels named as CSV columns are.
@@ -452,8 +465,8 @@ fn with_kinds(record: Record, channels: &Channels) -> Result<Record> {
 }
 
 /// `record` with each channel multiplied by the SI factor of its unit as given
-/// ([`Channels::force_units`], [`Channels::response_units`]; none: as read). TDMS records are
-/// converted by their reader, which knows the units the file states.
+/// ([`Channels::force_units`], [`Channels::response_units`]; none: as read). TDMS records and
+/// Universal Files are converted by their readers, which know the units the file states.
 fn in_si(record: Record, channels: &Channels) -> Result<Record> {
     if channels.force_units.is_empty() && channels.response_units.is_empty() {
         return Ok(record);
@@ -472,18 +485,7 @@ fn in_si(record: Record, channels: &Channels) -> Result<Record> {
                         given.len()
                     ),
                 }),
-                Some(name) => match crate::units::Unit::named(name) {
-                    Some(u) if u.fits(force) => Ok(u.to_si),
-                    _ => Err(Error::InvalidOption {
-                        option,
-                        message: format!(
-                            "--{option}: `{}` is not a {} unit this crate knows (N, kN, lbf; \
-                             m, mm, um, in, mil; m/s, in/s; m/s^2, g)",
-                            crate::error::excerpt(name),
-                            if force { "force" } else { "response" }
-                        ),
-                    }),
-                },
+                Some(name) => unit_factor(name, force),
             })
             .collect()
     };
@@ -498,6 +500,7 @@ fn in_si(record: Record, channels: &Channels) -> Result<Record> {
     }
     let scaled = |v: &[f64], k: f64| v.iter().map(|s| s * k).collect::<Vec<f64>>();
     let kinds = record.responses().to_vec();
+    let warnings = record.warnings().to_vec();
     Record::new(
         record.label(),
         record.sample_rate(),
@@ -507,6 +510,28 @@ fn in_si(record: Record, channels: &Channels) -> Result<Record> {
             .collect(),
     )?
     .with_responses(kinds)
+    .map(|r| r.with_warnings(warnings))
+}
+
+/// The factor to SI of a unit the user gives for a force (`force`) or response channel.
+///
+/// # Errors
+/// [`Error::InvalidOption`] (`force-unit`, `disp-unit`) for a unit this crate does not know or
+/// one of another quantity: a given unit is never guessed.
+fn unit_factor(name: &str, force: bool) -> Result<f64> {
+    let option = if force { "force-unit" } else { "disp-unit" };
+    match crate::units::Unit::named(name) {
+        Some(u) if u.fits(force) => Ok(u.to_si),
+        _ => Err(Error::InvalidOption {
+            option,
+            message: format!(
+                "--{option}: `{}` is not a {} unit this crate knows (N, kN, lbf; m, mm, um, \
+                 in, mil; m/s, in/s; m/s^2, g)",
+                crate::error::excerpt(name),
+                if force { "force" } else { "response" }
+            ),
+        }),
+    }
 }
 
 /// [`in_si`] of every record.

@@ -78,14 +78,15 @@
 mod records;
 mod v5;
 mod v73;
+mod write;
 
-use std::io::Read;
 use std::path::Path;
 
-use crate::error::{Error, Result, excerpt};
+use crate::error::{Result, excerpt};
 
 pub use records::{MatChannel, MatLayout, records};
 pub use v5::{MAX_DEPTH, MAX_INFLATE_RATIO};
+pub use write::write;
 
 /// Largest MAT-file read (2 GiB, the size past which MATLAB itself saves as `-v7.3`).
 pub const MAX_FILE_BYTES: u64 = 1 << 31;
@@ -278,20 +279,7 @@ pub fn is_mat(path: &Path) -> bool {
 pub fn read(path: impl AsRef<Path>) -> Result<Vec<Variable>> {
     let path = path.as_ref();
     let label = excerpt(&path.display().to_string());
-    let file = crate::limits::open(path, Some("*.mat"))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::Io {
-            path: label.clone(),
-            message: e.to_string(),
-        })?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(Error::FileLimit {
-            path: label,
-            what: "bytes of a MAT-file".into(),
-            limit: MAX_FILE_BYTES,
-        });
-    }
+    let bytes =
+        crate::limits::read_bytes(path, Some("*.mat"), MAX_FILE_BYTES, "bytes of a MAT-file")?;
     parse(&bytes, &label)
 }

@@ -1,5 +1,6 @@
 //! TDMS files (NI LabVIEW and DAQmx): groups of channels with their properties, read into
-//! scaled samples, and records built from them (feature `tdms`, no dependencies).
+//! scaled samples, and records built from them; records written as one (feature `tdms`, no
+//! dependencies).
 //!
 //! A TDMS file is a run of segments. Each begins with a 28-byte lead-in: the tag `TDSm`, a
 //! table of contents (which parts the segment holds: metadata, a new object list, raw data,
@@ -22,13 +23,14 @@
 mod parse;
 mod records;
 mod scaling;
+mod write;
 
-use std::io::Read;
 use std::path::Path;
 
-use crate::error::{Error, Result, excerpt};
+use crate::error::Result;
 
 pub use records::{RecordBy, TdmsLayout, records};
+pub use write::write;
 
 /// A TDMS file read whole: its own properties and its groups in order of first appearance.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -198,21 +200,12 @@ pub const MAX_FILE_BYTES: u64 = crate::limits::MAX_VALUES * 8;
 pub fn read(path: impl AsRef<Path>) -> Result<TdmsFile> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let file = crate::limits::open(path, Some("*.tdms"))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::Io {
-            path: excerpt(&label),
-            message: e.to_string(),
-        })?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(Error::FileLimit {
-            path: excerpt(&label),
-            what: "bytes of a TDMS file".into(),
-            limit: MAX_FILE_BYTES,
-        });
-    }
+    let bytes = crate::limits::read_bytes(
+        path,
+        Some("*.tdms"),
+        MAX_FILE_BYTES,
+        "bytes of a TDMS file",
+    )?;
     parse(&bytes, &label)
 }
 

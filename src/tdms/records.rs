@@ -2,7 +2,7 @@
 //! from the channels' waveform properties or a time channel, one record per file or per group.
 
 use super::{Channel, Group, TdmsFile, Value, property};
-use crate::error::{Error, Result, excerpt};
+use crate::error::{Error, Result, Warning, excerpt};
 use crate::records::{Record, TIME_GRID_TOLERANCE};
 
 /// Which records a TDMS file holds.
@@ -63,12 +63,16 @@ pub struct TdmsLayout {
 /// itself, or `FILE:GROUP` per group. The sampling rate is `1/wf_increment` of the named
 /// channels (which must agree), or that of the time channel (uniform within
 /// [`TIME_GRID_TOLERANCE`] of a step) when they have none. Each channel is converted to SI
-/// from its unit: the layout's, else its `unit_string` (none: SI).
+/// from its unit: the layout's, else its `unit_string` (none: SI). A `unit_string` this crate
+/// does not know leaves the samples as read (SI) and the record carries a
+/// [`Warning::UnknownUnit`] naming it ([`Record::warnings`]).
 ///
 /// # Errors
 /// [`Error::TdmsChannel`] for a channel that is not in the file, named ambiguously, or whose
-/// samples cannot be read (strings, a scaling other than linear or polynomial, a unit that is
-/// not a recognised one of its kind: kind `unsupported`); [`Error::TdmsRecord`] for channels of different lengths or rates, no rate,
+/// samples cannot be read (strings, a scaling other than linear or polynomial, a unit of
+/// another quantity, a given unit that is not a recognised one: kind `unsupported`);
+/// [`Error::TdmsRecord`] for channels of different lengths or rates, no rate, a number of
+/// given units other than one or one per channel,
 /// a time channel off its grid, or no group holding the channels; the errors of
 /// [`Record::new`].
 ///
@@ -275,54 +279,96 @@ fn record(
             uniform_rate(samples(time, &layout.time, label)?).map_err(bad)?
         }
     };
-    let own =
+    let mut warnings = Vec::new();
+    let mut own =
         |set: &[(&String, &Channel)], given: &[String], force: bool| -> Result<Vec<Vec<f64>>> {
             set.iter()
                 .enumerate()
                 .map(|(i, (n, c))| {
                     let mut v = samples(c, n, label)?.to_vec();
-                    let stated = crate::units::given(given, i, set.len()).or_else(|| c.unit());
-                    if let Some(stated) = stated {
-                        let to_si =
-                            si_factor(stated, force).map_err(|message| Error::TdmsChannel {
+                    let count = given.len();
+                    let given = crate::units::given(given, i, set.len());
+                    if given.is_none() && count > 0 {
+                        return Err(bad(format!(
+                            "--{} names {count} units for {} channels: give one for all or one per \
+                         channel",
+                            if force { "force-unit" } else { "disp-unit" },
+                            set.len()
+                        )));
+                    }
+                    let Some(stated) = given.or_else(|| c.unit()) else {
+                        return Ok(v);
+                    };
+                    let to_si = match si_factor(stated, force) {
+                        Ok(to_si) => to_si,
+                        // A unit the file states and this crate does not know: used as read (SI),
+                        // with a warning naming it; one the user gives is never guessed.
+                        Err(Unknown::Name) if given.is_none() => {
+                            warnings.push(Warning::UnknownUnit {
+                                record: excerpt(label),
+                                channel: excerpt(n),
+                                unit: excerpt(stated),
+                                force,
+                            });
+                            return Ok(v);
+                        }
+                        Err(why) => {
+                            return Err(Error::TdmsChannel {
                                 path: excerpt(label),
                                 channel: excerpt(n),
-                                message,
+                                message: why.message(stated, force),
                                 unsupported: true,
-                            })?;
-                        // SI stays bit for bit as read.
-                        if to_si != 1.0 {
-                            v.iter_mut().for_each(|x| *x *= to_si);
+                            });
                         }
+                    };
+                    // SI stays bit for bit as read.
+                    if to_si != 1.0 {
+                        v.iter_mut().for_each(|x| *x *= to_si);
                     }
                     Ok(v)
                 })
                 .collect()
         };
-    Record::new(
-        label,
-        rate,
-        own(&forces, &layout.force_units, true)?,
-        own(&responses, &layout.response_units, false)?,
-    )
+    let forces = own(&forces, &layout.force_units, true)?;
+    let responses = own(&responses, &layout.response_units, false)?;
+    Ok(Record::new(label, rate, forces, responses)?.with_warnings(warnings))
 }
 
-/// The factor to SI of unit `name` of a force (`force`) or response channel, or why there is
-/// none.
-fn si_factor(name: &str, force: bool) -> std::result::Result<f64, String> {
-    let what = if force { "force" } else { "response" };
-    let option = if force { "--force-unit" } else { "--disp-unit" };
+/// Why a unit has no factor to SI for a channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Unknown {
+    /// Not a unit this crate knows.
+    Name,
+    /// A known unit of another quantity (a length on a force channel).
+    Quantity,
+}
+
+impl Unknown {
+    /// The message of [`Error::TdmsChannel`] for unit `name` of a force (`force`) or response
+    /// channel.
+    fn message(self, name: &str, force: bool) -> String {
+        let what = if force { "force" } else { "response" };
+        let option = if force { "--force-unit" } else { "--disp-unit" };
+        match self {
+            Unknown::Quantity => format!(
+                "its unit `{}` is not a {what} unit: give {option}",
+                excerpt(name)
+            ),
+            Unknown::Name => format!(
+                "its unit `{}` is not one this reader converts to SI (N, kN, lbf; m, mm, um, \
+                 in, mil; m/s, in/s; m/s^2, g): give {option}",
+                excerpt(name)
+            ),
+        }
+    }
+}
+
+/// The factor to SI of unit `name` of a force (`force`) or response channel.
+fn si_factor(name: &str, force: bool) -> std::result::Result<f64, Unknown> {
     match crate::units::Unit::named(name) {
         Some(u) if u.fits(force) => Ok(u.to_si),
-        Some(u) => Err(format!(
-            "its unit `{}` is not a {what} unit: give {option}",
-            u.name
-        )),
-        None => Err(format!(
-            "its unit `{}` is not one this reader converts to SI (N, kN, lbf; m, mm, um, in, \
-             mil; m/s, in/s; m/s^2, g): give {option}",
-            excerpt(name)
-        )),
+        Some(_) => Err(Unknown::Quantity),
+        None => Err(Unknown::Name),
     }
 }
 

@@ -407,10 +407,11 @@ fn every_single_byte_edit_is_a_file_or_a_typed_error() {
     }
 }
 
-/// A channel's `unit_string` converts it to SI; a given unit outranks it; a unit not known, or
-/// of the wrong kind, is refused naming the channel and the unit.
+/// A channel's `unit_string` converts it to SI; a given unit outranks it; a unit the file
+/// states and the crate does not know is used as read with a warning naming file, channel and
+/// unit; a unit of the wrong kind, or a given unit not known, is refused naming the channel.
 #[test]
-fn stated_units_convert_to_si_and_unknown_ones_are_refused() {
+fn stated_units_convert_to_si_and_unknown_ones_warn() {
     let channel = |name: &str, unit: &str| Channel {
         name: name.into(),
         values: vec![1.0; 16],
@@ -453,12 +454,58 @@ fn stated_units_convert_to_si_and_unknown_ones_are_refused() {
         records(&file("lbf", "m"), "g.tdms", &given).unwrap()[0].force(0)[0].to_bits(),
         1f64.to_bits()
     );
-    for (f, x, named) in [
-        ("V", "m", "`V`"),
-        ("N", "lbf", "`lbf` is not a response unit"),
+    // Unknown in the file: the samples as read (SI), and a warning naming it.
+    let r = records(&file("V", "mil"), "volts.tdms", &layout).unwrap();
+    assert_eq!(r[0].force(0)[0].to_bits(), 1f64.to_bits());
+    assert_eq!(
+        r[0].displacement(0)[0].to_bits(),
+        (1e-3 * crate::units::INCH).to_bits()
+    );
+    assert_eq!(
+        r[0].warnings(),
+        [crate::Warning::UnknownUnit {
+            record: "volts.tdms".into(),
+            channel: "fx".into(),
+            unit: "V".into(),
+            force: true,
+        }]
+    );
+    assert_eq!(
+        r[0].warnings()[0].to_string(),
+        "record `volts.tdms`: channel `fx` has unit `V`, not one this crate converts: its \
+         samples were used as read, in N; give --force-unit to convert them"
+    );
+    assert!(
+        records(&file("N", "m"), "si.tdms", &layout).unwrap()[0]
+            .warnings()
+            .is_empty()
+    );
+    let unknown_given = TdmsLayout {
+        response_units: vec!["furlong".into()],
+        ..layout.clone()
+    };
+    for (f, x, layout, named) in [
+        ("N", "lbf", &layout, "`lbf` is not a response unit"),
+        (
+            "N",
+            "m",
+            &unknown_given,
+            "`furlong` is not one this reader converts",
+        ),
     ] {
-        let e = records(&file(f, x), "bad.tdms", &layout).unwrap_err();
+        let e = records(&file(f, x), "bad.tdms", layout).unwrap_err();
         assert_eq!(e.kind(), "unsupported", "{e}");
         assert!(e.to_string().contains(named), "{e}");
     }
+    // Units given for more channels than there are: refused, never matched up by guess.
+    let two = TdmsLayout {
+        force_units: vec!["N".into(), "lbf".into()],
+        ..layout.clone()
+    };
+    let e = records(&file("N", "m"), "bad.tdms", &two).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("--force-unit names 2 units for 1 channels"),
+        "{e}"
+    );
 }

@@ -1,7 +1,7 @@
 //! [`Record`]s from dataset 58 time histories, by data type or by an explicit [`UffLayout`].
 
 use super::types::{Abscissa, DataType, Function, FunctionType, Ordinate};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Warning};
 use crate::records::{Record, Response};
 
 /// One time history of a Universal File named on the command line or in a [`UffLayout`]: a
@@ -133,7 +133,7 @@ impl std::str::FromStr for UffChannel {
 /// let layout = UffLayout {
 ///     forces: vec!["id:hammer".parse()?],
 ///     responses: vec!["5+X".parse()?],
-///     kinds: vec![],
+///     ..UffLayout::default()
 /// };
 /// let r = &uff::records_with(&functions, "rig.uff", &layout)?[0];
 /// assert_eq!((r.dofs(), r.response(0)), (1, Response::Acceleration));
@@ -149,6 +149,12 @@ pub struct UffLayout {
     /// What the responses measure: empty (by data type), one for all, or one per degree of
     /// freedom ([`Response::per_channel`]); given, it overrides the data types.
     pub kinds: Vec<Response>,
+    /// Units of the force channels ([`crate::units::Unit::named`]), one for all or one per
+    /// channel, in place of the units label of each time history's ordinate (record 9);
+    /// none: as the file states them.
+    pub force_units: Vec<String>,
+    /// Units of the response channels, as `force_units`.
+    pub response_units: Vec<String>,
 }
 
 /// The response kind of a data type: 8, 11, 12.
@@ -372,7 +378,8 @@ fn record_of_case(
         Response::per_channel(&layout.kinds, displacements.len())?
     };
     let mut dx_common: Option<f64> = None;
-    let mut channel = |f: &Function| -> Result<(f64, Vec<f64>)> {
+    let mut warnings = Vec::new();
+    let mut channel = |f: &Function, given: Option<&str>, force: bool| -> Result<(f64, Vec<f64>)> {
         let Abscissa::Even { dx, x0, .. } = f.abscissa else {
             return Err(fail(format!(
                 "the time history at node {} direction {} has an uneven abscissa",
@@ -395,22 +402,77 @@ fn record_of_case(
                 f.response.node, f.response.direction
             )));
         };
-        Ok((
-            x0,
-            if f.response.direction < 0 {
-                values.iter().map(|v| -v).collect()
-            } else {
-                values.clone()
-            },
-        ))
+        let sign = if f.response.direction < 0 { -1.0 } else { 1.0 };
+        let dof = UffChannel::Dof {
+            node: f.response.node,
+            direction: f.response.direction,
+        };
+        let stated = given.or_else(|| stated_unit(&f.numerator.units));
+        let to_si = match stated.map(|u| (u, crate::units::Unit::named(u))) {
+            None => 1.0,
+            Some((_, Some(u))) if u.fits(force) => u.to_si,
+            // A units label this crate does not know: the values as read (SI), with a warning
+            // naming it; a unit the user gives is never guessed.
+            Some((unit, None)) if given.is_none() => {
+                warnings.push(Warning::UnknownUnit {
+                    record: crate::error::excerpt(name),
+                    channel: dof.to_string(),
+                    unit: crate::error::excerpt(unit),
+                    force,
+                });
+                1.0
+            }
+            Some((unit, _)) => {
+                return Err(fail(format!(
+                    "the time history at node {} direction {} has unit `{}`, not a {} unit \
+                     this crate converts (N, kN, lbf; m, mm, um, in, mil; m/s, in/s; m/s^2, \
+                     g): give --{}",
+                    f.response.node,
+                    f.response.direction,
+                    crate::error::excerpt(unit),
+                    if force { "force" } else { "response" },
+                    if force { "force-unit" } else { "disp-unit" }
+                )));
+            }
+        };
+        // Exactly 1 and a positive direction: the values stay bit for bit as read.
+        #[allow(clippy::float_cmp)]
+        let values = if sign * to_si == 1.0 {
+            values.clone()
+        } else {
+            values.iter().map(|v| sign * (v * to_si)).collect()
+        };
+        Ok((x0, values))
+    };
+    let units = |given: &[String], i: usize, n: usize, force: bool| -> Result<Option<String>> {
+        if given.is_empty() {
+            return Ok(None);
+        }
+        crate::units::given(given, i, n)
+            .map(|u| Some(u.to_owned()))
+            .ok_or_else(|| {
+                fail(format!(
+                    "--{} names {} units for {n} channels: give one for all or one per channel",
+                    if force { "force-unit" } else { "disp-unit" },
+                    given.len()
+                ))
+            })
     };
     let force_channels = forces
         .iter()
-        .map(|&f| channel(f))
+        .enumerate()
+        .map(|(i, &f)| {
+            let given = units(&layout.force_units, i, forces.len(), true)?;
+            channel(f, given.as_deref(), true)
+        })
         .collect::<Result<Vec<_>>>()?;
     let displacement_channels = displacements
         .iter()
-        .map(|&f| channel(f))
+        .enumerate()
+        .map(|(i, &f)| {
+            let given = units(&layout.response_units, i, displacements.len(), false)?;
+            channel(f, given.as_deref(), false)
+        })
         .collect::<Result<Vec<_>>>()?;
     let dx = dx_common.unwrap_or(f64::NAN);
     let [force_channels, displacement_channels] =
@@ -423,7 +485,18 @@ fn record_of_case(
             (f.response.node, f.response.direction)
         })
         .map_err(fail)?;
-    Record::new(name, 1.0 / dx, force_channels, displacement_channels)?.with_responses(kinds)
+    Ok(
+        Record::new(name, 1.0 / dx, force_channels, displacement_channels)?
+            .with_responses(kinds)?
+            .with_warnings(warnings),
+    )
+}
+
+/// The unit a units label (records 8–11) states: none for a blank label or `NONE` (any case),
+/// as most writers leave it.
+fn stated_unit(label: &str) -> Option<&str> {
+    let label = label.trim();
+    (!label.is_empty() && !label.eq_ignore_ascii_case("none")).then_some(label)
 }
 
 /// The channels of a load case on one time grid: each channel's start time `x0` (record 7)

@@ -11,4 +11,6 @@ mod fuzz_regressions;
 #[cfg(feature = "mat")]
 mod mat;
 #[cfg(feature = "cli")]
+mod simulated;
+#[cfg(feature = "cli")]
 mod tdms;

@@ -398,3 +398,63 @@ fn records_in_lbf_and_mil_identify_as_their_si_version() {
     assert_eq!(v["error"], "invalid_argument", "{v}");
     assert!(v["message"].as_str().unwrap().contains("kip·ft"), "{v}");
 }
+
+/// A unit the file states and the crate does not know (`V` on the forces) is a warning naming
+/// file, channel and unit; the samples are used as read, so the result is the CSV's bit for
+/// bit. Given a known unit in its place, the warning goes.
+#[test]
+fn an_unknown_unit_in_the_file_warns_and_reads_as_si() {
+    let Some(dir) = fixtures("an_unknown_unit_in_the_file_warns_and_reads_as_si") else {
+        return;
+    };
+    let files = |pattern: &str| -> Vec<String> {
+        (1..=2)
+            .map(|h| {
+                dir.join(pattern.replace('#', &h.to_string()))
+                    .display()
+                    .to_string()
+            })
+            .collect()
+    };
+    assert_eq!(
+        coefficients(&files("volts_hit#.tdms"), &[]),
+        coefficients(&files("hit#.csv"), &[])
+    );
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let mut args: Vec<String> = ["identify", "--json", "--band", "8,49"]
+            .iter()
+            .chain(extra)
+            .map(|s| s.to_string())
+            .collect();
+        args.extend(files("volts_hit#.tdms"));
+        serde_json::from_slice(&run(&args).stdout).unwrap()
+    };
+    let v = json(&[]);
+    let kinds: Vec<&str> = v["warning_kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    // Two force channels in each of two files.
+    assert_eq!(
+        kinds.iter().filter(|k| **k == "unknown_unit").count(),
+        4,
+        "{v}"
+    );
+    let first = v["warnings"][0].as_str().unwrap();
+    assert!(
+        first.contains("volts_hit1.tdms`: channel `fx` has unit `V`")
+            && first.contains("read, in N; give --force-unit"),
+        "{first}"
+    );
+    let v = json(&["--force-unit", "N"]);
+    assert!(
+        v["warning_kinds"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|k| k != "unknown_unit"),
+        "{v}"
+    );
+}

@@ -20,6 +20,8 @@ same numbers are exact as float64, float32 and scaled int16. Written as:
                                         back to the same samples before they are kept
 - us_hit1.tdms, us_hit2.tdms            float64 in lbf and mil (unit_string), wf_increment;
   us_hit1.csv, us_hit2.csv              the same numbers as CSV
+- volts_hit1.tdms, volts_hit2.tdms      the numbers of hit1.csv, hit2.csv with unit_string V on
+                                        the forces (a unit the crate does not convert) and m
 """
 
 import struct
@@ -144,6 +146,9 @@ def main(out):
             w.write_segment([ChannelObject("data", n, c, {**wf, "unit_string": u})
                              for n, c, u in zip(NAMES, us, units)])
         write_csv(out / f"us_hit{h}.csv", t, us)
+        with TdmsWriter(out / f"volts_hit{h}.tdms") as w:
+            w.write_segment([ChannelObject("data", n, c, {**wf, "unit_string": u})
+                             for n, c, u in zip(NAMES, cols, ["V", "V", "m", "m"])])
     with TdmsWriter(out / "f32_groups.tdms") as w:
         for k in range(8):
             part = slice(k * N // 8, (k + 1) * N // 8)

@@ -103,7 +103,7 @@ fn named_channels_and_kind_overrides() {
     let layout = UffLayout {
         forces: vec!["1+Y".parse().unwrap(), "id:hammer x".parse().unwrap()],
         responses: vec!["id:probe y".parse().unwrap(), "2+1".parse().unwrap()],
-        kinds: vec![],
+        ..UffLayout::default()
     };
     let r = &uff::records_with(&fs, "rig.uff", &layout).unwrap()[0];
     assert_eq!(r.force(0), record.force(1));
@@ -120,7 +120,7 @@ fn named_channels_and_kind_overrides() {
     let layout = UffLayout {
         forces: vec!["7-Z".parse().unwrap()],
         responses: vec!["2+X".parse().unwrap()],
-        kinds: vec![],
+        ..UffLayout::default()
     };
     let e = uff::records_with(&fs, "rig.uff", &layout).unwrap_err();
     let Error::UffRecord { path, message, .. } = &e else {

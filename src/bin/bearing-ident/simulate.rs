@@ -1,7 +1,8 @@
 //! `bearing-ident simulate`: records of a given system (impacts, random forcing, or a shaker:
 //! multisine, stepped sine, sweep), with an element's optional internal states, or optional
-//! nonlinear terms integrated by RK4, written as CSV files. The test itself is the library's
-//! [`Setup`]: this file reads its options and writes what it makes.
+//! nonlinear terms integrated by RK4, written as CSV, TDMS or MAT-files, one per record. The
+//! test itself is the library's [`Setup`]: this file reads its options and writes what it
+//! makes.
 
 use bearing_ident::Choice;
 use std::path::PathBuf;
@@ -127,9 +128,36 @@ pub struct SimulateArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
+    /// The files written, one per record: `csv` (`LABEL.csv`, columns `t,fx,fy,x,y`), `tdms`
+    /// (`LABEL.tdms`: group `LABEL`, float64 channels `fx,fy,x,y` with `wf_increment` and
+    /// `unit_string`) or `mat` (`LABEL.mat`, MAT-file level 5: double vectors `t,fx,fy,x,y`).
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
     /// Print what was written as JSON on stdout (and errors as `{"error": …}`).
     #[arg(long)]
     pub json: bool,
+}
+
+/// What `simulate` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Format {
+    /// CSV files.
+    Csv,
+    /// TDMS files (NI LabVIEW).
+    Tdms,
+    /// MATLAB MAT-files, level 5.
+    Mat,
+}
+
+impl Format {
+    /// The files' extension.
+    fn extension(self) -> &'static str {
+        match self {
+            Format::Csv => "csv",
+            Format::Tdms => "tdms",
+            Format::Mat => "mat",
+        }
+    }
 }
 
 /// The library's description of the test the arguments ask for.
@@ -207,7 +235,25 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     let mut layout = CsvLayout::for_dofs(system.dofs());
     layout.displacements = response_columns(&layout.displacements, &args.response);
     for r in records {
-        io::write_record(args.out.join(format!("{}.csv", r.label())), r, &layout)?;
+        let path = args
+            .out
+            .join(format!("{}.{}", r.label(), args.format.extension()));
+        match args.format {
+            Format::Csv => io::write_record(path, r, &layout)?,
+            Format::Tdms => bearing_ident::tdms::write(
+                path,
+                std::slice::from_ref(r),
+                &layout.forces,
+                &layout.displacements,
+            )?,
+            Format::Mat => bearing_ident::mat::write(
+                path,
+                r,
+                &layout.time,
+                &layout.forces,
+                &layout.displacements,
+            )?,
+        }
     }
     if args.json {
         let mut v = serde_json::json!({
@@ -216,6 +262,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
             "duration_s": test.duration_s,
             "sample_rate": args.rate,
             "out": args.out.display().to_string(),
+            "format": args.format.extension(),
             "columns": std::iter::once(&layout.time)
                 .chain(&layout.forces)
                 .chain(&layout.displacements)
@@ -243,12 +290,14 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
         return Ok(());
     }
     print_out(format_args!(
-        "wrote {} records of {} samples ({} s at {} samples/s) to {}, columns {},{},{}\n",
+        "wrote {} records of {} samples ({} s at {} samples/s) to {} as {} files, columns \
+         {},{},{}\n",
         records.len(),
         records.first().map_or(0, Record::len),
         test.duration_s,
         args.rate,
         args.out.display(),
+        args.format.extension().to_uppercase(),
         layout.time,
         layout.forces.join(","),
         layout.displacements.join(",")
