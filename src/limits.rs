@@ -67,6 +67,7 @@ pub fn open(path: &Path, pattern: Option<&str>) -> Result<std::fs::File> {
 /// # Errors
 /// As [`open`]; [`Error::Io`] if it cannot be read; [`Error::FileLimit`] (naming `what`)
 /// past `limit` bytes.
+#[cfg(any(feature = "tdms", feature = "mat"))]
 pub(crate) fn read_bytes(
     path: &Path,
     pattern: Option<&str>,

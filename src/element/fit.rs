@@ -411,11 +411,10 @@ fn robust_fit_in(
                     data.weight(t, var)
                 };
             }
-            let (next, scale) = weighted_solve(&gram, &projections, &weights, per).ok_or(
-                Error::SingularFit {
+            let (next, scale) =
+                weighted_solve(&gram, &projections, &weights, per).ok_or(Error::SingularFit {
                     method: crate::Method::LeastSquares,
-                },
-            )?;
+                })?;
             // The change of the element's model in the metric of its weighted normal
             // equations (`θ_b s_b` is basis `b`'s part of the model), relative to the model's
             // size there: a coefficient that is zero in truth (a mass off the diagonal) does

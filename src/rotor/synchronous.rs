@@ -134,6 +134,7 @@ impl Synchronous {
 
     /// These values less constant `stiffness` and `damping` (a dry structure's), whose
     /// standard deviations `stiffness_std`, `damping_std` add in quadrature.
+    #[cfg(feature = "job")]
     pub(crate) fn less(
         mut self,
         stiffness: faer::MatRef<'_, f64>,

@@ -200,12 +200,8 @@ pub const MAX_FILE_BYTES: u64 = crate::limits::MAX_VALUES * 8;
 pub fn read(path: impl AsRef<Path>) -> Result<TdmsFile> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let bytes = crate::limits::read_bytes(
-        path,
-        Some("*.tdms"),
-        MAX_FILE_BYTES,
-        "bytes of a TDMS file",
-    )?;
+    let bytes =
+        crate::limits::read_bytes(path, Some("*.tdms"), MAX_FILE_BYTES, "bytes of a TDMS file")?;
     parse(&bytes, &label)
 }
 
