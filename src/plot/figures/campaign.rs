@@ -4,7 +4,7 @@
 
 use plotters::prelude::*;
 
-use super::canvas::{DARK, Key, colour, header, render, series};
+use super::canvas::{Area, DARK, Drawn, Key, colour, header, render, series};
 use super::chart::{bar_range, draw_points_with_bars, linear_chart, si_unit};
 use crate::campaign::{Campaign, Value};
 use crate::error::{Error, Result};
@@ -105,21 +105,7 @@ pub fn campaign(
         'C' => ("damping C", "N·s/m", Coefficients::damping),
         _ => ("added mass M", "kg", Coefficients::mass),
     };
-    let xs: Vec<f64> = groups
-        .iter()
-        .flat_map(|g| g.1.iter().map(|p| p.0))
-        .collect();
-    let (lo, hi) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
-    let pad = if hi > lo {
-        0.06 * (hi - lo)
-    } else {
-        0.5 * hi.abs().max(1.0)
-    };
-    let x_range = (lo - pad)..(hi + pad);
+    let x_range = x_span(groups.iter().flat_map(|g| g.1.iter().map(|p| p.0)));
     let x_desc = format!("{} ({})", condition.name, condition.unit.name());
     let mut legend: Vec<(Key, &str)> = groups
         .iter()
@@ -148,7 +134,7 @@ pub fn campaign(
             for (e, panel) in body.split_evenly((n, n)).iter().enumerate() {
                 let (r, c) = (e / n, e % n);
                 let element = format!("{block}_{}{}", axes[r], axes[c]);
-                let per_group: Vec<Vec<(f64, f64, Option<f64>)>> = groups
+                let per_group: Vec<Points> = groups
                     .iter()
                     .map(|g| {
                         g.1.iter()
@@ -158,7 +144,7 @@ pub fn campaign(
                             .collect()
                     })
                     .collect();
-                let references: Vec<(f64, f64, Option<f64>)> = groups
+                let references: Points = groups
                     .iter()
                     .flat_map(|g| g.1.iter())
                     .flat_map(|&(xv, _, _, i)| {
@@ -176,62 +162,122 @@ pub fn campaign(
                             .map(move |k| (xv, k.reference, Some(k.reference_std)))
                     })
                     .collect();
-                let all: Vec<(f64, f64, Option<f64>)> = per_group
-                    .iter()
-                    .flatten()
-                    .chain(&references)
-                    .copied()
-                    .collect();
-                let range = bar_range(&all, &[]);
-                let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
-                let y = (range.start / scale)..(range.end / scale);
-                let mut chart = linear_chart(
-                    panel,
-                    x_range.clone(),
-                    y.clone(),
-                    Some(&x_desc),
-                    &format!("{element} ({unit})"),
-                )?;
-                let scaled = |pts: &[(f64, f64, Option<f64>)]| -> Vec<(f64, f64, Option<f64>)> {
-                    pts.iter()
-                        .map(|&(xv, v, s)| (xv, v / scale, s.map(|s| s / scale)))
-                        .collect()
+                let groups: Vec<(&str, Points)> =
+                    groups.iter().map(|g| g.0.as_str()).zip(per_group).collect();
+                let references = if references.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![(format!("{element} reference"), references)]
                 };
-                // References under the points, so that a point on its reference shows.
-                if !references.is_empty() {
-                    let refs = scaled(&references);
-                    series(panel, &format!("{element} reference"), || {
-                        let clamp = |v: f64| v.clamp(y.start, y.end);
-                        chart.draw_series(refs.iter().map(|&(xv, v, s)| {
-                            let s = s.unwrap_or(0.0);
-                            ErrorBar::new_vertical(
-                                xv,
-                                clamp(v - s),
-                                clamp(v),
-                                clamp(v + s),
-                                DARK.stroke_width(1),
-                                10,
-                            )
-                        }))?;
-                        chart.draw_series(refs.iter().map(|&(xv, v, _)| {
-                            Cross::new((xv, clamp(v)), 5, DARK.stroke_width(2))
-                        }))?;
-                        Ok(())
-                    })?;
-                }
-                for (g, pts) in per_group.iter().enumerate() {
-                    let pts = scaled(pts);
-                    series(panel, &format!("{element} {}", groups[g].0), || {
-                        draw_points_with_bars(&mut chart, &pts, &y, colour(g))?;
-                        chart.draw_series(LineSeries::new(
-                            pts.iter().map(|&(xv, v, _)| (xv, v)),
-                            colour(g).mix(0.5).stroke_width(1),
-                        ))?;
-                        Ok(())
-                    })?;
-                }
+                condition_panel(
+                    panel,
+                    (&x_range, &x_desc),
+                    &element,
+                    unit,
+                    &groups,
+                    &references,
+                    false,
+                )?;
             }
             Ok(())
         },
     )
+}
+
+/// The points of one series in a panel: `(x, value, σ)`.
+pub(super) type Points = Vec<(f64, f64, Option<f64>)>;
+
+/// The x axis of a figure against a condition: the values' span padded by 6 % on each side
+/// (half the value, or 1, about a single value).
+pub(super) fn x_span(xs: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    let pad = if hi > lo {
+        0.06 * (hi - lo)
+    } else {
+        0.5 * hi.abs().max(1.0)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+/// One panel of a figure against a condition (`x`: its range and axis name), for the
+/// coefficient `element` in `unit` (scaled to the SI prefix of the largest value):
+/// `references`, each a named series of crosses with `±σ` bars drawn under the points (and
+/// joined by a dashed line when `joined`: a prediction curve), then each of `groups` (label,
+/// points) in its colour with `±σ` bars, joined in order.
+pub(super) fn condition_panel(
+    panel: &Area<'_>,
+    x: (&std::ops::Range<f64>, &str),
+    element: &str,
+    unit: &str,
+    groups: &[(&str, Points)],
+    references: &[(String, Points)],
+    joined: bool,
+) -> Drawn {
+    let all: Points = groups
+        .iter()
+        .map(|g| &g.1)
+        .chain(references.iter().map(|r| &r.1))
+        .flatten()
+        .copied()
+        .collect();
+    let range = bar_range(&all, &[]);
+    let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
+    let y = (range.start / scale)..(range.end / scale);
+    let mut chart = linear_chart(
+        panel,
+        x.0.clone(),
+        y.clone(),
+        Some(x.1),
+        &format!("{element} ({unit})"),
+    )?;
+    let scaled = |pts: &[(f64, f64, Option<f64>)]| -> Points {
+        pts.iter()
+            .map(|&(xv, v, s)| (xv, v / scale, s.map(|s| s / scale)))
+            .collect()
+    };
+    let clamp = |v: f64| v.clamp(y.start, y.end);
+    // References under the points, so that a point on its reference shows.
+    for (name, pts) in references.iter().filter(|r| !r.1.is_empty()) {
+        let pts = scaled(pts);
+        series(panel, name, || {
+            if joined {
+                chart.draw_series(DashedLineSeries::new(
+                    pts.iter().map(|&(xv, v, _)| (xv, clamp(v))),
+                    6,
+                    4,
+                    DARK.mix(0.7).stroke_width(1),
+                ))?;
+            }
+            chart.draw_series(pts.iter().map(|&(xv, v, s)| {
+                let s = s.unwrap_or(0.0);
+                ErrorBar::new_vertical(
+                    xv,
+                    clamp(v - s),
+                    clamp(v),
+                    clamp(v + s),
+                    DARK.stroke_width(1),
+                    10,
+                )
+            }))?;
+            chart.draw_series(
+                pts.iter()
+                    .map(|&(xv, v, _)| Cross::new((xv, clamp(v)), 5, DARK.stroke_width(2))),
+            )?;
+            Ok(())
+        })?;
+    }
+    for (g, (label, pts)) in groups.iter().enumerate() {
+        let pts = scaled(pts);
+        series(panel, &format!("{element} {label}"), || {
+            draw_points_with_bars(&mut chart, &pts, &y, colour(g))?;
+            chart.draw_series(LineSeries::new(
+                pts.iter().map(|&(xv, v, _)| (xv, clamp(v))),
+                colour(g).mix(0.5).stroke_width(1),
+            ))?;
+            Ok(())
+        })?;
+    }
+    Ok(())
 }

@@ -1,12 +1,10 @@
 //! The synchronous figure of a campaign: each point's `K`, `C` at its running speed against the
 //! speed, with error bars and the predictions of the plan.
 
-use plotters::prelude::*;
 use serde_json::Value as Json;
 
-use super::campaign::label;
-use super::canvas::{DARK, Key, colour, header, render, series};
-use super::chart::{bar_range, draw_points_with_bars, linear_chart, si_unit};
+use super::campaign::{Points, condition_panel, label, x_span};
+use super::canvas::{DARK, Key, colour, header, render};
 use crate::campaign::Campaign;
 use crate::error::{Error, Result};
 use crate::plot::FigureOptions;
@@ -92,16 +90,7 @@ pub fn synchronous(campaign: &Campaign, options: &FigureOptions) -> Result<Strin
                 .into(),
         });
     };
-    let speeds = groups.iter().flat_map(|g| g.1.iter().map(|p| p.rpm));
-    let (lo, hi) = speeds.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-        (a.min(v), b.max(v))
-    });
-    let pad = if hi > lo {
-        0.06 * (hi - lo)
-    } else {
-        0.5 * hi.abs().max(1.0)
-    };
-    let x_range = (lo - pad)..(hi + pad);
+    let x_range = x_span(groups.iter().flat_map(|g| g.1.iter().map(|p| p.rpm)));
     let mut legend: Vec<(Key, &str)> = groups
         .iter()
         .enumerate()
@@ -127,7 +116,7 @@ pub fn synchronous(campaign: &Campaign, options: &FigureOptions) -> Result<Strin
                 let (block, r, c) = (e / (n * n), (e / n) % n, e % n);
                 let (letter, unit) = [('K', "N/m"), ('C', "N·s/m")][block];
                 let element = format!("{letter}_{}{} sync", axes[r], axes[c]);
-                let per_group: Vec<Vec<(f64, f64, Option<f64>)>> = groups
+                let per_group: Vec<Points> = groups
                     .iter()
                     .map(|g| {
                         g.1.iter()
@@ -138,7 +127,7 @@ pub fn synchronous(campaign: &Campaign, options: &FigureOptions) -> Result<Strin
                             .collect()
                     })
                     .collect();
-                let predictions: Vec<Vec<(f64, f64, Option<f64>)>> = groups
+                let predictions: Vec<Points> = groups
                     .iter()
                     .map(|g| {
                         g.1.iter()
@@ -159,73 +148,22 @@ pub fn synchronous(campaign: &Campaign, options: &FigureOptions) -> Result<Strin
                             .collect()
                     })
                     .collect();
-                let all: Vec<(f64, f64, Option<f64>)> = per_group
+                let references: Vec<(String, Points)> = groups
                     .iter()
-                    .chain(&predictions)
-                    .flatten()
-                    .copied()
+                    .map(|g| format!("{element} prediction {}", g.0))
+                    .zip(predictions)
                     .collect();
-                let range = bar_range(&all, &[]);
-                let (scale, unit) = si_unit(range.start.abs().max(range.end.abs()), unit);
-                let y = (range.start / scale)..(range.end / scale);
-                let mut chart = linear_chart(
+                let groups: Vec<(&str, Points)> =
+                    groups.iter().map(|g| g.0.as_str()).zip(per_group).collect();
+                condition_panel(
                     panel,
-                    x_range.clone(),
-                    y.clone(),
-                    Some("speed (rpm)"),
-                    &format!("{element} ({unit})"),
+                    (&x_range, "speed (rpm)"),
+                    &element,
+                    unit,
+                    &groups,
+                    &references,
+                    true,
                 )?;
-                let scaled = |pts: &[(f64, f64, Option<f64>)]| -> Vec<(f64, f64, Option<f64>)> {
-                    pts.iter()
-                        .map(|&(xv, v, s)| (xv, v / scale, s.map(|s| s / scale)))
-                        .collect()
-                };
-                let clamp = |v: f64| v.clamp(y.start, y.end);
-                // Predictions under the points, so that a point on its prediction shows.
-                for (g, pts) in predictions.iter().enumerate() {
-                    if pts.is_empty() {
-                        continue;
-                    }
-                    let pts = scaled(pts);
-                    series(
-                        panel,
-                        &format!("{element} prediction {}", groups[g].0),
-                        || {
-                            chart.draw_series(DashedLineSeries::new(
-                                pts.iter().map(|&(xv, v, _)| (xv, clamp(v))),
-                                6,
-                                4,
-                                DARK.mix(0.7).stroke_width(1),
-                            ))?;
-                            chart.draw_series(pts.iter().map(|&(xv, v, s)| {
-                                let s = s.unwrap_or(0.0);
-                                ErrorBar::new_vertical(
-                                    xv,
-                                    clamp(v - s),
-                                    clamp(v),
-                                    clamp(v + s),
-                                    DARK.stroke_width(1),
-                                    10,
-                                )
-                            }))?;
-                            chart.draw_series(pts.iter().map(|&(xv, v, _)| {
-                                Cross::new((xv, clamp(v)), 5, DARK.stroke_width(2))
-                            }))?;
-                            Ok(())
-                        },
-                    )?;
-                }
-                for (g, pts) in per_group.iter().enumerate() {
-                    let pts = scaled(pts);
-                    series(panel, &format!("{element} {}", groups[g].0), || {
-                        draw_points_with_bars(&mut chart, &pts, &y, colour(g))?;
-                        chart.draw_series(LineSeries::new(
-                            pts.iter().map(|&(xv, v, _)| (xv, clamp(v))),
-                            colour(g).mix(0.5).stroke_width(1),
-                        ))?;
-                        Ok(())
-                    })?;
-                }
             }
             Ok(())
         },
