@@ -82,6 +82,8 @@ mod write;
 
 use std::path::Path;
 
+#[cfg(doc)]
+use crate::error::Error;
 use crate::error::{Result, excerpt};
 
 pub use records::{MatChannel, MatLayout, records};

@@ -27,6 +27,8 @@ mod write;
 
 use std::path::Path;
 
+#[cfg(doc)]
+use crate::error::Error;
 use crate::error::Result;
 
 pub use records::{RecordBy, TdmsLayout, records};
