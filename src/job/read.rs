@@ -358,19 +358,9 @@ pub fn is_tdms(path: &Path) -> bool {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_file(path: &Path, channels: &Channels) -> Result<Vec<Record>> {
-    let records = if is_uff(path) {
-        read_uff(path, channels)?
-    } else if is_tdms(path) {
-        read_tdms(path, channels)?
-    } else if is_mat(path) {
-        in_si_all(read_mat(path, channels)?, channels)?
-    } else {
-        vec![with_kinds(
-            in_si(io::read_record(path, &*channels.layout()?)?, channels)?,
-            channels,
-        )?]
-    };
-    let records = moved(records, channels)?;
+    let records = read_any(path, channels, |path| {
+        io::read_record(path, &*channels.layout()?)
+    })?;
     if records.is_empty() {
         return Err(Error::UffRecord {
             path: path.display().to_string(),
@@ -395,6 +385,16 @@ fn read_records(
     channels: &Channels,
     reader: &mut io::CsvReader,
 ) -> Result<Vec<Record>> {
+    read_any(path, channels, |path| reader.read(path))
+}
+
+/// The records of a file of any format, a CSV file read by `csv`, in SI with the response
+/// kinds of `channels`, moved to the bearing plane by its geometry.
+fn read_any(
+    path: &Path,
+    channels: &Channels,
+    csv: impl FnOnce(&Path) -> Result<Record>,
+) -> Result<Vec<Record>> {
     let records = if is_uff(path) {
         read_uff(path, channels)?
     } else if is_tdms(path) {
@@ -402,7 +402,7 @@ fn read_records(
     } else if is_mat(path) {
         in_si_all(read_mat(path, channels)?, channels)?
     } else {
-        vec![with_kinds(in_si(reader.read(path)?, channels)?, channels)?]
+        vec![with_kinds(in_si(csv(path)?, channels)?, channels)?]
     };
     moved(records, channels)
 }
