@@ -37,6 +37,14 @@ fn simulate(dir: &Path, format: &str) -> Vec<PathBuf> {
         "{format}: {}",
         String::from_utf8_lossy(&done.stderr)
     );
+    // The columns each file holds: a TDMS file has no time channel.
+    let columns = if format == "tdms" {
+        "fx,fy,x,y"
+    } else {
+        "t,fx,fy,x,y"
+    };
+    let said = String::from_utf8_lossy(&done.stdout);
+    assert!(said.ends_with(&format!("columns {columns}\n")), "{said}");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().path())

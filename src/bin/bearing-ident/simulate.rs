@@ -255,6 +255,8 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
             )?,
         }
     }
+    // A TDMS file holds no time channel: its channels carry their sample spacing.
+    let time_column = (args.format != Format::Tdms).then_some(&layout.time);
     if args.json {
         let mut v = serde_json::json!({
             "records": records.len(),
@@ -263,7 +265,9 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
             "sample_rate": args.rate,
             "out": args.out.display().to_string(),
             "format": args.format.extension(),
-            "columns": std::iter::once(&layout.time)
+            "columns": time_column
+                .iter()
+                .copied()
                 .chain(&layout.forces)
                 .chain(&layout.displacements)
                 .collect::<Vec<_>>(),
@@ -291,14 +295,14 @@ pub fn simulate(args: &SimulateArgs) -> Result<(), Failure> {
     }
     print_out(format_args!(
         "wrote {} records of {} samples ({} s at {} samples/s) to {} as {} files, columns \
-         {},{},{}\n",
+         {}{},{}\n",
         records.len(),
         records.first().map_or(0, Record::len),
         test.duration_s,
         args.rate,
         args.out.display(),
         args.format.extension().to_uppercase(),
-        layout.time,
+        time_column.map_or(String::new(), |t| format!("{t},")),
         layout.forces.join(","),
         layout.displacements.join(",")
     ))
