@@ -59,17 +59,32 @@ pub(super) fn h1_impedance_variance(
 /// per-set impedances `per_set` about their mean `h` (column-major `n × n` each), with
 /// `g = h⁻¹`: to first order `G_s H̄ − I = −Ḡ (H_s − H̄)`, so
 /// $\sum_s |[\bar G (H_s - \bar H)]_{ij}|^2 / (S(S-1))$ (see [`Frf::equation_variance`]).
+/// Unrolled for `n ≤ 4` (the same operations in the same order).
 pub(super) fn set_equation_scatter(per_set: &[c64], h: &[c64], g: &[c64], out: &mut [f64]) {
-    let nn = h.len();
-    let n = (nn as f64).sqrt().round() as usize;
+    match h.len() {
+        1 => equation_scatter(per_set, h, g, out, 1),
+        4 => equation_scatter(per_set, h, g, out, 2),
+        9 => equation_scatter(per_set, h, g, out, 3),
+        16 => equation_scatter(per_set, h, g, out, 4),
+        nn => equation_scatter(per_set, h, g, out, (nn as f64).sqrt().round() as usize),
+    }
+}
+
+/// [`set_equation_scatter`] for `n` degrees of freedom, inlined so that a constant `n`
+/// unrolls it.
+#[inline(always)]
+fn equation_scatter(per_set: &[c64], h: &[c64], g: &[c64], out: &mut [f64], n: usize) {
+    let nn = n * n;
+    let (h, g, out) = (&h[..nn], &g[..nn], &mut out[..nn]);
     let sets = (per_set.len() / nn) as f64;
     out.fill(0.0);
     for set in per_set.chunks_exact(nn) {
         for j in 0..n {
             for i in 0..n {
-                let e: c64 = (0..n)
-                    .map(|a| g[i + a * n] * (set[a + j * n] - h[a + j * n]))
-                    .sum();
+                let mut e = c64::new(0.0, 0.0);
+                for a in 0..n {
+                    e += g[i + a * n] * (set[a + j * n] - h[a + j * n]);
+                }
                 out[i + j * n] += e.norm_sqr() / (sets * (sets - 1.0));
             }
         }

@@ -33,6 +33,7 @@ pub(crate) fn reciprocal(z: c64) -> c64 {
 /// squared (or the modulus itself if squares leave the normal range, when they no longer
 /// order the entries); the pivot search of [`invert_in_place`], which needs only the order
 /// of the moduli, so no square root or `hypot` in the usual case.
+#[inline(always)]
 fn pivot(col: &[c64], from: usize) -> (usize, f64) {
     let mut p = from;
     let mut best = col[from].norm_sqr();
@@ -66,9 +67,37 @@ fn pivot(col: &[c64], from: usize) -> (usize, f64) {
 ///
 /// Returns `false` (leaving `a` in an unspecified state) if a pivot is zero or the result is
 /// not finite.
+///
+/// For `n ≤ 4` (the bearings' 1 to 4 degrees of freedom, thousands of lines each) the one
+/// elimination below is compiled once per size with `n` a constant, so its loops unroll and
+/// its bounds checks go: bit for bit the same operations in the same order as the general
+/// path ([`invert_general`]), about a third of the instructions at n = 3.
 fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
+    match n {
+        1 => gauss_jordan(a, 1, pivots),
+        2 => gauss_jordan(a, 2, pivots),
+        3 => gauss_jordan(a, 3, pivots),
+        4 => gauss_jordan(a, 4, pivots),
+        _ => invert_general(a, n, pivots),
+    }
+}
+
+/// [`invert_in_place`] for any `n`, `n` a run-time value (the path of `n > 4`; the
+/// reference the fixed sizes are tested against).
+#[inline(never)]
+fn invert_general(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
+    gauss_jordan(a, n, pivots)
+}
+
+/// The elimination of [`invert_in_place`], inlined into each caller so that a constant `n`
+/// unrolls it.
+#[inline(always)]
+fn gauss_jordan(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
     debug_assert_eq!(a.len(), n * n);
     debug_assert!(pivots.len() >= n);
+    // Slices of the known lengths, so that the indexing below needs no checks when `n` is
+    // a constant.
+    let (a, pivots) = (&mut a[..n * n], &mut pivots[..n]);
     for k in 0..n {
         let (p, best) = pivot(&a[k * n..(k + 1) * n], k);
         if best == 0.0 || !best.is_finite() {
@@ -197,8 +226,22 @@ impl Inverter {
     }
 }
 
-/// `out = a · b` for column-major `n × n` complex matrices.
+/// `out = a · b` for column-major `n × n` complex matrices; unrolled for `n ≤ 4` (the same
+/// operations in the same order, as [`invert_in_place`]).
 pub(crate) fn mul_into(a: &[c64], b: &[c64], out: &mut [c64], n: usize) {
+    match n {
+        1 => product(a, b, out, 1),
+        2 => product(a, b, out, 2),
+        3 => product(a, b, out, 3),
+        4 => product(a, b, out, 4),
+        _ => product(a, b, out, n),
+    }
+}
+
+/// The product of [`mul_into`], inlined so that a constant `n` unrolls it.
+#[inline(always)]
+fn product(a: &[c64], b: &[c64], out: &mut [c64], n: usize) {
+    let (a, b, out) = (&a[..n * n], &b[..n * n], &mut out[..n * n]);
     for j in 0..n {
         for i in 0..n {
             let mut s = c64::new(0.0, 0.0);
