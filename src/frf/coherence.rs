@@ -265,4 +265,62 @@ mod tests {
             }
         }
     }
+
+    /// Every size, the unrolled ones (n ≤ 4) and the general one: the sums are the
+    /// record-by-record sums, and the multiple coherence is $s_i^H S_{ff}^{-1} s_i / S_{x_ix_i}$
+    /// from faer's inverse, to rounding.
+    #[test]
+    fn every_size_gives_the_direct_sums_and_coherence() {
+        use faer::linalg::solvers::DenseSolveCore;
+        let z = |k: usize| c64::new((k as f64 * 0.43).sin() * 2.0, (k as f64 * 1.11).cos());
+        for n in 1..=5 {
+            let mut coherence = SpectraCoherence::new(n);
+            let mut inverter = Inverter::new(n);
+            for records in [n + 1, 2 * n + 3] {
+                let spectra: Vec<(Vec<c64>, Vec<c64>)> = (0..records)
+                    .map(|r| {
+                        let f = (0..n).map(|i| z(r * 13 + i)).collect();
+                        let x = (0..n).map(|i| z(r * 5 + 3 * i + 50)).collect();
+                        (f, x)
+                    })
+                    .collect();
+                coherence.line(
+                    spectra.iter().map(|(f, x)| (f.as_slice(), x.as_slice())),
+                    &mut inverter,
+                );
+                let cross = |a: &dyn Fn(usize) -> c64, b: &dyn Fn(usize) -> c64| {
+                    (0..records).fold(c64::new(0.0, 0.0), |s, r| s + a(r) * b(r).conj())
+                };
+                let sff = faer::Mat::from_fn(n, n, |i, j| {
+                    cross(&|r| spectra[r].0[i], &|r| spectra[r].0[j])
+                });
+                let sff_inv = sff.partial_piv_lu().inverse();
+                for i in 0..n {
+                    let sxf: Vec<c64> = (0..n)
+                        .map(|j| cross(&|r| spectra[r].1[i], &|r| spectra[r].0[j]))
+                        .collect();
+                    let sxx = cross(&|r| spectra[r].1[i], &|r| spectra[r].1[i]).re;
+                    let mut explained = c64::new(0.0, 0.0);
+                    for a in 0..n {
+                        assert!((coherence.sxf[i + a * n] - sxf[a]).norm() < 1e-12);
+                        assert!((coherence.sff[i + a * n] - sff[(i, a)]).norm() < 1e-12);
+                        for b in 0..n {
+                            explained += sxf[a] * sff_inv[(a, b)] * sxf[b].conj();
+                        }
+                    }
+                    assert!((coherence.sxx[i] - sxx).abs() < 1e-12 * sxx);
+                    let multiple = explained.re / sxx;
+                    assert!(
+                        (coherence.multiple[i] - multiple).abs() < 1e-10,
+                        "n = {n}, {records} records: {} vs {multiple}",
+                        coherence.multiple[i]
+                    );
+                    for j in 0..n {
+                        let ordinary = sxf[j].norm_sqr() / (sxx * sff[(j, j)].re);
+                        assert!((coherence.ordinary[i + j * n] - ordinary).abs() < 1e-12);
+                    }
+                }
+            }
+        }
+    }
 }
