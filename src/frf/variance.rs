@@ -124,7 +124,10 @@ mod tests {
             for j in 0..n {
                 for i in 0..n {
                     let (ours, theirs) = (out[i + j * n], expect[(i, j)]);
-                    assert!((ours - theirs).abs() <= 1e-13 * theirs, "n = {n}: {ours} vs {theirs}");
+                    assert!(
+                        (ours - theirs).abs() <= 1e-13 * theirs,
+                        "n = {n}: {ours} vs {theirs}"
+                    );
                 }
             }
         }
