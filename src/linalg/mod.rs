@@ -71,7 +71,7 @@ fn pivot(col: &[c64], from: usize) -> (usize, f64) {
 /// For `n ≤ 4` (the bearings' 1 to 4 degrees of freedom, thousands of lines each) the one
 /// elimination below is compiled once per size with `n` a constant, so its loops unroll and
 /// its bounds checks go: bit for bit the same operations in the same order as the general
-/// path ([`invert_general`]), about a third of the instructions at n = 3.
+/// path ([`invert_general`]), in 0.6 of its instructions at n = 3.
 fn invert_in_place(a: &mut [c64], n: usize, pivots: &mut [usize]) -> bool {
     match n {
         1 => gauss_jordan(a, 1, pivots),
