@@ -8,7 +8,8 @@ use crate::lanes::LANES;
 use crate::linalg::Inverter;
 
 /// Multiple and ordinary coherences at one line from `S_ff`, its inverse, `S_xf` (all `n × n`
-/// column-major) and the output auto-spectra `S_xᵢxᵢ`.
+/// column-major) and the output auto-spectra `S_xᵢxᵢ`; unrolled for `n ≤ 4` (the same
+/// operations in the same order).
 pub(super) fn line_coherence(
     n: usize,
     sff: &[c64],
@@ -18,6 +19,26 @@ pub(super) fn line_coherence(
     multiple: &mut [f64],
     ordinary: &mut [f64],
 ) {
+    let (spectra, out) = ((sff, sff_inv, sxf, sxx), (multiple, ordinary));
+    match n {
+        1 => coherences(1, spectra, out),
+        2 => coherences(2, spectra, out),
+        3 => coherences(3, spectra, out),
+        4 => coherences(4, spectra, out),
+        n => coherences(n, spectra, out),
+    }
+}
+
+/// [`line_coherence`], inlined so that a constant `n` unrolls it.
+#[inline(always)]
+fn coherences(
+    n: usize,
+    (sff, sff_inv, sxf, sxx): (&[c64], &[c64], &[c64], &[f64]),
+    (multiple, ordinary): (&mut [f64], &mut [f64]),
+) {
+    let nn = n * n;
+    let (sff, sff_inv, sxf, sxx) = (&sff[..nn], &sff_inv[..nn], &sxf[..nn], &sxx[..n]);
+    let (multiple, ordinary) = (&mut multiple[..n], &mut ordinary[..nn]);
     for i in 0..n {
         let mut explained = c64::new(0.0, 0.0);
         for a in 0..n {
@@ -46,9 +67,10 @@ pub(super) struct SpectraCoherence {
     sxf: Vec<c64>,
     inv: Vec<c64>,
     sxx: Vec<f64>,
-    /// The line's spectra, `4n` rows of one value per record: forces' real parts, forces'
-    /// imaginary parts, then the same of the displacements.
-    parts: Vec<Vec<f64>>,
+    /// The line's spectra, `4n` rows of one value per record (row `q` at
+    /// `q · records..(q + 1) · records`): forces' real parts, forces' imaginary parts, then
+    /// the same of the displacements.
+    parts: Vec<f64>,
     /// Multiple coherence of every output at the last line.
     pub(super) multiple: Vec<f64>,
     /// Ordinary coherence at the last line, `n × n` column-major.
@@ -64,7 +86,7 @@ impl SpectraCoherence {
             sxf: vec![zero; nn],
             inv: vec![zero; nn],
             sxx: vec![0.0; n],
-            parts: vec![Vec::new(); 4 * n],
+            parts: Vec::new(),
             multiple: vec![0.0; n],
             ordinary: vec![0.0; nn],
         }
@@ -73,21 +95,24 @@ impl SpectraCoherence {
     /// Coherences of one line from every record's `(forces, displacements)` at it.
     pub(super) fn line<'a>(
         &mut self,
-        records: impl IntoIterator<Item = (&'a [c64], &'a [c64])>,
+        records: impl IntoIterator<Item = (&'a [c64], &'a [c64]), IntoIter: ExactSizeIterator>,
         inverter: &mut Inverter,
     ) {
         let n = self.n;
-        self.parts.iter_mut().for_each(Vec::clear);
-        for (fl, xl) in records {
-            for (k, z) in fl.iter().chain(xl).enumerate() {
-                // Channel k (forces, then displacements): rows 2k' and 2k'+1 of its kind.
-                let (kind, c) = (k / n, k % n);
-                self.parts[2 * kind * n + c].push(z.re);
-                self.parts[(2 * kind + 1) * n + c].push(z.im);
+        let records = records.into_iter();
+        let count = records.len();
+        self.parts.resize(4 * n * count, 0.0);
+        for (r, (fl, xl)) in records.enumerate() {
+            for (c, (f, x)) in fl[..n].iter().zip(&xl[..n]).enumerate() {
+                // Channel c's force in rows c and n + c, its displacement in 2n + c, 3n + c.
+                for (q, v) in [f.re, f.im, x.re, x.im].into_iter().enumerate() {
+                    self.parts[(q * n + c) * count + r] = v;
+                }
             }
         }
         Arch::new().dispatch(Sums {
             n,
+            records: count,
             parts: &self.parts,
             sff: &mut self.sff,
             sxf: &mut self.sxf,
@@ -115,7 +140,8 @@ impl SpectraCoherence {
 /// compiles its body for the processor's widest instructions).
 struct Sums<'a> {
     n: usize,
-    parts: &'a [Vec<f64>],
+    records: usize,
+    parts: &'a [f64],
     sff: &'a mut [c64],
     sxf: &'a mut [c64],
     sxx: &'a mut [f64],
@@ -126,22 +152,35 @@ impl WithSimd for Sums<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _: S) {
-        let n = self.n;
-        let (f, x) = self.parts.split_at(2 * n);
-        let (f_re, f_im) = f.split_at(n);
-        let (x_re, x_im) = x.split_at(n);
+        // A constant `n` for the small systems unrolls the channel loops.
+        match self.n {
+            2 => self.sums(2),
+            3 => self.sums(3),
+            4 => self.sums(4),
+            n => self.sums(n),
+        }
+    }
+}
+
+impl Sums<'_> {
+    #[inline(always)]
+    fn sums(self, n: usize) {
+        let count = self.records;
+        let row = |q: usize| &self.parts[q * count..(q + 1) * count];
+        let (f_re, f_im) = (|c: usize| row(c), |c: usize| row(n + c));
+        let (x_re, x_im) = (|c: usize| row(2 * n + c), |c: usize| row(3 * n + c));
         for j in 0..n {
             for i in 0..=j {
-                let s = cross_sum(&f_re[i], &f_im[i], &f_re[j], &f_im[j]);
+                let s = cross_sum(f_re(i), f_im(i), f_re(j), f_im(j));
                 self.sff[i + j * n] = s;
                 if i != j {
                     self.sff[j + i * n] = s.conj();
                 }
             }
             for i in 0..n {
-                self.sxf[i + j * n] = cross_sum(&x_re[i], &x_im[i], &f_re[j], &f_im[j]);
+                self.sxf[i + j * n] = cross_sum(x_re(i), x_im(i), f_re(j), f_im(j));
             }
-            self.sxx[j] = cross_sum(&x_re[j], &x_im[j], &x_re[j], &x_im[j]).re;
+            self.sxx[j] = cross_sum(x_re(j), x_im(j), x_re(j), x_im(j)).re;
         }
     }
 }
@@ -220,6 +259,66 @@ mod tests {
             // Multiple coherence within [0, 1] (one record: every output fully explained).
             for &m in &coherence.multiple {
                 assert!((0.0..=1.0 + 1e-12).contains(&m), "{records}: {m}");
+            }
+        }
+    }
+
+    /// Every size, the unrolled ones (n ≤ 4) and the general one: the sums are the
+    /// record-by-record sums, and the multiple coherence is $s_i^H S_{ff}^{-1} s_i / S_{x_ix_i}$
+    /// from faer's inverse, to rounding.
+    #[test]
+    fn every_size_gives_the_direct_sums_and_coherence() {
+        use faer::linalg::solvers::DenseSolveCore;
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let mut z = |_: usize| c64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        for n in 1..=5 {
+            let mut coherence = SpectraCoherence::new(n);
+            let mut inverter = Inverter::new(n);
+            for records in [n + 1, 2 * n + 3] {
+                let spectra: Vec<(Vec<c64>, Vec<c64>)> = (0..records)
+                    .map(|r| {
+                        let f = (0..n).map(|i| z(r * 13 + i)).collect();
+                        let x = (0..n).map(|i| z(r * 5 + 3 * i + 50)).collect();
+                        (f, x)
+                    })
+                    .collect();
+                coherence.line(
+                    spectra.iter().map(|(f, x)| (f.as_slice(), x.as_slice())),
+                    &mut inverter,
+                );
+                let cross = |a: &dyn Fn(usize) -> c64, b: &dyn Fn(usize) -> c64| {
+                    (0..records).fold(c64::new(0.0, 0.0), |s, r| s + a(r) * b(r).conj())
+                };
+                let sff = faer::Mat::from_fn(n, n, |i, j| {
+                    cross(&|r| spectra[r].0[i], &|r| spectra[r].0[j])
+                });
+                let sff_inv = sff.partial_piv_lu().inverse();
+                for i in 0..n {
+                    let sxf: Vec<c64> = (0..n)
+                        .map(|j| cross(&|r| spectra[r].1[i], &|r| spectra[r].0[j]))
+                        .collect();
+                    let sxx = cross(&|r| spectra[r].1[i], &|r| spectra[r].1[i]).re;
+                    let mut explained = c64::new(0.0, 0.0);
+                    for a in 0..n {
+                        assert!((coherence.sxf[i + a * n] - sxf[a]).norm() < 1e-12);
+                        assert!((coherence.sff[i + a * n] - sff[(i, a)]).norm() < 1e-12);
+                        for b in 0..n {
+                            explained += sxf[a] * sff_inv[(a, b)] * sxf[b].conj();
+                        }
+                    }
+                    assert!((coherence.sxx[i] - sxx).abs() < 1e-12 * sxx);
+                    let multiple = explained.re / sxx;
+                    assert!(
+                        (coherence.multiple[i] - multiple).abs() < 1e-10,
+                        "n = {n}, {records} records: {} vs {multiple}",
+                        coherence.multiple[i]
+                    );
+                    for j in 0..n {
+                        let ordinary = sxf[j].norm_sqr() / (sxx * sff[(j, j)].re);
+                        assert!((coherence.ordinary[i + j * n] - ordinary).abs() < 1e-12);
+                    }
+                }
             }
         }
     }

@@ -101,8 +101,9 @@ impl FrfBuilder {
         let by_direction = by_direction(excitation, n);
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let zero = c64::new(0.0, 0.0);
-        table.impedance = vec![zero; sets * lines * nn];
-        table.regular = vec![false; sets * lines];
+        // Filled in order, set by set and line by line (no zeroing pass first).
+        table.impedance = Vec::with_capacity(sets * lines * nn);
+        table.regular = Vec::with_capacity(sets * lines);
         table.condition = vec![0.0; sets * lines];
         // One set's displacement matrices on every line side by side: their condition numbers
         // are computed together.
@@ -125,9 +126,11 @@ impl FrfBuilder {
             let at = s * lines;
             conditioner.condition_numbers(&xs, &mut table.condition[at..at + lines]);
             for l in 0..lines {
-                if let Some(h) = kernel.set_impedance(columns(l)) {
-                    table.impedance[(at + l) * nn..(at + l + 1) * nn].copy_from_slice(h);
-                    table.regular[at + l] = true;
+                let h = kernel.set_impedance(columns(l));
+                table.regular.push(h.is_some());
+                match h {
+                    Some(h) => table.impedance.extend_from_slice(h),
+                    None => table.impedance.extend(std::iter::repeat_n(zero, nn)),
                 }
             }
             table.records.push(records);

@@ -562,22 +562,31 @@ impl Stacked {
             Par::Seq,
         );
         let inv = bread.partial_piv_lu().inverse();
-        let r = self.residual(theta);
+        // The residuals only where the FRF carries no variance of its own (empty otherwise).
+        let r = match self.row_variance {
+            Some(_) => Mat::new(),
+            None => self.residual(theta),
+        };
         let n = self.n;
         let mut weighted = Mat::<f64>::zeros(m, p);
         let mut meat = Mat::zeros(p, p);
         let mut tmp = Mat::zeros(p, p);
+        let mut sigma = vec![0.0; m];
         let dof = m as f64 / (m - p) as f64;
         let mut out = Vec::with_capacity(self.n);
         for j in 0..self.n {
-            for row in 0..m {
+            for (row, sigma) in sigma.iter_mut().enumerate() {
                 let (k, i) = (row / (2 * n), row % n);
-                let sigma = match &self.row_variance {
+                *sigma = match &self.row_variance {
                     Some(v) => (0.5 * v[k * n * n + i + j * n]).sqrt(),
                     None => r[(row, j)] * dof.sqrt(),
                 };
-                for c in 0..p {
-                    weighted[(row, c)] = w_s[(row, c)] * sigma;
+            }
+            // Column by column, down contiguous columns.
+            for c in 0..p {
+                let dst = weighted.col_mut(c).iter_mut();
+                for (dst, (w, sigma)) in dst.zip(w_s.col(c).iter().zip(&sigma)) {
+                    *dst = w * sigma;
                 }
             }
             matmul(
