@@ -45,17 +45,16 @@ impl Data {
             Vec::with_capacity(lines * nn),
         );
         for k in 0..lines {
-            let hk = frf.impedance(k);
-            let norm = (0..nn).map(|e| hk[(e % n, e / n)].norm_sqr()).sum::<f64>();
+            let (hk, vk) = (frf.impedance(k), frf.impedance_variance(k));
+            let vk = vk.filter(|_| with_variance);
+            let first = h.len();
+            for j in 0..n {
+                h.extend((0..n).map(|i| hk[(i, j)]));
+            }
+            let norm = h[first..].iter().map(|z| z.norm_sqr()).sum::<f64>();
             let floor = MODEL_CHECK_FLOOR * MODEL_CHECK_FLOOR * norm;
             for e in 0..nn {
-                let (i, j) = (e % n, e / n);
-                h.push(hk[(i, j)]);
-                let v = if with_variance {
-                    frf.impedance_variance(k).map_or(0.0, |v| v[(i, j)])
-                } else {
-                    0.0
-                };
+                let v = vk.map_or(0.0, |v| v[(e % n, e / n)]);
                 let floored = v.max(floor);
                 var.push(if floored > 0.0 && floored.is_finite() {
                     floored
@@ -411,8 +410,7 @@ fn robust_fit_in(
             if (iteration == 0 && !started) || data.nu <= 0.0 {
                 el.weigh_by_variance();
             } else {
-                design.residuals(&mut el, &coefficients[..per]);
-                el.reweigh(data.nu);
+                design.reweigh(&mut el, &coefficients[..per], data.nu);
             }
             let (next, scale) = design.solve(&el).ok_or_else(singular)?;
             // The change of the element's model in the metric of its weighted normal

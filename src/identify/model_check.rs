@@ -226,7 +226,7 @@ impl ModelCheck {
         }
         let mut line_ratios = Vec::with_capacity(lines);
         // The residual signs of every element's real and imaginary part, over the lines.
-        let mut signs: Vec<Vec<bool>> = vec![Vec::with_capacity(lines); 2 * nn];
+        let mut signs: Vec<Vec<bool>> = (0..2 * nn).map(|_| Vec::with_capacity(lines)).collect();
         let (mut total, mut terms) = (0.0, 0usize);
         let residuals = fit.residuals(data);
         for k in 0..lines {
