@@ -5,6 +5,7 @@ use faer::linalg::solvers::{DenseSolveCore, Solve};
 use faer::{Mat, c64};
 
 use super::Family;
+use super::irls::{Design, MAX_PER};
 use crate::error::{Error, Result};
 use crate::frf::Frf;
 use crate::tolerance::{FAMILY_FIT_ITERATIONS, FAMILY_FIT_TOLERANCE, MODEL_CHECK_FLOOR};
@@ -44,17 +45,16 @@ impl Data {
             Vec::with_capacity(lines * nn),
         );
         for k in 0..lines {
-            let hk = frf.impedance(k);
-            let norm = (0..nn).map(|e| hk[(e % n, e / n)].norm_sqr()).sum::<f64>();
+            let (hk, vk) = (frf.impedance(k), frf.impedance_variance(k));
+            let vk = vk.filter(|_| with_variance);
+            let first = h.len();
+            for j in 0..n {
+                h.extend((0..n).map(|i| hk[(i, j)]));
+            }
+            let norm = h[first..].iter().map(|z| z.norm_sqr()).sum::<f64>();
             let floor = MODEL_CHECK_FLOOR * MODEL_CHECK_FLOOR * norm;
             for e in 0..nn {
-                let (i, j) = (e % n, e / n);
-                h.push(hk[(i, j)]);
-                let v = if with_variance {
-                    frf.impedance_variance(k).map_or(0.0, |v| v[(i, j)])
-                } else {
-                    0.0
-                };
+                let v = vk.map_or(0.0, |v| v[(e % n, e / n)]);
                 let floored = v.max(floor);
                 var.push(if floored > 0.0 && floored.is_finite() {
                     floored
@@ -87,17 +87,6 @@ impl Data {
 
     pub(crate) fn lines(&self) -> usize {
         self.omega.len()
-    }
-
-    /// The robust weight of a term with squared residual over variance `t`: the derivative of
-    /// `ν ln(1 + 2t/ν)` with respect to `t`, over 2, times `1/v` (`1/v` itself without a
-    /// pure error).
-    fn weight(&self, t: f64, var: f64) -> f64 {
-        if self.nu > 0.0 {
-            1.0 / (var * (1.0 + 2.0 * t / self.nu))
-        } else {
-            1.0 / var
-        }
     }
 
     /// The statistic's term for `t`: `ν ln(1 + 2t/ν)` (`2t` without a pure error).
@@ -259,14 +248,21 @@ impl FamilyFit {
         self
     }
 
-    /// The residual of element `e` at line `k` of `data`.
-    pub(crate) fn residual(&self, data: &Data, k: usize, e: usize) -> c64 {
+    /// The residuals of every element at every line of `data`, `[k * n² + e]`: the measured
+    /// impedance less the model, summed in the order of the basis.
+    pub(crate) fn residuals(&self, data: &Data) -> Vec<c64> {
         let per = self.family.parameters_per_element();
+        let nn = data.n * data.n;
         let mut phi = vec![c64::new(0.0, 0.0); per];
-        self.family
-            .basis(data.omega[k], &self.poles, self.omega0, &mut phi);
-        let model: c64 = (0..per).map(|b| phi[b] * self.theta[e * per + b]).sum();
-        data.h[k * data.n * data.n + e] - model
+        let mut out = Vec::with_capacity(data.lines() * nn);
+        for (k, &omega) in data.omega.iter().enumerate() {
+            self.family.basis(omega, &self.poles, self.omega0, &mut phi);
+            for (e, theta) in self.theta.chunks_exact(per).enumerate() {
+                let model: c64 = phi.iter().zip(theta).map(|(p, t)| p * *t).sum();
+                out.push(data.h[k * nn + e] - model);
+            }
+        }
+        out
     }
 }
 
@@ -317,6 +313,19 @@ pub(crate) fn fit_data(
     start_poles: Option<&[f64]>,
     start: Option<&crate::Coefficients>,
 ) -> Result<FamilyFit> {
+    let mut fit = fit_coefficients(data, family, start_poles, start)?;
+    covariance(data, &mut fit);
+    Ok(fit)
+}
+
+/// [`fit_data`] without the standard deviations (what the model check needs of the fit: its
+/// residuals).
+pub(crate) fn fit_coefficients(
+    data: &Data,
+    family: Family,
+    start_poles: Option<&[f64]>,
+    start: Option<&crate::Coefficients>,
+) -> Result<FamilyFit> {
     let per = family.parameters_per_element();
     if 2 * data.lines() <= per + 1 {
         return Err(Error::TooFewLines {
@@ -330,9 +339,7 @@ pub(crate) fn fit_data(
         0 => Vec::new(),
         count => search_poles(data, family, count, start_poles)?,
     };
-    let mut fit = robust_fit(data, family, &poles, start_theta.as_deref())?;
-    covariance(data, &mut fit);
-    Ok(fit)
+    robust_fit(data, family, &poles, start_theta.as_deref())
 }
 
 /// `K`, `C`, `M` laid out as the family's coefficients (zero where the family has none).
@@ -383,49 +390,40 @@ fn robust_fit_in(
     let (n, lines) = (data.n, data.lines());
     let nn = n * n;
     let per = family.parameters_per_element();
-    let phi = basis_table(data, family, poles);
-    let gram = gram_table(&phi, per);
+    let design = Design::new(&basis_table(data, family, poles), per, lines);
+    let mut el = design.element();
     let mut theta = start.map_or_else(|| vec![0.0; nn * per], <[f64]>::to_vec);
     let (mut statistic, mut terms) = (0.0, 0usize);
-    let mut weights = vec![0.0; lines];
-    let mut projections = vec![0.0; lines * per];
+    let singular = || Error::SingularFit {
+        method: crate::Method::LeastSquares,
+    };
     for e in 0..nn {
-        // `Re(y_k φ̄_b)` of this element, the same at every reweighting.
-        for (k, row) in phi.chunks_exact(per).enumerate() {
-            let y = data.h[k * nn + e];
-            for (p, b) in projections[k * per..(k + 1) * per].iter_mut().zip(row) {
-                *p = (y * b.conj()).re;
-            }
-        }
-        let mut coefficients = theta[e * per..(e + 1) * per].to_vec();
+        design.load(
+            &mut el,
+            (0..lines).map(|k| data.h[k * nn + e]),
+            (0..lines).map(|k| data.var[k * nn + e]),
+        );
+        let mut coefficients = [0.0; MAX_PER];
+        coefficients[..per].copy_from_slice(&theta[e * per..(e + 1) * per]);
         let started = start.is_some();
         for iteration in 0..iterations {
-            for (k, w) in weights.iter_mut().enumerate() {
-                let var = data.var[k * nn + e];
-                *w = if !var.is_finite() {
-                    0.0
-                } else if iteration == 0 && !started {
-                    1.0 / var
-                } else {
-                    let t = residual(&phi, data, k, e, &coefficients).norm_sqr() / var;
-                    data.weight(t, var)
-                };
+            if (iteration == 0 && !started) || data.nu <= 0.0 {
+                el.weigh_by_variance();
+            } else {
+                design.reweigh(&mut el, &coefficients[..per], data.nu);
             }
-            let (next, scale) =
-                weighted_solve(&gram, &projections, &weights, per).ok_or(Error::SingularFit {
-                    method: crate::Method::LeastSquares,
-                })?;
+            let (next, scale) = design.solve(&el).ok_or_else(singular)?;
             // The change of the element's model in the metric of its weighted normal
             // equations (`θ_b s_b` is basis `b`'s part of the model), relative to the model's
             // size there: a coefficient that is zero in truth (a mass off the diagonal) does
             // not hold the iteration to its own relative change.
-            let size = next
+            let size = next[..per]
                 .iter()
                 .zip(&scale)
                 .map(|(v, s)| (v * s).powi(2))
                 .sum::<f64>()
                 .sqrt();
-            let change = next
+            let change = next[..per]
                 .iter()
                 .zip(&coefficients)
                 .zip(&scale)
@@ -437,12 +435,11 @@ fn robust_fit_in(
                 break;
             }
         }
-        theta[e * per..(e + 1) * per].copy_from_slice(&coefficients);
-        for k in 0..lines {
-            let var = data.var[k * nn + e];
+        theta[e * per..(e + 1) * per].copy_from_slice(&coefficients[..per]);
+        design.residuals(&mut el, &coefficients[..per]);
+        for ((re, im), &var) in el.r_re.iter().zip(&el.r_im).zip(el.var()) {
             if var.is_finite() {
-                let t = residual(&phi, data, k, e, &coefficients).norm_sqr() / var;
-                statistic += data.term(t);
+                statistic += data.term((re * re + im * im) / var);
                 terms += 1;
             }
         }
@@ -469,60 +466,6 @@ fn basis_table(data: &Data, family: Family, poles: &[f64]) -> Vec<c64> {
         family.basis(w, poles, data.omega0, &mut out[k * per..(k + 1) * per]);
     }
     out
-}
-
-fn residual(phi: &[c64], data: &Data, k: usize, e: usize, theta: &[f64]) -> c64 {
-    let per = theta.len();
-    let model: c64 = (0..per).map(|b| phi[k * per + b] * theta[b]).sum();
-    data.h[k * data.n * data.n + e] - model
-}
-
-/// `Re(φ_b φ̄_c)` at every line, `[k * B² + b * B + c]`: the normal equations' terms before
-/// their weights, shared by every element and reweighting.
-fn gram_table(phi: &[c64], per: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(phi.len() * per);
-    for row in phi.chunks_exact(per) {
-        for b in row {
-            out.extend(row.iter().map(|c| (b * c.conj()).re));
-        }
-    }
-    out
-}
-
-/// The weighted least-squares coefficients of an element: the normal equations
-/// `Σ_k w_k Re(φ_b φ̄_c) θ_c = Σ_k w_k Re(y_k φ̄_b)` from their terms (`gram`, [`gram_table`];
-/// `projections`, `[k * B + b]`), columns scaled to unit diagonal; with the scales
-/// `s_b = √(Σ_k w_k |φ_b|²)`.
-fn weighted_solve(
-    gram: &[f64],
-    projections: &[f64],
-    weights: &[f64],
-    per: usize,
-) -> Option<(Vec<f64>, Vec<f64>)> {
-    let mut a = vec![0.0; per * per];
-    let mut rhs = vec![0.0; per];
-    for (k, &w) in weights.iter().enumerate() {
-        if w == 0.0 {
-            continue;
-        }
-        let g = &gram[k * per * per..(k + 1) * per * per];
-        let p = &projections[k * per..(k + 1) * per];
-        for b in 0..per {
-            rhs[b] += w * p[b];
-            for c in 0..per {
-                a[b * per + c] += w * g[b * per + c];
-            }
-        }
-    }
-    let scale: Vec<f64> = (0..per).map(|b| a[b * per + b].max(0.0).sqrt()).collect();
-    if scale.iter().any(|s| !(*s > 0.0 && s.is_finite())) {
-        return None;
-    }
-    let scaled = Mat::from_fn(per, per, |b, c| a[b * per + c] / (scale[b] * scale[c]));
-    let r = Mat::from_fn(per, 1, |b, _| rhs[b] / scale[b]);
-    let x = scaled.partial_piv_lu().solve(&r);
-    let out: Vec<f64> = (0..per).map(|b| x[(b, 0)] / scale[b]).collect();
-    out.iter().all(|v| v.is_finite()).then_some((out, scale))
 }
 
 /// The poles of a family with `count` states: variable projection from log-spaced starts
@@ -689,27 +632,20 @@ const LM_TOLERANCE: f64 = 1e-9;
 /// The signed square roots of the statistic's terms, real and imaginary parts split by the
 /// residual's direction: `√(term) · (Re e, Im e)/|e|`, whose squares sum to the statistic.
 fn projected_residuals(data: &Data, fit: &FamilyFit) -> Vec<f64> {
-    let nn = data.n * data.n;
-    let mut out = Vec::with_capacity(2 * data.lines() * nn);
-    for k in 0..data.lines() {
-        for e in 0..nn {
-            let var = data.var[k * nn + e];
-            if !var.is_finite() {
-                out.push(0.0);
-                out.push(0.0);
-                continue;
-            }
-            let r = fit.residual(data, k, e);
-            let t = r.norm_sqr() / var;
-            let size = data.term(t).max(0.0).sqrt();
-            let norm = r.norm();
-            if norm > 0.0 {
-                out.push(size * r.re / norm);
-                out.push(size * r.im / norm);
-            } else {
-                out.push(0.0);
-                out.push(0.0);
-            }
+    let residuals = fit.residuals(data);
+    let mut out = Vec::with_capacity(2 * residuals.len());
+    for (&r, &var) in residuals.iter().zip(&data.var) {
+        if !var.is_finite() {
+            out.extend([0.0, 0.0]);
+            continue;
+        }
+        let t = r.norm_sqr() / var;
+        let size = data.term(t).max(0.0).sqrt();
+        let norm = r.norm();
+        if norm > 0.0 {
+            out.extend([size * r.re / norm, size * r.im / norm]);
+        } else {
+            out.extend([0.0, 0.0]);
         }
     }
     out

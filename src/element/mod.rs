@@ -47,6 +47,7 @@
 
 mod basis;
 pub(crate) mod fit;
+mod irls;
 mod result;
 mod select;
 

@@ -64,7 +64,7 @@
 
 use faer::c64;
 
-use crate::element::fit::{Data, fit_data};
+use crate::element::fit::{Data, fit_coefficients};
 use crate::element::{Family, FamilyFit};
 use crate::error::{Result, Warning};
 use crate::frf::Frf;
@@ -198,7 +198,7 @@ impl ModelCheck {
             };
             return Ok((ModelCheck::untested(reason), None));
         }
-        match fit_data(&data, Family::Kcm, None, Some(fitted)) {
+        match fit_coefficients(&data, Family::Kcm, None, Some(fitted)) {
             Ok(fit) => Self::of_family(&data, &fit, frf.freqs_hz(), runs_stride),
             Err(_) => Ok((
                 ModelCheck::untested("the model family's own fit is singular"),
@@ -226,8 +226,9 @@ impl ModelCheck {
         }
         let mut line_ratios = Vec::with_capacity(lines);
         // The residual signs of every element's real and imaginary part, over the lines.
-        let mut signs: Vec<Vec<bool>> = vec![Vec::with_capacity(lines); 2 * nn];
+        let mut signs: Vec<Vec<bool>> = (0..2 * nn).map(|_| Vec::with_capacity(lines)).collect();
         let (mut total, mut terms) = (0.0, 0usize);
+        let residuals = fit.residuals(data);
         for k in 0..lines {
             let (mut line, mut line_terms) = (0.0, 0usize);
             for e in 0..nn {
@@ -235,7 +236,7 @@ impl ModelCheck {
                 if !var.is_finite() {
                     continue;
                 }
-                let r: c64 = fit.residual(data, k, e);
+                let r: c64 = residuals[k * nn + e];
                 // A residual whose scatter is at the floor is the fit's precision, not
                 // noise: its sign says nothing of the model.
                 if k % runs_stride.max(1) == 0 && data.above_floor[k * nn + e] {
