@@ -3,7 +3,7 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
-use super::{CLIP_SIDE_FRACTION, ImpactChecks, ImpactIssue, Scan};
+use super::{CLIP_SIDE_FRACTION, CLIP_TOLERANCE, ImpactChecks, ImpactIssue, Scan};
 use crate::error::Channel;
 
 /// Longest run of consecutive samples meeting a condition, tracked one sample at a time.
@@ -85,15 +85,11 @@ pub(super) fn clipping(
     if range <= 0.0 {
         return;
     }
-    // No run at either extreme can be as long as `clip_run` when fewer samples lie there in
-    // all: the runs need not be traced.
-    if scan.near_top < checks.clip_run && scan.near_bottom < checks.clip_run {
-        return;
-    }
     let mean = scan.mean;
     // The quantisation step: the smallest non-zero change between consecutive samples.
     let step = scan.step;
-    let (top, bottom) = (scan.top, scan.bottom);
+    let tol = CLIP_TOLERANCE * range;
+    let (top, bottom) = (hi - tol, lo + tol);
     let (at_hi, at_lo) = Arch::new().dispatch(ExtremeRuns { x, top, bottom });
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
         // A smooth peak of a quantised signal sits on its top code for a few samples too, but

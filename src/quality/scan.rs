@@ -2,14 +2,12 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
-use super::CLIP_TOLERANCE;
 use crate::lanes::LANES;
 use crate::records::Record;
 
 /// What two passes over a channel give the record checks and the screening: its extremes and
 /// mean, the smallest non-zero change between consecutive samples (the first pass), its RMS
-/// about the mean, a digest of its samples' bits and how many samples lie near each extreme
-/// (the second: what tells the clipping check whether a run can be long enough). The sums run in [`LANES`]
+/// about the mean and a digest of its samples' bits (the second). The sums run in [`LANES`]
 /// independent lanes (sample `m` in lane `m mod LANES`, see [`crate::lanes`]) and round as
 /// lane-wise sums do; extremes and smallest change are those of a left-to-right pass.
 #[derive(Debug, Clone, Copy)]
@@ -28,14 +26,6 @@ pub(crate) struct Scan {
     /// `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each step a bijection of `h`, so
     /// records that differ in one sample always differ here.
     pub(crate) digest: [u64; CHAINS],
-    /// The clipping check's levels near the extremes: `hi − t` and `lo + t`, `t` the
-    /// [`CLIP_TOLERANCE`] of the range `hi − lo`.
-    pub(crate) top: f64,
-    pub(crate) bottom: f64,
-    /// `#{m : x_m ≥ top}` and `#{m : x_m ≤ bottom}`: bounds of the longest run at either
-    /// extreme.
-    pub(crate) near_top: usize,
-    pub(crate) near_bottom: usize,
 }
 
 /// [`Scan::new`]'s pass as an operation of faer's SIMD dispatch: a named type rather than a
@@ -51,25 +41,16 @@ impl WithSimd for Pass<'_> {
     }
 }
 
-/// The second pass of [`Scan::new`] (`Σ (x − x̄)²`, the digest and the counts near the
-/// extremes) as an operation of faer's SIMD dispatch.
-struct Spread<'a> {
-    x: &'a [f64],
-    mean: f64,
-    top: f64,
-    bottom: f64,
-}
-
-/// What the second pass gives: `Σ (x − x̄)²`, the digest, the counts at or above `top` and at
-/// or below `bottom`.
-type Spreads = (f64, [u64; CHAINS], usize, usize);
+/// The second pass of [`Scan::new`] (`Σ (x − x̄)²` and the digest) as an operation of faer's
+/// SIMD dispatch.
+struct Spread<'a>(&'a [f64], f64);
 
 impl WithSimd for Spread<'_> {
-    type Output = Spreads;
+    type Output = (f64, [u64; CHAINS]);
 
     #[inline(always)]
-    fn with_simd<S: Simd>(self, _: S) -> Spreads {
-        Scan::spread(self.x, self.mean, self.top, self.bottom)
+    fn with_simd<S: Simd>(self, _: S) -> Self::Output {
+        Scan::spread(self.0, self.1)
     }
 }
 
@@ -115,26 +96,17 @@ impl Scan {
             .collect()
     }
 
-    /// The scan of `x`: a first pass for the extremes, sum and smallest change, each of its
-    /// folds in [`LANES`] lanes (kept as separate arrays, so each fold's lanes pack into SIMD
-    /// registers), and a second pass about the mean and the extremes it found. Samples are
-    /// finite (a `Record` guarantees it), so comparisons stand in for `f64::min`/`max`.
+    /// The first pass over `x` (its `mean` still the sum, its `rms` 0), each of its folds in [`LANES`] lanes (kept as separate arrays, so
+    /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
+    /// it), so comparisons stand in for `f64::min`/`max`.
     pub(crate) fn new(x: &[f64]) -> Self {
         let mut scan = Arch::new().dispatch(Pass(x));
         if !x.is_empty() {
             let n = x.len() as f64;
             scan.mean /= n;
-            let tol = CLIP_TOLERANCE * (scan.hi - scan.lo);
-            (scan.top, scan.bottom) = (scan.hi - tol, scan.lo + tol);
-            let (squares, digest, near_top, near_bottom) = Arch::new().dispatch(Spread {
-                x,
-                mean: scan.mean,
-                top: scan.top,
-                bottom: scan.bottom,
-            });
+            let (squares, digest) = Arch::new().dispatch(Spread(x, scan.mean));
             scan.rms = (squares / n).sqrt();
             scan.digest = digest;
-            (scan.near_top, scan.near_bottom) = (near_top, near_bottom);
         }
         scan
     }
@@ -178,20 +150,14 @@ impl Scan {
             rms: 0.0,
             step: min4(step),
             digest: DIGEST_START,
-            top: f64::INFINITY,
-            bottom: f64::NEG_INFINITY,
-            near_top: 0,
-            near_bottom: 0,
         }
     }
 
     /// The second pass over `x`: `Σ (x − c)²` as [`crate::lanes::sum_sq_dev`] sums it (the same
-    /// operations in the same lanes, so the same bits), the digest's chains, and the samples
-    /// at or above `top` and at or below `bottom` counted.
+    /// operations in the same lanes, so the same bits) and the digest's chains.
     #[inline(always)]
-    fn spread(x: &[f64], c: f64, top: f64, bottom: f64) -> Spreads {
+    fn spread(x: &[f64], c: f64) -> (f64, [u64; CHAINS]) {
         let mut a = [0.0; LANES];
-        let (mut above, mut below) = ([0u64; LANES], [0u64; LANES]);
         let mut digest = DIGEST_START;
         let groups = x.chunks_exact(CHAINS);
         let tail = groups.remainder();
@@ -200,8 +166,6 @@ impl Scan {
                 for j in 0..LANES {
                     let v = g[q * LANES + j];
                     a[j] += (v - c) * (v - c);
-                    above[j] += u64::from(v >= top);
-                    below[j] += u64::from(v <= bottom);
                 }
             }
             for (h, &v) in digest.iter_mut().zip(g) {
@@ -210,17 +174,9 @@ impl Scan {
         }
         for (m, &v) in tail.iter().enumerate() {
             a[m % LANES] += (v - c) * (v - c);
-            above[m % LANES] += u64::from(v >= top);
-            below[m % LANES] += u64::from(v <= bottom);
             digest[m] = mix(digest[m], v);
         }
-        let count = |k: [u64; LANES]| k.iter().sum::<u64>() as usize;
-        (
-            (a[0] + a[1]) + (a[2] + a[3]),
-            digest,
-            count(above),
-            count(below),
-        )
+        ((a[0] + a[1]) + (a[2] + a[3]), digest)
     }
 }
 
