@@ -21,13 +21,29 @@ fn from_total_order_key(key: u64) -> f64 {
     f64::from_bits(key ^ flip)
 }
 
+/// Buffers of the double-hit check's medians, kept from one record to the next so that the
+/// check allocates nothing once they have grown to a channel's length.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MedianBuffers {
+    /// The channel's keys (of its samples, then of their deviations).
+    keys: Vec<u64>,
+    /// The selection's scratch ([`select::select`]).
+    inside: Vec<u64>,
+}
+
 /// The level below which `f` is quiet about `baseline`: a fraction of the peak, or the noise
 /// (the MAD of the deviations, as a standard deviation) when that is higher
 /// (`max(`[`RETURN_FRACTION`]` · peak, `[`NOISE_SIGMAS`]` · σ)`). When more than half the
 /// deviations are within `t` (below), the MAD is too, and the noise term stays below the
 /// fraction of the peak by [`QUIET_MARGIN`]: the level is then the fraction, without the
-/// second median. `keys` is scratch of `f`'s length.
-fn quiet_level(f: &[f64], baseline: f64, peak: f64, keys: &mut [u64]) -> f64 {
+/// second median. `keys` is scratch of `f`'s length, `inside` the selection's.
+fn quiet_level(
+    f: &[f64],
+    baseline: f64,
+    peak: f64,
+    keys: &mut [u64],
+    inside: &mut Vec<u64>,
+) -> f64 {
     let fraction = RETURN_FRACTION * peak;
     let t = fraction / (NOISE_SIGMAS * MAD_TO_SIGMA) * (1.0 - QUIET_MARGIN);
     let mid = f.len() / 2;
@@ -37,7 +53,7 @@ fn quiet_level(f: &[f64], baseline: f64, peak: f64, keys: &mut [u64]) -> f64 {
     for (k, v) in keys.iter_mut().zip(f) {
         *k = (v - baseline).abs().to_bits();
     }
-    let sigma = MAD_TO_SIGMA * f64::from_bits(select::select(keys, mid));
+    let sigma = MAD_TO_SIGMA * f64::from_bits(select::select(keys, mid, inside));
     fraction.max(NOISE_SIGMAS * sigma)
 }
 
@@ -61,11 +77,12 @@ fn crest_factor_below(scan: &Scan, threshold: f64) -> bool {
 }
 
 /// `(main peak sample, extra peak sample, ratio)` of a double hit in `f`, if there is one.
-/// (`scan` is `f`'s [`Scan`].)
+/// (`scan` is `f`'s [`Scan`]; `buffers` are kept by the caller across records.)
 pub(super) fn double_hit(
     f: &[f64],
     checks: &ImpactChecks,
     scan: &Scan,
+    buffers: &mut MedianBuffers,
 ) -> Option<(usize, usize, f64)> {
     // No crest factor passes an infinite threshold: the answer is `None` (see
     // [`SQUARES_TO_ZERO`]), found here without the medians.
@@ -83,9 +100,9 @@ pub(super) fn double_hit(
     // non-negative deviations their bits): the same elements as selecting on the floats, with
     // cheaper comparisons.
     let mid = n / 2;
-    let mut keys = Vec::with_capacity(n);
-    lanes::total_order_keys(f, &mut keys);
-    let baseline = from_total_order_key(select::select(&mut keys, mid));
+    let MedianBuffers { keys, inside } = buffers;
+    lanes::total_order_keys(f, keys);
+    let baseline = from_total_order_key(select::select(keys, mid, inside));
     let (p, peak) = lanes::peak(f, baseline);
     let rms = (lanes::sum_sq_dev(f, baseline) / n as f64).sqrt();
     // Samples are finite (a `Record` guarantees it), so `peak` is a number.
@@ -93,8 +110,7 @@ pub(super) fn double_hit(
         return None;
     }
     let sign = (f[p] - baseline).signum();
-    let floor = quiet_level(f, baseline, peak, &mut keys);
-    drop(keys);
+    let floor = quiet_level(f, baseline, peak, keys, inside);
     let quiet = |i: usize| (f[i] - baseline).abs() < floor;
 
     // First sample after the main pulse: the start of the first quiet run after p.
@@ -243,7 +259,7 @@ mod tests {
                 let mut dev: Vec<f64> = f.iter().map(|v| (v - baseline).abs()).collect();
                 let sigma = MAD_TO_SIGMA * upper_median(&mut dev);
                 let plain = (RETURN_FRACTION * peak).max(NOISE_SIGMAS * sigma);
-                let level_here = quiet_level(&f, baseline, peak, &mut vec![0; n]);
+                let level_here = quiet_level(&f, baseline, peak, &mut vec![0; n], &mut Vec::new());
                 assert_eq!(
                     level_here.to_bits(),
                     plain.to_bits(),

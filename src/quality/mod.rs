@@ -34,6 +34,7 @@ mod clipping;
 mod double_hit;
 mod scan;
 use clipping::clipping;
+pub(crate) use double_hit::MedianBuffers;
 use double_hit::double_hit;
 pub(crate) use scan::Scan;
 
@@ -355,21 +356,31 @@ pub fn warnings(record: &Record, issues: &[ImpactIssue]) -> Vec<Warning> {
 /// ```
 pub fn check_record(record: &Record, checks: &ImpactChecks) -> Vec<ImpactIssue> {
     let scans = Scan::channels(record);
-    check_scanned(record, checks, record.dominant_force(), &scans)
+    let mut buffers = MedianBuffers::default();
+    check_scanned(
+        record,
+        checks,
+        record.dominant_force(),
+        &scans,
+        &mut buffers,
+    )
 }
 
 /// [`check_record`] from the record's dominant force and the [`Scan`]s of its channels (forces,
-/// then displacements, in DOF order), each done once by the caller and shared.
+/// then displacements, in DOF order), each done once by the caller and shared; `buffers` kept by
+/// the caller from one record to the next.
 pub(crate) fn check_scanned(
     record: &Record,
     checks: &ImpactChecks,
     dominant: usize,
     scans: &[Scan],
+    buffers: &mut MedianBuffers,
 ) -> Vec<ImpactIssue> {
     let fs = record.sample_rate();
     let mut issues = Vec::new();
     let channel = dominant;
-    if let Some((first, second, ratio)) = double_hit(record.force(channel), checks, &scans[channel])
+    if let Some((first, second, ratio)) =
+        double_hit(record.force(channel), checks, &scans[channel], buffers)
     {
         issues.push(ImpactIssue::DoubleHit {
             channel,

@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::error::{Channel, Warning};
-use crate::quality::{self, ImpactChecks, Scan};
+use crate::quality::{self, ImpactChecks, MedianBuffers, Scan};
 use crate::records::{Record, Response};
 
 use super::summary::{Summary, flat};
@@ -42,6 +42,8 @@ pub struct Screener {
     /// The records of `first_with` by the bits of their [`Summary::peak_sum`] (non-negative,
     /// so the bits order as the numbers): where a copy up to rounding is looked for.
     by_peak_sum: BTreeMap<u64, Vec<usize>>,
+    /// The double-hit check's buffers, kept from one record to the next.
+    buffers: MedianBuffers,
 }
 
 impl Screener {
@@ -53,6 +55,7 @@ impl Screener {
             summaries: Vec::new(),
             first_with: HashMap::new(),
             by_peak_sum: BTreeMap::new(),
+            buffers: MedianBuffers::default(),
         }
     }
 
@@ -100,7 +103,7 @@ impl Screener {
             clip_run: self.checks.clip_run,
             ..impact
         };
-        let issues = quality::check_scanned(record, &impact, dominant, &scans);
+        let issues = quality::check_scanned(record, &impact, dominant, &scans, &mut self.buffers);
         found.extend(quality::warnings(record, &issues));
         let mut summary = Summary::scanned(record, dominant, &scans);
         summary.flat = found

@@ -13,7 +13,8 @@ const MARGIN: usize = 40;
 const SAMPLED_MIN: usize = 8 * SAMPLE;
 
 /// The key of rank `k` (ascending) of `keys`, reordering them; the same key as
-/// `keys.select_nth_unstable(k)` gives.
+/// `keys.select_nth_unstable(k)` gives. `inside` is scratch, kept by the caller from one
+/// selection to the next (grown to the keys' count once, never cleared).
 ///
 /// From a strided sample of the keys, two sample quantiles bracket the rank; one pass counts
 /// the keys below the bracket and gathers those inside it (a sixth or so), and the selection
@@ -22,7 +23,7 @@ const SAMPLED_MIN: usize = 8 * SAMPLE;
 ///
 /// # Panics
 /// If `k ≥ keys.len()`.
-pub(crate) fn select(keys: &mut [u64], k: usize) -> u64 {
+pub(crate) fn select(keys: &mut [u64], k: usize, inside: &mut Vec<u64>) -> u64 {
     let n = keys.len();
     if n < SAMPLED_MIN {
         return *keys.select_nth_unstable(k).1;
@@ -40,8 +41,11 @@ pub(crate) fn select(keys: &mut [u64], k: usize) -> u64 {
     let (_, &mut lo, above) = sample.select_nth_unstable(lo_rank);
     let hi = *above.select_nth_unstable(hi_rank - lo_rank - 1).1;
     // Keys inside [lo, hi], gathered without branches (a write at every key, the end moved on
-    // only for those inside); one spare slot for the last write.
-    let mut inside = vec![0u64; n + 1];
+    // only for those inside); one spare slot for the last write. Every slot read is written
+    // first: what the scratch held before does not matter.
+    if inside.len() <= n {
+        inside.resize(n + 1, 0);
+    }
     let (mut len, mut below) = (0, 0);
     for &v in keys.iter() {
         inside[len] = v;
@@ -80,11 +84,17 @@ mod tests {
             (0..n as u64).collect(),
             (0..n as u64).rev().collect(),
         ];
+        // One scratch for all, as the double-hit check keeps it: left over from larger sets.
+        let mut inside = vec![u64::MAX; 2 * n];
         for (i, set) in sets.iter().enumerate() {
             let mut sorted = set.clone();
             sorted.sort_unstable();
             for k in (0..n).step_by(97).chain([0, n / 2, n - 1]) {
-                assert_eq!(select(&mut set.clone(), k), sorted[k], "set {i} rank {k}");
+                assert_eq!(
+                    select(&mut set.clone(), k, &mut inside),
+                    sorted[k],
+                    "set {i} rank {k}"
+                );
             }
         }
     }
