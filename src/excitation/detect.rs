@@ -147,16 +147,27 @@ impl Evidence {
     /// samples, has no tone, steadiness or sweep (all 0).
     pub fn of(record: &Record) -> Evidence {
         let f = record.force(record.dominant_force());
-        let x = centred(f).filter(|x| x.len() >= MIN_SAMPLES);
-        let spectral = (x.as_deref())
-            .and_then(|x| Spectral::of(&x[..quick_len(x.len())]))
+        // The centred force gives the crest factor and the steadiness in one pass, then its
+        // spectrum (the crest factor's own passes would centre it again).
+        let x = centred(f);
+        let powers = x.as_deref().map(Powers::of).unwrap_or_default();
+        let spectral = x
+            .filter(|x| x.len() >= MIN_SAMPLES)
+            .and_then(|mut x| {
+                x.truncate(quick_len(x.len()));
+                Spectral::of(x)
+            })
             .unwrap_or_default();
         let repeat = repeat(record);
         Evidence {
-            crest_factor: crest(f),
+            crest_factor: powers.crest,
             tone: spectral.tone,
             tone_hz: spectral.cycles * record.sample_rate(),
-            steadiness: x.as_deref().map_or(0.0, steadiness),
+            steadiness: if f.len() >= MIN_SAMPLES {
+                powers.steadiness
+            } else {
+                0.0
+            },
             sweep: spectral.sweep,
             sweep_lines: spectral.lines,
             period_s: repeat.map(|r| r.period_s),
@@ -341,22 +352,29 @@ pub fn response_crest_factor(record: &Record) -> f64 {
 }
 
 /// Peak over RMS about the mean of `f`, scaled by its largest magnitude first; 0 when flat
-/// or not finite.
+/// or not finite. The peak is read at the smallest or the largest sample: `v/s − f̄` rounds
+/// monotonically in `v`, so its largest magnitude is at one of them, the very value a pass
+/// over every sample finds.
 fn crest(f: &[f64]) -> f64 {
-    let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    let (low, high) = f
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let scale = high.max(-low);
     if scale <= 0.0 || !scale.is_finite() {
         return 0.0;
     }
     let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
-    let centred = |v: &f64| v / scale - mean;
-    let rms = (f.iter().map(|v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
-    let peak = f.iter().map(|v| centred(v).abs()).fold(0.0, f64::max);
+    let centred = |v: f64| v / scale - mean;
+    let rms = (f.iter().map(|&v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
+    let peak = centred(low).abs().max(centred(high).abs());
     if rms > 0.0 { peak / rms } else { 0.0 }
 }
 
 /// `f` over its largest magnitude, less its mean; `None` when flat or not finite.
 fn centred(f: &[f64]) -> Option<Vec<f64>> {
-    let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    let scale = crate::lanes::max_abs(f);
     if scale <= 0.0 || !scale.is_finite() {
         return None;
     }
@@ -364,13 +382,38 @@ fn centred(f: &[f64]) -> Option<Vec<f64>> {
     Some(f.iter().map(|v| v / scale - mean).collect())
 }
 
-/// Mean power of the weaker half of `x` over that of the stronger; 0 when flat.
-fn steadiness(x: &[f64]) -> f64 {
-    let power = |s: &[f64]| s.iter().map(|v| v * v).sum::<f64>() / s.len() as f64;
-    let (first, second) = x.split_at(x.len() / 2);
-    let (a, b) = (power(first), power(second));
-    let strong = a.max(b);
-    if strong > 0.0 { a.min(b) / strong } else { 0.0 }
+/// What one pass over a centred force gives: its crest factor (as [`crest`] of the force) and
+/// its steadiness (mean power of its weaker half over that of its stronger; 0 when flat).
+#[derive(Debug, Default)]
+struct Powers {
+    crest: f64,
+    steadiness: f64,
+}
+
+impl Powers {
+    /// From the centred force `x` ([`centred`]): each sum runs in the order of its own
+    /// pass, so the values are those of separate passes.
+    fn of(x: &[f64]) -> Powers {
+        let (first, second) = x.split_at(x.len() / 2);
+        let (mut total, mut peak) = (0.0, 0.0_f64);
+        let mut half = |s: &[f64]| {
+            let mut power = 0.0;
+            for v in s {
+                let square = v * v;
+                power += square;
+                total += square;
+                peak = peak.max(v.abs());
+            }
+            power / s.len() as f64
+        };
+        let (a, b) = (half(first), half(second));
+        let rms = (total / x.len() as f64).sqrt();
+        let strong = a.max(b);
+        Powers {
+            crest: if rms > 0.0 { peak / rms } else { 0.0 },
+            steadiness: if strong > 0.0 { a.min(b) / strong } else { 0.0 },
+        }
+    }
 }
 
 /// What the spectrum of a force says: its tone and the frequency of its peak (cycles per
@@ -386,19 +429,19 @@ struct Spectral {
 
 impl Spectral {
     /// From the DFT of `x` (centred, at least [`MIN_SAMPLES`] long) and that of `m x_m`.
-    fn of(x: &[f64]) -> Option<Spectral> {
+    fn of(mut x: Vec<f64>) -> Option<Spectral> {
         let n = x.len();
         let fft = PLANNER.with(|planner| planner.borrow_mut().plan_fft_forward(n));
-        let mut input = x.to_vec();
+        let mut moment: Vec<f64> = x.iter().enumerate().map(|(m, v)| m as f64 * v).collect();
+        let mut scratch = fft.make_scratch_vec();
         let mut spectrum = fft.make_output_vec();
-        fft.process(&mut input, &mut spectrum).ok()?;
-        for (m, (t, v)) in input.iter_mut().zip(x).enumerate() {
-            *t = m as f64 * v;
-        }
-        let mut moment = fft.make_output_vec();
-        fft.process(&mut input, &mut moment).ok()?;
+        fft.process_with_scratch(&mut x, &mut spectrum, &mut scratch)
+            .ok()?;
+        let mut moment_spectrum = fft.make_output_vec();
+        fft.process_with_scratch(&mut moment, &mut moment_spectrum, &mut scratch)
+            .ok()?;
         let (tone, peak) = tone(&spectrum, n);
-        let (sweep, lines) = sweep(&spectrum, &moment);
+        let (sweep, lines) = sweep(&spectrum, &moment_spectrum);
         Some(Spectral {
             tone,
             cycles: peak as f64 / n as f64,
@@ -444,12 +487,13 @@ fn tone(spectrum: &[c64], n: usize) -> (f64, usize) {
         let k = k as isize;
         (at(k) * 0.5 - (at(k - 1) + at(k + 1)) * 0.25).norm_sqr()
     };
-    let lines = spectrum.len();
-    let total: f64 = (0..lines).map(hann).sum();
-    let peak = (1..lines).fold(1, |best, k| if hann(k) > hann(best) { k } else { best });
-    let near = peak.saturating_sub(TONE_HALF_WIDTH)..(peak + TONE_HALF_WIDTH + 1).min(lines);
+    // Each line's windowed power once: the sum, the peak and the lines near it read it.
+    let power: Vec<f64> = (0..spectrum.len()).map(hann).collect();
+    let total: f64 = power.iter().sum();
+    let peak = (1..power.len()).fold(1, |best, k| if power[k] > power[best] { k } else { best });
+    let near = peak.saturating_sub(TONE_HALF_WIDTH)..(peak + TONE_HALF_WIDTH + 1).min(power.len());
     let fraction = if total > 0.0 {
-        near.map(hann).sum::<f64>() / total
+        power[near].iter().sum::<f64>() / total
     } else {
         0.0
     };
@@ -874,5 +918,38 @@ mod tests {
         let down: Vec<f64> = up.iter().rev().copied().collect();
         assert!((rank_correlation(&up) - 1.0).abs() < 1e-15);
         assert!((rank_correlation(&down) + 1.0).abs() < 1e-15);
+    }
+    /// The features read in shared passes are those of separate ones, bit for bit: the
+    /// evidence's crest factor is [`crest_factor`]'s (the job lets the first record's
+    /// evidence decide when it is not 0), and [`crest`]'s peak, read at the extremes, is the
+    /// largest over every sample.
+    #[test]
+    fn shared_passes_give_the_separate_passes_bits() {
+        let by_every_sample = |f: &[f64]| {
+            let scale = f.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+            let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
+            let centred = |v: &f64| v / scale - mean;
+            let rms = (f.iter().map(|v| centred(v).powi(2)).sum::<f64>() / f.len() as f64).sqrt();
+            f.iter().map(|v| centred(v).abs()).fold(0.0, f64::max) / rms
+        };
+        let mut sim = Simulator::new(&seed_rig(), 500.0, 4000, AntiAlias::default()).unwrap();
+        let random = sim.random_record("random", 40.0, 2).unwrap();
+        let impacts = ImpactTest::seed_rig().run(&seed_rig()).unwrap();
+        for r in [&random, &impacts[0], &impacts[3]] {
+            assert_eq!(
+                Evidence::of(r).crest_factor.to_bits(),
+                crest_factor(r).to_bits(),
+                "{}",
+                r.label()
+            );
+            for c in 0..r.dofs() {
+                for f in [r.force(c), r.displacement(c)] {
+                    let shifted: Vec<f64> = f.iter().map(|v| 2.0 - 3.0 * v).collect();
+                    for f in [f, &shifted[..]] {
+                        assert_eq!(crest(f).to_bits(), by_every_sample(f).to_bits());
+                    }
+                }
+            }
+        }
     }
 }

@@ -220,6 +220,13 @@ impl Job {
         match self.options.excitation {
             Some(kind) => Ok((kind, crest_factor(first), false)),
             None => {
+                // The first record's evidence holds its crest factor: when that is not 0
+                // (a force), the first record decides, as `deciding_record` would say.
+                let evidence = Evidence::of(first);
+                if evidence.crest_factor > 0.0 {
+                    let kind = Excitation::from_evidence(first, evidence)?;
+                    return Ok((kind, evidence.crest_factor, true));
+                }
                 let deciding =
                     deciding_record(std::iter::once(Ok(Cow::Borrowed(first))).chain(rest))?;
                 let evidence = Evidence::of(&deciding);

@@ -95,7 +95,8 @@ fn noisy_random(rate: f64, len: usize, n: u64, noise: f64) -> Vec<Record> {
 /// Random records: the job's result is bit for bit that of [`Identifier::identify`] with the
 /// settings it reports, whether the Welch choice keeps the default length (the identification
 /// then finishes on the first fit's spectra) or a longer one; the choice is that of
-/// [`crate::excitation::choose_welch`] by IVF; the stages add up to the total.
+/// [`crate::excitation::choose_welch`] by IVF; the stages add up to the total, the screening
+/// among them.
 #[test]
 fn random_records_are_identified_as_the_settings_reported() {
     use crate::excitation::{choose_welch, welch_len};
@@ -119,6 +120,9 @@ fn random_records_are_identified_as_the_settings_reported() {
         assert!(parts <= t.total(), "{t:?}");
         assert!(t.welch_choice > Duration::ZERO && t.detect > Duration::ZERO);
         assert!(t.identification.spectra > Duration::ZERO);
+        // The records are screened once, for the first fit: counted as the screen stage
+        // whichever length the identification takes.
+        assert!(t.identification.screen > Duration::ZERO, "{t:?}");
     }
 }
 
