@@ -116,19 +116,8 @@ impl Scan {
     /// `f64::min`/`max`.
     #[inline(always)]
     fn folded(x: &[f64]) -> Self {
-        let mut lo = [f64::INFINITY; LANES];
-        let mut hi = [f64::NEG_INFINITY; LANES];
-        let mut sum = [0.0; LANES];
-        let chunks = x.chunks_exact(LANES);
-        let rest = chunks.remainder();
-        for c in chunks {
-            for j in 0..LANES {
-                let v = c[j];
-                lo[j] = if v < lo[j] { v } else { lo[j] };
-                hi[j] = if v > hi[j] { v } else { hi[j] };
-                sum[j] += v;
-            }
-        }
+        let (mut lo, mut hi, mut sum) = Self::whole_lanes(x);
+        let rest = x.chunks_exact(LANES).remainder();
         for (j, &v) in rest.iter().enumerate() {
             lo[j] = lo[j].min(v);
             hi[j] = hi[j].max(v);
@@ -142,6 +131,26 @@ impl Scan {
             rms: 0.0,
             digest: DIGEST_START,
         }
+    }
+
+    /// The lanes' minima, maxima and sums over the whole groups of [`LANES`] samples of `x`: a
+    /// loop of its own, which the compiler turns into one SIMD minimum, maximum and sum per
+    /// group (written in [`Scan::folded`] beside the remainder's `f64::min`, it compiled to
+    /// compares, blends and lane shuffles, five times the instructions).
+    #[inline(always)]
+    fn whole_lanes(x: &[f64]) -> ([f64; LANES], [f64; LANES], [f64; LANES]) {
+        let mut lo = [f64::INFINITY; LANES];
+        let mut hi = [f64::NEG_INFINITY; LANES];
+        let mut sum = [0.0; LANES];
+        for c in x.chunks_exact(LANES) {
+            for j in 0..LANES {
+                let v = c[j];
+                lo[j] = if v < lo[j] { v } else { lo[j] };
+                hi[j] = if v > hi[j] { v } else { hi[j] };
+                sum[j] += v;
+            }
+        }
+        (lo, hi, sum)
     }
 
     /// The second pass over `x`: `Σ (x − c)²` as [`crate::lanes::sum_sq_dev`] sums it (the same
