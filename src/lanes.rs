@@ -146,8 +146,11 @@ fn first_at_max(x: &[f64], d: impl Fn(f64) -> f64 + Copy) -> (usize, f64) {
             if d > a { d } else { a }
         })
     });
-    let top = lanes.into_iter().fold(0.0, |a: f64, b| if b > a { b } else { a });
-    match x.iter().position(|&v| d(v) == top) {
+    let top = lanes
+        .into_iter()
+        .fold(0.0, |a: f64, b| if b > a { b } else { a });
+    // The same bits: `top` is positive when it is used, a number whose bits are its only ones.
+    match x.iter().position(|&v| d(v).to_bits() == top.to_bits()) {
         Some(m) if top > 0.0 => (m, top),
         _ => (0, 0.0),
     }
