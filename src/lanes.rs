@@ -88,7 +88,8 @@ pub(crate) fn peak(x: &[f64], c: f64) -> (usize, f64) {
 }
 
 /// `(m, s·(x_m − c))` at the largest positive `s·(x − c)`, the first such `m` (`(0, 0)` when
-/// none is positive).
+/// none is positive): the reference of [`first_peak_signed`].
+#[cfg(test)]
 pub(crate) fn peak_signed(x: &[f64], c: f64, s: f64) -> (usize, f64) {
     simd(|| first_max(x, |v| s * (v - c)))
 }
@@ -123,6 +124,38 @@ fn first_max(x: &[f64], d: impl Fn(f64) -> f64) -> (usize, f64) {
         })
 }
 
+/// [`peak`] in two passes: the largest `|x − c|` in lanes (packed into SIMD registers, which
+/// the index [`peak`] carries keeps out), then the first sample at it. The same result.
+pub(crate) fn first_peak(x: &[f64], c: f64) -> (usize, f64) {
+    first_at_max(x, |v| (v - c).abs())
+}
+
+/// [`peak_signed`] in two passes, as [`first_peak`]. The same result.
+pub(crate) fn first_peak_signed(x: &[f64], c: f64, s: f64) -> (usize, f64) {
+    first_at_max(x, |v| s * (v - c))
+}
+
+/// The first `m` with the largest positive `d(x_m)`, and that value (`(0, 0)` for none), as
+/// [`first_max`] finds it: the largest value in lanes, then the first sample that reaches it
+/// (`d` evaluated the same way both times, so the same bits).
+#[inline(always)]
+fn first_at_max(x: &[f64], d: impl Fn(f64) -> f64 + Copy) -> (usize, f64) {
+    let lanes = simd(|| {
+        fold(x, 0.0, |a: f64, v: f64| {
+            let d = d(v);
+            if d > a { d } else { a }
+        })
+    });
+    let top = lanes
+        .into_iter()
+        .fold(0.0, |a: f64, b| if b > a { b } else { a });
+    // The same bits: `top` is positive when it is used, a number whose bits are its only ones.
+    match x.iter().position(|&v| d(v).to_bits() == top.to_bits()) {
+        Some(m) if top > 0.0 => (m, top),
+        _ => (0, 0.0),
+    }
+}
+
 /// `f64::total_cmp`'s order as unsigned integers: a negative value has every bit flipped,
 /// any other its sign bit.
 #[inline(always)]
@@ -151,6 +184,26 @@ pub(crate) fn all_finite(x: &[f64]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The two-pass peaks against the one-pass ones, bit for bit, on ties (the first wins), on
+    /// every remainder length, and with no positive value.
+    #[test]
+    fn two_pass_peaks_are_the_one_pass_ones() {
+        for len in [0, 1, 2, 3, 4, 5, 7, 8, 9, 63, 64, 65, 1001] {
+            let x: Vec<f64> = (0..len)
+                .map(|m| ((m * 37 % 11) as f64 - 5.0) * 0.5)
+                .collect();
+            for c in [0.0, 0.25, -1.0, 10.0] {
+                let same = |a: (usize, f64), b: (usize, f64)| {
+                    assert_eq!((a.0, a.1.to_bits()), (b.0, b.1.to_bits()), "{len} {c}");
+                };
+                same(first_peak(&x, c), peak(&x, c));
+                for s in [1.0, -1.0] {
+                    same(first_peak_signed(&x, c, s), peak_signed(&x, c, s));
+                }
+            }
+        }
+    }
 
     #[test]
     fn sums_match_a_plain_fold_on_exact_values() {

@@ -3,6 +3,7 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
+use super::scan::smallest_step;
 use super::{CLIP_SIDE_FRACTION, CLIP_TOLERANCE, ImpactChecks, ImpactIssue, Scan};
 use crate::error::Channel;
 
@@ -86,12 +87,16 @@ pub(super) fn clipping(
         return;
     }
     let mean = scan.mean;
-    // The quantisation step: the smallest non-zero change between consecutive samples.
-    let step = scan.step;
+    // The quantisation step: the smallest non-zero change between consecutive samples, found
+    // only for a run long enough to report (one more pass over the channel).
+    let mut step = None;
     let tol = CLIP_TOLERANCE * range;
     let (top, bottom) = (hi - tol, lo + tol);
     let (at_hi, at_lo) = Arch::new().dispatch(ExtremeRuns { x, top, bottom });
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
+        if run.longest < checks.clip_run || (value - mean).abs() < CLIP_SIDE_FRACTION * range {
+            continue;
+        }
         // A smooth peak of a quantised signal sits on its top code for a few samples too, but
         // is flanked on both sides by samples one step below: not an overload.
         let end = run.longest_start + run.longest;
@@ -101,13 +106,11 @@ pub(super) fn clipping(
         ];
         let quantised_peak = flanks.iter().all(|v| {
             v.is_some_and(|v| {
+                let step = *step.get_or_insert_with(|| smallest_step(x));
                 (value - v).abs() <= step * (1.0 + crate::tolerance::QUANTISATION_STEP)
             })
         });
-        if run.longest >= checks.clip_run
-            && !quantised_peak
-            && (value - mean).abs() >= CLIP_SIDE_FRACTION * range
-        {
+        if !quantised_peak {
             issues.push(ImpactIssue::Clipped {
                 channel,
                 value,

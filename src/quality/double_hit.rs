@@ -103,7 +103,7 @@ pub(super) fn double_hit(
     let MedianBuffers { keys, inside } = buffers;
     lanes::total_order_keys(f, keys);
     let baseline = from_total_order_key(select::select(keys, mid, inside));
-    let (p, peak) = lanes::peak(f, baseline);
+    let (p, peak) = lanes::first_peak(f, baseline);
     let rms = (lanes::sum_sq_dev(f, baseline) / n as f64).sqrt();
     // Samples are finite (a `Record` guarantees it), so `peak` is a number.
     if peak <= 0.0 || peak < checks.min_crest_factor * rms {
@@ -137,8 +137,8 @@ pub(super) fn double_hit(
     // The largest excursion the main pulse's way outside it, its first sample on a tie (the
     // part before the pulse first): a second hit if above the threshold.
     let threshold = (checks.double_hit_ratio * peak).max(floor);
-    let (q0, e0) = lanes::peak_signed(&f[..before], baseline, sign);
-    let (q1, e1) = lanes::peak_signed(&f[after..], baseline, sign);
+    let (q0, e0) = lanes::first_peak_signed(&f[..before], baseline, sign);
+    let (q1, e1) = lanes::first_peak_signed(&f[after..], baseline, sign);
     let (q, e) = if e1 > e0 { (after + q1, e1) } else { (q0, e0) };
     (e > threshold).then_some((p, q, e / peak))
 }

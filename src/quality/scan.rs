@@ -6,10 +6,11 @@ use crate::lanes::LANES;
 use crate::records::Record;
 
 /// What two passes over a channel give the record checks and the screening: its extremes and
-/// mean, the smallest non-zero change between consecutive samples (the first pass), its RMS
-/// about the mean and a digest of its samples' bits (the second). The sums run in [`LANES`]
-/// independent lanes (sample `m` in lane `m mod LANES`, see [`crate::lanes`]) and round as
-/// lane-wise sums do; extremes and smallest change are those of a left-to-right pass.
+/// mean (the first pass), its RMS about the mean and a digest of its samples' bits (the
+/// second). The sums run in [`LANES`] independent lanes (sample `m` in lane `m mod LANES`, see
+/// [`crate::lanes`]) and round as lane-wise sums do; extremes are those of a left-to-right
+/// pass. The smallest change between consecutive samples, which only a run at an extreme
+/// needs, is left to [`smallest_step`].
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Scan {
     /// `min x`.
@@ -20,11 +21,9 @@ pub(crate) struct Scan {
     pub(crate) mean: f64,
     /// `√(Σ (x − x̄)² / N)` (0 for no samples).
     pub(crate) rms: f64,
-    /// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none.
-    pub(crate) step: f64,
-    /// [`CHAINS`] interleaved chains (sample `m` in chain `m mod CHAINS`) of
-    /// `h ← rotl((h ⊕ bits) · M, 29)` over the samples' bits, each step a bijection of `h`, so
-    /// records that differ in one sample always differ here.
+    /// [`CHAINS`] interleaved chains (sample `m` in chain `m mod CHAINS`) of [`mix`] over the
+    /// samples' bits, each step a bijection of `h` and one-to-one in the sample, so records
+    /// that differ in one sample always differ here.
     pub(crate) digest: [u64; CHAINS],
 }
 
@@ -54,12 +53,9 @@ impl WithSimd for Spread<'_> {
     }
 }
 
-/// Odd multiplier of the digest (the 64-bit golden ratio).
-const DIGEST_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
-
-/// Independent chains of the digest. One chain's step (a 64-bit product, several dependent
-/// instructions without AVX-512) takes many cycles; sixteen chains keep enough of them in
-/// flight that the digest costs no more than the sum of squares it is computed beside.
+/// Independent chains of the digest, four SIMD registers of [`LANES`] chains each: enough
+/// steps in flight that the digest costs little beside the sum of squares it is computed
+/// beside.
 const CHAINS: usize = 4 * LANES;
 
 /// The digest's chains before any sample: the first digits of π, four to a row, each row
@@ -80,10 +76,15 @@ const DIGEST_START: [u64; CHAINS] = {
     start
 };
 
-/// One step of a digest chain: `h ← rotl((h ⊕ bits(v)) · M, 29)`, a bijection of `h`.
+/// One step of a digest chain: `u = h ⊕ bits(v)`, then `u ← u + (u ≪ 21)` (a product by the
+/// odd `1 + 2²¹`) and `u ← u ⊕ (u ≫ 29)`. Each operation is a bijection of `u`, and `u` one of
+/// `h` and one-to-one in `v`; shifts and additions only, so that four chains share one SIMD
+/// register (AVX2 has no 64-bit product).
 #[inline(always)]
 fn mix(h: u64, v: f64) -> u64 {
-    ((h ^ v.to_bits()).wrapping_mul(DIGEST_MULTIPLIER)).rotate_left(29)
+    let u = h ^ v.to_bits();
+    let u = u.wrapping_add(u << 21);
+    u ^ (u >> 29)
 }
 
 impl Scan {
@@ -96,9 +97,7 @@ impl Scan {
             .collect()
     }
 
-    /// The first pass over `x` (its `mean` still the sum, its `rms` 0), each of its folds in [`LANES`] lanes (kept as separate arrays, so
-    /// each fold's lanes pack into SIMD registers). Samples are finite (a `Record` guarantees
-    /// it), so comparisons stand in for `f64::min`/`max`.
+    /// Both passes over `x`.
     pub(crate) fn new(x: &[f64]) -> Self {
         let mut scan = Arch::new().dispatch(Pass(x));
         if !x.is_empty() {
@@ -111,36 +110,18 @@ impl Scan {
         scan
     }
 
+    /// The first pass over `x` (its `mean` still the sum, its `rms` 0), each of its folds in
+    /// [`LANES`] lanes (kept as separate arrays, so each fold's lanes pack into SIMD
+    /// registers). Samples are finite (a `Record` guarantees it), so comparisons stand in for
+    /// `f64::min`/`max`.
     #[inline(always)]
     fn folded(x: &[f64]) -> Self {
-        let mut lo = [f64::INFINITY; LANES];
-        let mut hi = [f64::NEG_INFINITY; LANES];
-        let mut sum = [0.0; LANES];
-        let mut step = [f64::INFINITY; LANES];
-        let mut prev = x.first().copied().unwrap_or_default();
-        let chunks = x.chunks_exact(LANES);
-        let rest = chunks.remainder();
-        for c in chunks {
-            let v: [f64; LANES] = [c[0], c[1], c[2], c[3]];
-            let before = [prev, c[0], c[1], c[2]];
-            for j in 0..LANES {
-                lo[j] = if v[j] < lo[j] { v[j] } else { lo[j] };
-                hi[j] = if v[j] > hi[j] { v[j] } else { hi[j] };
-                sum[j] += v[j];
-                let d = (v[j] - before[j]).abs();
-                step[j] = if d > 0.0 && d < step[j] { d } else { step[j] };
-            }
-            prev = c[LANES - 1];
-        }
+        let (mut lo, mut hi, mut sum) = Self::whole_lanes(x);
+        let rest = x.chunks_exact(LANES).remainder();
         for (j, &v) in rest.iter().enumerate() {
             lo[j] = lo[j].min(v);
             hi[j] = hi[j].max(v);
             sum[j] += v;
-            let d = (v - prev).abs();
-            if d > 0.0 {
-                step[j] = step[j].min(d);
-            }
-            prev = v;
         }
         let min4 = |a: [f64; LANES]| a[0].min(a[1]).min(a[2].min(a[3]));
         Self {
@@ -148,9 +129,28 @@ impl Scan {
             hi: hi[0].max(hi[1]).max(hi[2].max(hi[3])),
             mean: (sum[0] + sum[1]) + (sum[2] + sum[3]),
             rms: 0.0,
-            step: min4(step),
             digest: DIGEST_START,
         }
+    }
+
+    /// The lanes' minima, maxima and sums over the whole groups of [`LANES`] samples of `x`: a
+    /// loop of its own, which the compiler turns into one SIMD minimum, maximum and sum per
+    /// group (written in [`Scan::folded`] beside the remainder's `f64::min`, it compiled to
+    /// compares, blends and lane shuffles, five times the instructions).
+    #[inline(always)]
+    fn whole_lanes(x: &[f64]) -> ([f64; LANES], [f64; LANES], [f64; LANES]) {
+        let mut lo = [f64::INFINITY; LANES];
+        let mut hi = [f64::NEG_INFINITY; LANES];
+        let mut sum = [0.0; LANES];
+        for c in x.chunks_exact(LANES) {
+            for j in 0..LANES {
+                let v = c[j];
+                lo[j] = if v < lo[j] { v } else { lo[j] };
+                hi[j] = if v > hi[j] { v } else { hi[j] };
+                sum[j] += v;
+            }
+        }
+        (lo, hi, sum)
     }
 
     /// The second pass over `x`: `Σ (x − c)²` as [`crate::lanes::sum_sq_dev`] sums it (the same
@@ -178,6 +178,40 @@ impl Scan {
         }
         ((a[0] + a[1]) + (a[2] + a[3]), digest)
     }
+}
+
+/// `min |x_{m+1} − x_m|` over the non-zero changes, +∞ if none: a channel's quantisation step
+/// (the changes in [`LANES`] lanes, change `m` in lane `m mod LANES`; a minimum is exact in
+/// any order).
+pub(crate) fn smallest_step(x: &[f64]) -> f64 {
+    struct Steps<'a>(&'a [f64]);
+    impl WithSimd for Steps<'_> {
+        type Output = f64;
+        #[inline(always)]
+        fn with_simd<S: Simd>(self, _: S) -> f64 {
+            let x = self.0;
+            let mut step = [f64::INFINITY; LANES];
+            if x.len() < 2 {
+                return f64::INFINITY;
+            }
+            let (before, after) = (&x[..x.len() - 1], &x[1..]);
+            let b = before.chunks_exact(LANES);
+            let a = after.chunks_exact(LANES);
+            let (b_rest, a_rest) = (b.remainder(), a.remainder());
+            for (b, a) in b.zip(a) {
+                for j in 0..LANES {
+                    let d = (a[j] - b[j]).abs();
+                    step[j] = if d > 0.0 && d < step[j] { d } else { step[j] };
+                }
+            }
+            for (j, (b, a)) in b_rest.iter().zip(a_rest).enumerate() {
+                let d = (a - b).abs();
+                step[j] = if d > 0.0 && d < step[j] { d } else { step[j] };
+            }
+            step[0].min(step[1]).min(step[2].min(step[3]))
+        }
+    }
+    Arch::new().dispatch(Steps(x))
 }
 
 #[cfg(test)]
