@@ -215,14 +215,20 @@ impl Sums<'_> {
 fn cross_sum(a_re: &[f64], a_im: &[f64], b_re: &[f64], b_im: &[f64]) -> c64 {
     let (mut re, mut im) = ([0.0; LANES], [0.0; LANES]);
     let len = a_re.len();
-    let whole = len - len % LANES;
-    for start in (0..whole).step_by(LANES) {
+    let (a_re, a_im, b_re, b_im) = (a_re, &a_im[..len], &b_re[..len], &b_im[..len]);
+    // Whole groups of LANES as fixed-size arrays, so that the lanes are one vector.
+    for (((ar, ai), br), bi) in a_re
+        .chunks_exact(LANES)
+        .zip(a_im.chunks_exact(LANES))
+        .zip(b_re.chunks_exact(LANES))
+        .zip(b_im.chunks_exact(LANES))
+    {
         for k in 0..LANES {
-            let r = start + k;
-            re[k] += a_re[r] * b_re[r] + a_im[r] * b_im[r];
-            im[k] += a_im[r] * b_re[r] - a_re[r] * b_im[r];
+            re[k] += ar[k] * br[k] + ai[k] * bi[k];
+            im[k] += ai[k] * br[k] - ar[k] * bi[k];
         }
     }
+    let whole = len - len % LANES;
     for (k, r) in (whole..len).enumerate() {
         re[k] += a_re[r] * b_re[r] + a_im[r] * b_im[r];
         im[k] += a_im[r] * b_re[r] - a_re[r] * b_im[r];

@@ -351,9 +351,13 @@ impl Stacked {
     /// The dense right-hand side `Ī = [I; 0; I; 0; …]` (`2nN × n`).
     pub fn rhs(&self) -> Mat<f64> {
         let n = self.n;
-        Mat::from_fn(self.a.nrows(), n, |r, j| {
-            f64::from(u8::from(r % (2 * n) == j))
-        })
+        let mut rhs = Mat::zeros(self.a.nrows(), n);
+        for line in 0..self.omegas.len() {
+            for j in 0..n {
+                rhs[(2 * n * line + j, j)] = 1.0;
+            }
+        }
+        rhs
     }
 
     /// `Wᵀ Ī` without forming `Ī`: the sum over lines of the transposed real rows (the
@@ -575,12 +579,23 @@ impl Stacked {
         let dof = m as f64 / (m - p) as f64;
         let mut out = Vec::with_capacity(self.n);
         for j in 0..self.n {
-            for (row, sigma) in sigma.iter_mut().enumerate() {
-                let (k, i) = (row / (2 * n), row % n);
-                *sigma = match &self.row_variance {
-                    Some(v) => (0.5 * v[k * n * n + i + j * n]).sqrt(),
-                    None => r[(row, j)] * dof.sqrt(),
-                };
+            // Row `2nk + i` (real) and `2nk + n + i` (imaginary) of line `k`: entry `(i, j)`.
+            match &self.row_variance {
+                Some(v) => {
+                    for (k, line) in sigma.chunks_exact_mut(2 * n).enumerate() {
+                        let var = &v[k * n * n + j * n..k * n * n + (j + 1) * n];
+                        for (i, &var) in var.iter().enumerate() {
+                            let s = (0.5 * var).sqrt();
+                            line[i] = s;
+                            line[n + i] = s;
+                        }
+                    }
+                }
+                None => {
+                    for (row, sigma) in sigma.iter_mut().enumerate() {
+                        *sigma = r[(row, j)] * dof.sqrt();
+                    }
+                }
             }
             // Column by column, down contiguous columns.
             for c in 0..p {
