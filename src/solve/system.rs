@@ -178,7 +178,18 @@ impl InstrumentSums<'_> {
         let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
         for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
             split::impedance(simd, (h_re, h_im), (m, c, k), w);
-            if !split::invert(simd, (h_re, h_im), n, pivots) {
+            // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
+            // impedance's scale leaves the normal range.
+            let cofactors = if n == 3 {
+                split::invert3((h_re, h_im))
+            } else {
+                None
+            };
+            let regular = match cofactors {
+                Some(regular) => regular,
+                None => split::invert(simd, (h_re, h_im), n, pivots),
+            };
+            if !regular {
                 return false;
             }
             // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
