@@ -9,6 +9,8 @@
 //! - [`impedance`]: $H = K - \omega^2 M + i\omega C$ from contiguous `M`, `C`, `K`;
 //! - [`invert`]: Gauss–Jordan with partial pivoting, the algorithm (and pivot rule) of
 //!   `linalg::Inverter`'s small-`n` path, `8n³` flops;
+//! - [`invert3`]: the `3 × 3` inverse by cofactors, on the matrix scaled exactly by a power
+//!   of two (the IVF's three-degree-of-freedom path);
 //! - [`mul`]: $X Y$ or $X \bar Y$ column by column, `X`'s columns weighted by `Y`'s entries,
 //!   the accumulators of up to four registers of a column held in registers, `8n³` flops.
 
@@ -503,5 +505,34 @@ mod tests {
             }
         }
         assert!(!Arch::new().dispatch(Singular));
+    }
+
+    /// The cofactor inverse of a 3 × 3 is linalg's Gauss–Jordan inverse to rounding at every
+    /// scale an impedance may have, refuses a singular matrix, and leaves a scale outside the
+    /// normal range (and zero) to Gauss–Jordan.
+    #[test]
+    fn cofactor_inverse_matches_gauss_jordan() {
+        for scale in [1e-250, 1e-8, 1.0, 3e5, 1e250] {
+            let a: Vec<c64> = sample(3).iter().map(|z| z * scale).collect();
+            let mut reference = a.clone();
+            assert!(Inverter::new(3).invert(&mut reference));
+            let (mut re, mut im) = split(&a);
+            assert_eq!(invert3((&mut re, &mut im)), Some(true), "{scale:e}");
+            let largest = reference.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            for (q, z) in reference.iter().enumerate() {
+                let err = (c64::new(re[q], im[q]) - z).norm() / largest;
+                assert!(err < 1e-14, "{scale:e}: inverse entry {q}: {err:e}");
+            }
+        }
+        // Rank 2: the third column is the sum of the first two.
+        let (mut re, mut im) = (
+            vec![1.0, 2.0, 0.5, -1.0, 0.25, 3.0, 0.0, 2.25, 3.5],
+            vec![0.0; 9],
+        );
+        assert_eq!(invert3((&mut re, &mut im)), Some(false));
+        for out_of_range in [0.0, f64::MAX, f64::INFINITY] {
+            let (mut re, mut im) = (vec![out_of_range; 9], vec![0.0; 9]);
+            assert_eq!(invert3((&mut re, &mut im)), None, "{out_of_range:e}");
+        }
     }
 }
