@@ -102,9 +102,15 @@ pub(super) fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
     let mut fitted = vec![zero; nn];
     let (mut res, mut tot) = (vec![0.0; nn], vec![0.0; nn]);
     for (&f, measured) in frf.freqs_hz().iter().zip(data.chunks_exact(nn)) {
-        let regular = model
-            .flexibility_into(f, &mut inverter, &mut fitted)
-            .is_ok();
+        // The model flexibility `(K − ω²M + iωC)⁻¹`, by cofactors for three degrees of freedom.
+        let w = 2.0 * std::f64::consts::PI * f;
+        let (m, c, k) = (model.mass(), model.damping(), model.stiffness());
+        for j in 0..n {
+            for i in 0..n {
+                fitted[i + j * n] = c64::new(k[(i, j)] - w * w * m[(i, j)], w * c[(i, j)]);
+            }
+        }
+        let regular = inverter.invert_by_cofactors(&mut fitted);
         for e in 0..nn {
             let g = measured[e];
             tot[e] += (g - mean[e] / count).norm_sqr();

@@ -18,7 +18,7 @@ pub(super) use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 use faer::c64;
 
-use crate::linalg::reciprocal;
+use crate::linalg::{self, reciprocal};
 
 /// `h = K − ω² M + iω C` (split, `n²` each) from the contiguous column-major blocks.
 #[inline(always)]
@@ -50,53 +50,18 @@ pub(super) fn impedance<S: Simd>(
     }
 }
 
-/// The inverse of a `3 × 3` split matrix in place by cofactors, `A⁻¹ = adj(A) / det A`, on
-/// `A` scaled by the power of two at or below its largest part (exact), so that the cofactors
-/// and the determinant stay in range whatever the units: about a third of [`invert`]'s work at
-/// this size. `None` (and `a` untouched) where the scale is not a normal number; `Some(false)`
-/// if the determinant is zero or the inverse is not finite (`a` is then unspecified).
+/// The `3 × 3` split matrix inverted in place by [`linalg::invert3`]'s cofactors (the same
+/// operations): `None` (and `a` untouched) where its scale is not a normal number,
+/// `Some(false)` if it is singular or the inverse is not finite.
 #[inline(always)]
 pub(super) fn invert3((re, im): (&mut [f64], &mut [f64])) -> Option<bool> {
     let (re, im) = (&mut re[..9], &mut im[..9]);
-    let largest = re
-        .iter()
-        .chain(im.iter())
-        .fold(0.0_f64, |m, v| m.max(v.abs()));
-    // The power of two at or below `largest`: its exponent bits alone.
-    let scale = f64::from_bits(largest.to_bits() & 0x7ff0_0000_0000_0000);
-    if !(scale.is_normal() && (1.0 / scale).is_normal()) {
-        return None;
-    }
-    let down = 1.0 / scale;
-    let a = |i: usize, j: usize| c64::new(re[i + 3 * j] * down, im[i + 3 * j] * down);
-    let (a00, a10, a20) = (a(0, 0), a(1, 0), a(2, 0));
-    let (a01, a11, a21) = (a(0, 1), a(1, 1), a(2, 1));
-    let (a02, a12, a22) = (a(0, 2), a(1, 2), a(2, 2));
-    // The adjugate, column-major.
-    let adj = [
-        a11 * a22 - a12 * a21,
-        a12 * a20 - a10 * a22,
-        a10 * a21 - a11 * a20,
-        a02 * a21 - a01 * a22,
-        a00 * a22 - a02 * a20,
-        a01 * a20 - a00 * a21,
-        a01 * a12 - a02 * a11,
-        a02 * a10 - a00 * a12,
-        a00 * a11 - a01 * a10,
-    ];
-    let det = a00 * adj[0] + a01 * adj[1] + a02 * adj[2];
-    if det == c64::new(0.0, 0.0) {
-        return Some(false);
-    }
-    // (A/s)⁻¹ = s A⁻¹: the inverse is (A/s)⁻¹ / s.
-    let factor = reciprocal(det) * down;
-    let mut finite = true;
-    for (e, z) in adj.into_iter().enumerate() {
-        let z = z * factor;
+    let mut a: [c64; 9] = std::array::from_fn(|e| c64::new(re[e], im[e]));
+    let regular = linalg::invert3(&mut a)?;
+    for (e, z) in a.into_iter().enumerate() {
         (re[e], im[e]) = (z.re, z.im);
-        finite &= z.re.is_finite() && z.im.is_finite();
     }
-    Some(finite)
+    Some(regular)
 }
 
 /// One Gauss–Jordan step on rows `row0 .. row0 + V·lanes` of every column `j ≠ k`:

@@ -475,7 +475,7 @@ impl Stacked {
         let n = self.n;
         for (k, &w) in self.omegas.iter().enumerate() {
             impedance_into(theta, w, g, n);
-            if !inverter.invert(g) {
+            if !inverter.invert_by_cofactors(g) {
                 return false;
             }
             fill_line(
