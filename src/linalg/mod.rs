@@ -23,6 +23,7 @@ use jacobi::{condition_numbers_in_lanes, singular_values_in_place};
 /// at this size. `None` (and `a` untouched) where `s` or `1/s` is not a normal number (zero,
 /// huge, infinite or NaN entries); `Some(false)` if the determinant is zero or the inverse is
 /// not finite (`a` is then unspecified).
+#[inline(always)]
 pub(crate) fn invert3(a: &mut [c64; 9]) -> Option<bool> {
     let largest = a
         .iter()
