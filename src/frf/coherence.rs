@@ -102,13 +102,12 @@ impl SpectraCoherence {
         let records = records.into_iter();
         let count = records.len();
         self.parts.resize(4 * n * count, 0.0);
-        for (r, (fl, xl)) in records.enumerate() {
-            for (c, (f, x)) in fl[..n].iter().zip(&xl[..n]).enumerate() {
-                // Channel c's force in rows c and n + c, its displacement in 2n + c, 3n + c.
-                for (q, v) in [f.re, f.im, x.re, x.im].into_iter().enumerate() {
-                    self.parts[(q * n + c) * count + r] = v;
-                }
-            }
+        let parts = &mut self.parts[..];
+        match n {
+            2 => gather(parts, 2, count, records),
+            3 => gather(parts, 3, count, records),
+            4 => gather(parts, 4, count, records),
+            n => gather(parts, n, count, records),
         }
         Arch::new().dispatch(Sums {
             n,
@@ -132,6 +131,31 @@ impl SpectraCoherence {
         } else {
             self.multiple.fill(0.0);
             self.ordinary.fill(0.0);
+        }
+    }
+}
+
+/// The gather of [`SpectraCoherence::line`]: record `r`'s channel `c` into column `r` of rows
+/// `c`, `n + c` (force, real and imaginary parts), `2n + c`, `3n + c` (displacement) of
+/// `parts` (`4n` rows of `count` values); inlined so that a constant `n` unrolls it.
+#[inline(always)]
+fn gather<'a>(
+    parts: &mut [f64],
+    n: usize,
+    count: usize,
+    records: impl Iterator<Item = (&'a [c64], &'a [c64])>,
+) {
+    let (forces, displacements) = parts[..4 * n * count].split_at_mut(2 * n * count);
+    let (f_re, f_im) = forces.split_at_mut(n * count);
+    let (x_re, x_im) = displacements.split_at_mut(n * count);
+    for (r, (fl, xl)) in records.take(count).enumerate() {
+        let (fl, xl) = (&fl[..n], &xl[..n]);
+        for c in 0..n {
+            let at = c * count + r;
+            f_re[at] = fl[c].re;
+            f_im[at] = fl[c].im;
+            x_re[at] = xl[c].re;
+            x_im[at] = xl[c].im;
         }
     }
 }
@@ -191,14 +215,20 @@ impl Sums<'_> {
 fn cross_sum(a_re: &[f64], a_im: &[f64], b_re: &[f64], b_im: &[f64]) -> c64 {
     let (mut re, mut im) = ([0.0; LANES], [0.0; LANES]);
     let len = a_re.len();
-    let whole = len - len % LANES;
-    for start in (0..whole).step_by(LANES) {
+    let (a_re, a_im, b_re, b_im) = (a_re, &a_im[..len], &b_re[..len], &b_im[..len]);
+    // Whole groups of LANES as fixed-size arrays, so that the lanes are one vector.
+    for (((ar, ai), br), bi) in a_re
+        .chunks_exact(LANES)
+        .zip(a_im.chunks_exact(LANES))
+        .zip(b_re.chunks_exact(LANES))
+        .zip(b_im.chunks_exact(LANES))
+    {
         for k in 0..LANES {
-            let r = start + k;
-            re[k] += a_re[r] * b_re[r] + a_im[r] * b_im[r];
-            im[k] += a_im[r] * b_re[r] - a_re[r] * b_im[r];
+            re[k] += ar[k] * br[k] + ai[k] * bi[k];
+            im[k] += ai[k] * br[k] - ar[k] * bi[k];
         }
     }
+    let whole = len - len % LANES;
     for (k, r) in (whole..len).enumerate() {
         re[k] += a_re[r] * b_re[r] + a_im[r] * b_im[r];
         im[k] += a_im[r] * b_re[r] - a_re[r] * b_im[r];

@@ -307,6 +307,22 @@ impl Frf {
         self.ordinary_coherence.extend_from_slice(ordinary);
     }
 
+    /// Room for `lines` more lines (and their coherences, and their variances when
+    /// `with_variance`), so that pushing them does not reallocate.
+    pub(super) fn reserve_lines(&mut self, lines: usize, with_variance: bool) {
+        let (n, nn) = (self.dofs, self.dofs * self.dofs);
+        self.freqs_hz.reserve(lines);
+        self.condition.reserve(lines);
+        self.impedance.reserve(lines * nn);
+        self.flexibility.reserve(lines * nn);
+        self.multiple_coherence.reserve(lines * n);
+        self.ordinary_coherence.reserve(lines * nn);
+        if with_variance {
+            self.impedance_variance.reserve(lines * nn);
+            self.equation_variance.reserve(lines * nn);
+        }
+    }
+
     pub(super) fn push_line(&mut self, freq_hz: f64, h: &[c64], g: &[c64], condition: f64) {
         self.freqs_hz.push(freq_hz);
         self.impedance.extend_from_slice(h);

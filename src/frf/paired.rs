@@ -172,6 +172,7 @@ impl FrfBuilder {
         let spectra = &spectra;
         // Scatter of the per-set impedances, for the error bars of the unweighted finish.
         let with_variance = weights.is_none() && used.len() >= 2;
+        frf.reserve_lines(plan.lines.len(), with_variance);
         let nn = n * n;
         let zero = c64::new(0.0, 0.0);
         let (mut h, mut g) = (vec![zero; nn], vec![zero; nn]);

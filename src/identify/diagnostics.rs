@@ -8,6 +8,7 @@ use crate::conditioning::Conditioning;
 use crate::error::Warning;
 use crate::frf::{Frf, FrfBuilder};
 use crate::gate;
+use crate::linalg::Inverter;
 use crate::model::Coefficients;
 
 use super::Settings;
@@ -85,29 +86,42 @@ fn line_spacing(freqs_hz: &[f64]) -> Option<f64> {
 /// Per-element coefficient of determination between measured and fitted flexibility,
 /// $r^2_{ij} = 1 - \sum_k |G_{ij,k} - \hat G_{ij,k}|^2 / \sum_k |G_{ij,k} - \bar G_{ij}|^2$.
 pub(super) fn flexibility_r2(frf: &Frf, model: &Coefficients) -> Mat<f64> {
-    let n = frf.dofs();
-    let mut res = Mat::<f64>::zeros(n, n);
-    let mut tot = Mat::<f64>::zeros(n, n);
-    let mut mean = Mat::<c64>::zeros(n, n);
-    for k in 0..frf.line_count() {
-        mean += frf.flexibility(k);
-    }
-    let lines = frf.line_count() as f64;
-    for (k, &f) in frf.freqs_hz().iter().enumerate() {
-        let measured = frf.flexibility(k);
-        let fitted = model.flexibility_at(f);
-        for j in 0..n {
-            for i in 0..n {
-                let g = measured[(i, j)];
-                tot[(i, j)] += (g - mean[(i, j)] / lines).norm_sqr();
-                res[(i, j)] += match &fitted {
-                    Ok(m) => (g - m[(i, j)]).norm_sqr(),
-                    Err(_) => f64::INFINITY,
-                };
-            }
+    let (n, lines) = (frf.dofs(), frf.line_count());
+    let nn = n * n;
+    let data = frf.flexibility_data();
+    let zero = c64::new(0.0, 0.0);
+    let mut mean = vec![zero; nn];
+    for line in data.chunks_exact(nn) {
+        for (m, g) in mean.iter_mut().zip(line) {
+            *m += *g;
         }
     }
-    Mat::from_fn(n, n, |i, j| 1.0 - res[(i, j)] / tot[(i, j)])
+    let count = lines as f64;
+    // One inverter and one buffer for every line's model flexibility.
+    let mut inverter = Inverter::new(n);
+    let mut fitted = vec![zero; nn];
+    let (mut res, mut tot) = (vec![0.0; nn], vec![0.0; nn]);
+    for (&f, measured) in frf.freqs_hz().iter().zip(data.chunks_exact(nn)) {
+        // The model flexibility `(K − ω²M + iωC)⁻¹`, by cofactors for three degrees of freedom.
+        let w = 2.0 * std::f64::consts::PI * f;
+        let (m, c, k) = (model.mass(), model.damping(), model.stiffness());
+        for j in 0..n {
+            for i in 0..n {
+                fitted[i + j * n] = c64::new(k[(i, j)] - w * w * m[(i, j)], w * c[(i, j)]);
+            }
+        }
+        let regular = inverter.invert_by_cofactors(&mut fitted);
+        for e in 0..nn {
+            let g = measured[e];
+            tot[e] += (g - mean[e] / count).norm_sqr();
+            res[e] += if regular {
+                (g - fitted[e]).norm_sqr()
+            } else {
+                f64::INFINITY
+            };
+        }
+    }
+    Mat::from_fn(n, n, |i, j| 1.0 - res[i + j * n] / tot[i + j * n])
 }
 
 #[cfg(test)]

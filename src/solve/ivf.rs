@@ -109,7 +109,6 @@ pub struct IvfSolver {
     theta: Mat<f64>,
     next: Mat<f64>,
     history: Vec<Iteration>,
-    w_s: Mat<f64>,
     normal: Mat<f64>,
     rhs: Mat<f64>,
     g: Vec<c64>,
@@ -145,7 +144,7 @@ impl IvfSolver {
     pub fn new(frf: &Frf, options: IvfOptions) -> Result<Self> {
         options.check()?;
         let (theta, sys) = ls::solve(frf, Method::Ivf)?;
-        let (n, m) = (sys.n, sys.a.nrows());
+        let n = sys.n;
         let p = 3 * n;
         let stack = MemBuffer::new(
             lu_in_place_scratch::<usize, f64>(p, p, Par::Seq, Default::default())
@@ -157,7 +156,6 @@ impl IvfSolver {
             theta,
             // The limit is the user's: grown as iterations run, not reserved up front.
             history: Vec::with_capacity(options.max_iterations.min(64)),
-            w_s: Mat::zeros(m, p),
             normal: Mat::zeros(p, p),
             rhs: Mat::zeros(p, n),
             g: vec![c64::new(0.0, 0.0); n * n],
@@ -331,13 +329,15 @@ impl IvfSolver {
         let sys = &self.sys;
         let std = with_covariance
             .then(|| {
+                // The instruments only here: a fit without its covariance never forms them.
+                let mut w_s = Mat::zeros(sys.a.nrows(), sys.a.ncols());
                 sys.fill_instruments(
                     self.theta.as_ref(),
-                    self.w_s.as_mut(),
+                    w_s.as_mut(),
                     &mut self.g,
                     &mut self.inverter,
                 )
-                .then(|| sys.sandwich_covariance(self.theta.as_ref(), self.w_s.as_ref()))
+                .then(|| sys.sandwich_covariance(self.theta.as_ref(), w_s.as_ref()))
                 .flatten()
             })
             .flatten();

@@ -9,6 +9,8 @@
 //! - [`impedance`]: $H = K - \omega^2 M + i\omega C$ from contiguous `M`, `C`, `K`;
 //! - [`invert`]: Gauss–Jordan with partial pivoting, the algorithm (and pivot rule) of
 //!   `linalg::Inverter`'s small-`n` path, `8n³` flops;
+//! - [`invert3`]: the `3 × 3` inverse by cofactors, on the matrix scaled exactly by a power
+//!   of two (the IVF's three-degree-of-freedom path);
 //! - [`mul`]: $X Y$ or $X \bar Y$ column by column, `X`'s columns weighted by `Y`'s entries,
 //!   the accumulators of up to four registers of a column held in registers, `8n³` flops.
 
@@ -16,7 +18,7 @@ pub(super) use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 use faer::c64;
 
-use crate::linalg::reciprocal;
+use crate::linalg::{self, reciprocal};
 
 /// `h = K − ω² M + iω C` (split, `n²` each) from the contiguous column-major blocks.
 #[inline(always)]
@@ -46,6 +48,20 @@ pub(super) fn impedance<S: Simd>(
         *hr = k - w * w * m;
         *hi = w * c;
     }
+}
+
+/// The `3 × 3` split matrix inverted in place by [`linalg::invert3`]'s cofactors (the same
+/// operations): `None` (and `a` untouched) where its scale is not a normal number,
+/// `Some(false)` if it is singular or the inverse is not finite.
+#[inline(always)]
+pub(super) fn invert3((re, im): (&mut [f64], &mut [f64])) -> Option<bool> {
+    let (re, im) = (&mut re[..9], &mut im[..9]);
+    let mut a: [c64; 9] = std::array::from_fn(|e| c64::new(re[e], im[e]));
+    let regular = linalg::invert3(&mut a)?;
+    for (e, z) in a.into_iter().enumerate() {
+        (re[e], im[e]) = (z.re, z.im);
+    }
+    Some(regular)
 }
 
 /// One Gauss–Jordan step on rows `row0 .. row0 + V·lanes` of every column `j ≠ k`:
@@ -454,5 +470,34 @@ mod tests {
             }
         }
         assert!(!Arch::new().dispatch(Singular));
+    }
+
+    /// The cofactor inverse of a 3 × 3 is linalg's Gauss–Jordan inverse to rounding at every
+    /// scale an impedance may have, refuses a singular matrix, and leaves a scale outside the
+    /// normal range (and zero) to Gauss–Jordan.
+    #[test]
+    fn cofactor_inverse_matches_gauss_jordan() {
+        for scale in [1e-250, 1e-8, 1.0, 3e5, 1e250] {
+            let a: Vec<c64> = sample(3).iter().map(|z| z * scale).collect();
+            let mut reference = a.clone();
+            assert!(Inverter::new(3).invert(&mut reference));
+            let (mut re, mut im) = split(&a);
+            assert_eq!(invert3((&mut re, &mut im)), Some(true), "{scale:e}");
+            let largest = reference.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            for (q, z) in reference.iter().enumerate() {
+                let err = (c64::new(re[q], im[q]) - z).norm() / largest;
+                assert!(err < 1e-14, "{scale:e}: inverse entry {q}: {err:e}");
+            }
+        }
+        // Rank 2: the third column is the sum of the first two.
+        let (mut re, mut im) = (
+            vec![1.0, 2.0, 0.5, -1.0, 0.25, 3.0, 0.0, 2.25, 3.5],
+            vec![0.0; 9],
+        );
+        assert_eq!(invert3((&mut re, &mut im)), Some(false));
+        for out_of_range in [0.0, f64::MAX, f64::INFINITY] {
+            let (mut re, mut im) = (vec![out_of_range; 9], vec![0.0; 9]);
+            assert_eq!(invert3((&mut re, &mut im)), None, "{out_of_range:e}");
+        }
     }
 }

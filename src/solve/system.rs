@@ -178,7 +178,18 @@ impl InstrumentSums<'_> {
         let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
         for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
             split::impedance(simd, (h_re, h_im), (m, c, k), w);
-            if !split::invert(simd, (h_re, h_im), n, pivots) {
+            // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
+            // impedance's scale leaves the normal range.
+            let cofactors = if n == 3 {
+                split::invert3((h_re, h_im))
+            } else {
+                None
+            };
+            let regular = match cofactors {
+                Some(regular) => regular,
+                None => split::invert(simd, (h_re, h_im), n, pivots),
+            };
+            if !regular {
                 return false;
             }
             // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
@@ -351,9 +362,13 @@ impl Stacked {
     /// The dense right-hand side `Ī = [I; 0; I; 0; …]` (`2nN × n`).
     pub fn rhs(&self) -> Mat<f64> {
         let n = self.n;
-        Mat::from_fn(self.a.nrows(), n, |r, j| {
-            f64::from(u8::from(r % (2 * n) == j))
-        })
+        let mut rhs = Mat::zeros(self.a.nrows(), n);
+        for line in 0..self.omegas.len() {
+            for j in 0..n {
+                rhs[(2 * n * line + j, j)] = 1.0;
+            }
+        }
+        rhs
     }
 
     /// `Wᵀ Ī` without forming `Ī`: the sum over lines of the transposed real rows (the
@@ -460,7 +475,7 @@ impl Stacked {
         let n = self.n;
         for (k, &w) in self.omegas.iter().enumerate() {
             impedance_into(theta, w, g, n);
-            if !inverter.invert(g) {
+            if !inverter.invert_by_cofactors(g) {
                 return false;
             }
             fill_line(
@@ -575,12 +590,23 @@ impl Stacked {
         let dof = m as f64 / (m - p) as f64;
         let mut out = Vec::with_capacity(self.n);
         for j in 0..self.n {
-            for (row, sigma) in sigma.iter_mut().enumerate() {
-                let (k, i) = (row / (2 * n), row % n);
-                *sigma = match &self.row_variance {
-                    Some(v) => (0.5 * v[k * n * n + i + j * n]).sqrt(),
-                    None => r[(row, j)] * dof.sqrt(),
-                };
+            // Row `2nk + i` (real) and `2nk + n + i` (imaginary) of line `k`: entry `(i, j)`.
+            match &self.row_variance {
+                Some(v) => {
+                    for (k, line) in sigma.chunks_exact_mut(2 * n).enumerate() {
+                        let var = &v[k * n * n + j * n..k * n * n + (j + 1) * n];
+                        for (i, &var) in var.iter().enumerate() {
+                            let s = (0.5 * var).sqrt();
+                            line[i] = s;
+                            line[n + i] = s;
+                        }
+                    }
+                }
+                None => {
+                    for (row, sigma) in sigma.iter_mut().enumerate() {
+                        *sigma = r[(row, j)] * dof.sqrt();
+                    }
+                }
             }
             // Column by column, down contiguous columns.
             for c in 0..p {
