@@ -129,7 +129,9 @@ pub fn predicted_bias(
         .collect::<Result<_>>()?;
     let fit = |g: &[Mat<c64>]| -> Result<Coefficients> {
         let frf = Frf::from_flexibility(freqs_hz.to_vec(), g)?;
-        Ok(crate::solve::fit(&frf, method, options)?
+        // The coefficients alone: without the sandwich covariance, which changes nothing
+        // of them.
+        Ok(crate::solve::fit_point(&frf, method, options)?
             .coefficients()
             .clone())
     };
@@ -211,33 +213,59 @@ pub fn leaked_flexibility(
         })
         .collect();
     let total: f64 = kernel.iter().map(|(_, w)| w).sum();
+    let weights: Vec<f64> = kernel.iter().map(|(_, w)| w / total).collect();
     let n = model.dofs();
     // Neighbouring lines share most of their kernel's frequencies (`f − ν` falls on the same
-    // number when the step divides the line spacing): each is evaluated once.
+    // number when the step divides the line spacing): each is evaluated once. A point is
+    // first matched, by its bits, against the point of the previous line that the line
+    // spacing shifts onto it, and looked up among all the evaluations only when that misses.
     let mut flexibilities = Evaluated::new(n);
-    freqs_hz
-        .iter()
-        .map(|&f| {
-            let mut g = Mat::<c64>::zeros(n, n);
-            for &(nu, w) in &kernel {
-                // The kernel of a real signal's one-sided spectrum: negative frequencies are
-                // the conjugate flexibility.
-                let at = f - nu;
-                let gf = flexibilities.at(model, at.abs())?;
-                for j in 0..n {
-                    for i in 0..n {
-                        let v = if at < 0.0 {
-                            gf[i + j * n].conj()
-                        } else {
-                            gf[i + j * n]
-                        };
-                        g[(i, j)] += v * (w / total);
-                    }
+    let (mut previous, mut current): (Vec<(u64, usize)>, Vec<(u64, usize)>) = (
+        Vec::with_capacity(kernel.len()),
+        Vec::with_capacity(kernel.len()),
+    );
+    let mut previous_f: Option<f64> = None;
+    let mut leaked = Vec::with_capacity(freqs_hz.len());
+    for &f in freqs_hz {
+        // Kernel points between this line and the previous one: point `j` here is point
+        // `j − shift` there.
+        let shift = previous_f
+            .map(|p| ((f - p) / step).round())
+            .filter(|s| s.is_finite() && *s >= 0.0 && *s < kernel.len() as f64)
+            .map(|s| s as usize);
+        current.clear();
+        let mut g = vec![c64::new(0.0, 0.0); n * n];
+        for (j, (&(nu, _), &w)) in kernel.iter().zip(&weights).enumerate() {
+            // The kernel of a real signal's one-sided spectrum: negative frequencies are the
+            // conjugate flexibility.
+            let at = f - nu;
+            let key = at.abs().to_bits();
+            let matched = shift
+                .and_then(|s| j.checked_sub(s))
+                .and_then(|p| previous.get(p))
+                .filter(|(bits, _)| *bits == key)
+                .map(|&(_, k)| k);
+            let k = match matched {
+                Some(k) => k,
+                None => flexibilities.index_of(model, at.abs())?,
+            };
+            current.push((key, k));
+            let gf = flexibilities.value(k);
+            if at < 0.0 {
+                for (acc, v) in g.iter_mut().zip(gf) {
+                    *acc += v.conj() * w;
+                }
+            } else {
+                for (acc, v) in g.iter_mut().zip(gf) {
+                    *acc += v * w;
                 }
             }
-            Ok(g)
-        })
-        .collect()
+        }
+        std::mem::swap(&mut previous, &mut current);
+        previous_f = Some(f);
+        leaked.push(Mat::from_fn(n, n, |i, j| g[i + j * n]));
+    }
+    Ok(leaked)
 }
 
 /// A model's flexibilities at the frequencies asked for so far, each computed once: keyed by
@@ -266,7 +294,18 @@ impl Evaluated {
     ///
     /// # Errors
     /// [`Error::Singular`] if the model's impedance is singular there.
+    #[cfg(test)]
     fn at(&mut self, model: &Coefficients, freq_hz: f64) -> Result<&[c64]> {
+        let k = self.index_of(model, freq_hz)?;
+        Ok(self.value(k))
+    }
+
+    /// The index ([`Evaluated::value`]) of the flexibility of `model` at `freq_hz`, evaluated
+    /// when it is asked for the first time.
+    ///
+    /// # Errors
+    /// [`Error::Singular`] if the model's impedance is singular there.
+    fn index_of(&mut self, model: &Coefficients, freq_hz: f64) -> Result<usize> {
         let nn = self.n * self.n;
         let next = self.values.len() / nn.max(1);
         let k = *self.index.entry(freq_hz.to_bits()).or_insert(next);
@@ -279,7 +318,13 @@ impl Evaluated {
                 return Err(e);
             }
         }
-        Ok(&self.values[k * nn..(k + 1) * nn])
+        Ok(k)
+    }
+
+    /// The `k`-th flexibility evaluated ([`Evaluated::index_of`]), column-major.
+    fn value(&self, k: usize) -> &[c64] {
+        let nn = self.n * self.n;
+        &self.values[k * nn..(k + 1) * nn]
     }
 }
 
