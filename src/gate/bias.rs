@@ -220,10 +220,9 @@ pub fn leaked_flexibility(
     // first matched, by its bits, against the point of the previous line that the line
     // spacing shifts onto it, and looked up among all the evaluations only when that misses.
     let mut flexibilities = Evaluated::new(n);
-    let (mut previous, mut current): (Vec<(u64, usize)>, Vec<(u64, usize)>) = (
-        Vec::with_capacity(kernel.len()),
-        Vec::with_capacity(kernel.len()),
-    );
+    // The previous line's and this line's points: each one's frequency bits and index.
+    let mut previous: Vec<(u64, usize)> = Vec::with_capacity(kernel.len());
+    let mut current: Vec<(u64, usize)> = Vec::with_capacity(kernel.len());
     let mut previous_f: Option<f64> = None;
     let mut leaked = Vec::with_capacity(freqs_hz.len());
     // Each point's flexibility (its index among the evaluations) and whether it lies below
