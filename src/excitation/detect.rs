@@ -525,12 +525,21 @@ fn sweep(spectrum: &[c64], moment: &[c64]) -> (f64, usize) {
 /// real data do not give, ranked in order).
 fn rank_correlation(values: &[f64]) -> f64 {
     let n = values.len();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+    // Each value's key in the order of `f64::total_cmp` (its bits, the negatives' magnitude
+    // bits flipped), its position after it: sorted, the order a stable sort by value gives.
+    let mut order: Vec<(i64, usize)> = values
+        .iter()
+        .enumerate()
+        .map(|(at, v)| {
+            let bits = v.to_bits() as i64;
+            (bits ^ (((bits >> 63) as u64) >> 1) as i64, at)
+        })
+        .collect();
+    order.sort_unstable();
     let squares: f64 = order
         .iter()
         .enumerate()
-        .map(|(rank, &at)| (rank as f64 - at as f64).powi(2))
+        .map(|(rank, &(_, at))| (rank as f64 - at as f64).powi(2))
         .sum();
     let n = n as f64;
     1.0 - 6.0 * squares / (n * (n * n - 1.0))
@@ -918,6 +927,38 @@ mod tests {
         let down: Vec<f64> = up.iter().rev().copied().collect();
         assert!((rank_correlation(&up) - 1.0).abs() < 1e-15);
         assert!((rank_correlation(&down) + 1.0).abs() < 1e-15);
+    }
+
+    /// The ranks are those of a stable sort by `f64::total_cmp`, bit for bit: ties ranked in
+    /// order, negatives, signed zeros and infinities included.
+    #[test]
+    fn rank_correlation_ranks_as_a_stable_sort() {
+        let stable = |values: &[f64]| {
+            let mut order: Vec<usize> = (0..values.len()).collect();
+            order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+            let squares: f64 = order
+                .iter()
+                .enumerate()
+                .map(|(rank, &at)| (rank as f64 - at as f64).powi(2))
+                .sum();
+            let n = values.len() as f64;
+            1.0 - 6.0 * squares / (n * (n * n - 1.0))
+        };
+        let values: Vec<f64> = (0..200u64)
+            .map(|m| {
+                let h = m.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 58;
+                match h % 7 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    2 => f64::NEG_INFINITY,
+                    _ => (h as f64 - 30.0) * 0.25,
+                }
+            })
+            .collect();
+        assert_eq!(
+            rank_correlation(&values).to_bits(),
+            stable(&values).to_bits()
+        );
     }
     /// The features read in shared passes are those of separate ones, bit for bit: the
     /// evidence's crest factor is [`crest_factor`]'s (the job lets the first record's
