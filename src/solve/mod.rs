@@ -26,6 +26,7 @@ mod fitter;
 mod ivf;
 mod ls;
 pub mod ml;
+mod quad;
 mod split;
 mod system;
 

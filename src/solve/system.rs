@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::frf::Frf;
 use crate::linalg;
 
+use super::quad::{self, Quads};
 use super::required_lines;
 use super::split::{self, Simd, WithSimd};
 
@@ -65,6 +66,9 @@ pub(super) struct Stacked {
     /// measured impedance's own variance ([`Frf::impedance_variance`]):
     /// $\sum_a |G_{ia}|^2 v_{aj}$, `[k * n² + i + j * n]`; `None` when the FRF has none.
     row_variance: Option<Vec<f64>>,
+    /// For three degrees of freedom, the full groups of four lines of `omegas`, `gt_re`,
+    /// `gt_im` in lanes ([`quad`]); `None` otherwise.
+    quads: Option<Quads>,
 }
 
 /// The buffers of [`Stacked::instrument_normal`] and [`Stacked::residual_norm_into`], split
@@ -175,41 +179,108 @@ impl InstrumentSums<'_> {
         } = work;
         sums.fill(0.0);
         let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
-        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
-        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
-            split::impedance(simd, (h_re, h_im), (m, c, k), w);
-            // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
-            // impedance's scale leaves the normal range.
-            let cofactors = if n == 3 {
-                split::invert3((h_re, h_im))
-            } else {
-                None
-            };
-            let regular = match cofactors {
-                Some(regular) => regular,
-                None => split::invert(simd, (h_re, h_im), n, pivots),
-            };
-            if !regular {
-                return false;
+        let line = |q: usize| {
+            let at = q * nn..(q + 1) * nn;
+            (sys.omegas[q], (&sys.gt_re[at.clone()], &sys.gt_im[at]))
+        };
+        // Three degrees of freedom: the full groups of four lines in lanes ([`quad`]), each
+        // line then summed in line order as below; the last lines, and a group out of the
+        // cofactors' range, line by line.
+        let mut first = 0;
+        if let (3, Some(quads)) = (n, &sys.quads) {
+            let mut group = quad::Group::new();
+            for g in 0..quads.groups() {
+                let lines = g * quad::QUAD..(g + 1) * quad::QUAD;
+                match group.instruments::<S>(quads, g, (m, c, k)) {
+                    Some(false) => return false,
+                    Some(true) => {
+                        for (l, q) in lines.enumerate() {
+                            group.line(l, (h_re, h_im), (p_re, p_im));
+                            add_sums(simd, sums, (p_re, p_im), (h_re, h_im), sys.omegas[q]);
+                        }
+                    }
+                    None => {
+                        for q in lines {
+                            let (w, gt) = line(q);
+                            let buffers = (&mut **h_re, &mut **h_im, &mut **p_re, &mut **p_im);
+                            if !line_sums(simd, n, w, gt, (m, c, k), buffers, sums, pivots) {
+                                return false;
+                            }
+                        }
+                    }
+                }
             }
-            // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
-            split::mul(simd, (p_re, p_im), (gt_re, gt_im), (h_re, h_im), n, true);
-            let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
-            let sources: [(&[f64], f64); 8] = [
-                (p_re, 1.0),
-                (p_re, w2),
-                (p_re, w4),
-                (p_im, w),
-                (p_im, w3),
-                (h_re, 1.0),
-                (h_re, w2),
-                (h_im, w),
-            ];
-            for (dst, (src, weight)) in sums.chunks_exact_mut(nn).zip(sources) {
-                split::add_scaled(simd, dst, src, weight);
+            first = quads.groups() * quad::QUAD;
+        }
+        for q in first..sys.omegas.len() {
+            let (w, gt) = line(q);
+            let buffers = (&mut **h_re, &mut **h_im, &mut **p_re, &mut **p_im);
+            if !line_sums(simd, n, w, gt, (m, c, k), buffers, sums, pivots) {
+                return false;
             }
         }
         true
+    }
+}
+
+/// One line of [`InstrumentSums`]: the model impedance `H` of the blocks `M`, `C`, `K` at
+/// `w`, its inverse `G_m` (in `h`), `Pᵀ = Gᵀ Ḡ_m` (in `p`) from the line's `Gᵀ`, and the
+/// eight weighted sums ([`add_sums`]). `false` if the impedance is singular.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn line_sums<S: Simd>(
+    simd: S,
+    n: usize,
+    w: f64,
+    (gt_re, gt_im): (&[f64], &[f64]),
+    (m, c, k): (&[f64], &[f64], &[f64]),
+    (h_re, h_im, p_re, p_im): (&mut [f64], &mut [f64], &mut [f64], &mut [f64]),
+    sums: &mut [f64],
+    pivots: &mut [usize],
+) -> bool {
+    split::impedance(simd, (h_re, h_im), (m, c, k), w);
+    // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
+    // impedance's scale leaves the normal range.
+    let cofactors = if n == 3 {
+        split::invert3((h_re, h_im))
+    } else {
+        None
+    };
+    let regular = match cofactors {
+        Some(regular) => regular,
+        None => split::invert(simd, (h_re, h_im), n, pivots),
+    };
+    if !regular {
+        return false;
+    }
+    // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
+    split::mul(simd, (p_re, p_im), (gt_re, gt_im), (h_re, h_im), n, true);
+    add_sums(simd, sums, (p_re, p_im), (h_re, h_im), w);
+    true
+}
+
+/// Adds one line's `Pᵀ` and `G_m` at `w` to the eight weighted sums of [`InstrumentWork`].
+#[inline(always)]
+fn add_sums<S: Simd>(
+    simd: S,
+    sums: &mut [f64],
+    (p_re, p_im): (&[f64], &[f64]),
+    (h_re, h_im): (&[f64], &[f64]),
+    w: f64,
+) {
+    let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
+    let sources: [(&[f64], f64); 8] = [
+        (p_re, 1.0),
+        (p_re, w2),
+        (p_re, w4),
+        (p_im, w),
+        (p_im, w3),
+        (h_re, 1.0),
+        (h_re, w2),
+        (h_im, w),
+    ];
+    for (dst, (src, weight)) in sums.chunks_exact_mut(p_re.len()).zip(sources) {
+        split::add_scaled(simd, dst, src, weight);
     }
 }
 
@@ -242,9 +313,23 @@ impl ResidualNorm<'_> {
             ..
         } = work;
         let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
-        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
         let mut sum = 0.0;
-        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
+        // Three degrees of freedom: the full groups of four lines in lanes ([`quad`]), each
+        // line's norm then formed and summed in line order as below.
+        let mut first = 0;
+        if let (3, Some(quads)) = (n, &sys.quads) {
+            let mut group = quad::Group::new();
+            for g in 0..quads.groups() {
+                group.residual::<S>(quads, g, (m, c, k));
+                for l in 0..quad::QUAD {
+                    group.line(l, (h_re, h_im), (p_re, p_im));
+                    sum += split::norm_sqr(simd, p_re, p_im);
+                }
+            }
+            first = quads.groups() * quad::QUAD;
+        }
+        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
+        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im).skip(first) {
             // Hᵀ from the transposed blocks; (G H)ᵀ = Hᵀ Gᵀ.
             split::impedance(simd, (h_re, h_im), (m, c, k), w);
             split::mul(simd, (p_re, p_im), (h_re, h_im), (gt_re, gt_im), n, false);
@@ -348,13 +433,15 @@ impl Stacked {
             *s = 1.0 / norm;
             a.col_mut(p).iter_mut().for_each(|v| *v *= *s);
         }
+        let (gt_re, gt_im) = (transposed(g, n, |z| z.re), transposed(g, n, |z| z.im));
         Ok(Self {
             n,
+            quads: (n == 3).then(|| Quads::new(&omegas, &gt_re, &gt_im)),
             omegas,
             a,
             scale,
-            gt_re: transposed(g, n, |z| z.re),
-            gt_im: transposed(g, n, |z| z.im),
+            gt_re,
+            gt_im,
             row_variance: row_variance(frf),
         })
     }
