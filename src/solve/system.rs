@@ -743,6 +743,84 @@ mod tests {
     use super::*;
     use crate::model::Coefficients;
 
+    /// For three degrees of freedom, the lines in groups of four ([`quad`]) give the normal
+    /// equations and the residual norm of the per-line path bit for bit, at every scale the
+    /// coefficients may have (the impedance scaled exactly by a power of two either way), and
+    /// a singular model impedance is refused by both.
+    #[test]
+    fn grouped_lines_are_the_per_line_path_bit_for_bit() {
+        // Powers of two (about 1e-140 and 1e140), so that the singular model below is exact.
+        for scale in [2f64.powi(-465), 1.0, 2f64.powi(465)] {
+            for lines in [13, 16, 19] {
+                let truth = Coefficients::new(
+                    faer::mat![[2.0, 0.1, 0.0], [0.1, 2.5, 0.2], [0.0, 0.2, 3.0]] * scale,
+                    faer::mat![[60.0, 8.0, -3.0], [-5.0, 70.0, 4.0], [2.0, -6.0, 80.0]] * scale,
+                    faer::mat![[4e5, 6e4, -1e4], [2e4, 6e5, 5e4], [-2e4, 1e4, 9e5]] * scale,
+                )
+                .unwrap();
+                let freqs: Vec<f64> = (0..lines).map(|l| 20.0 + 13.0 * l as f64).collect();
+                let g: Vec<Mat<c64>> = freqs
+                    .iter()
+                    .map(|&f| {
+                        let g = truth.flexibility_at(f).unwrap();
+                        Mat::from_fn(3, 3, |i, j| {
+                            g[(i, j)] * (1.0 + 0.01 * ((i + 2 * j) % 3) as f64)
+                        })
+                    })
+                    .collect();
+                let frf = Frf::from_flexibility(freqs, &g).unwrap();
+                let grouped = Stacked::new(&frf, Method::Ivf).unwrap();
+                assert_eq!(grouped.quads.as_ref().unwrap().groups(), lines / 4);
+                let mut per_line = Stacked::new(&frf, Method::Ivf).unwrap();
+                per_line.quads = None;
+                let model = Coefficients::new(
+                    truth.mass() * 1.01,
+                    truth.damping() * 0.97,
+                    truth.stiffness() * 1.02,
+                )
+                .unwrap();
+                let bits = |m: &Mat<f64>| -> Vec<u64> {
+                    m.col_iter()
+                        .flat_map(|c| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+                        .collect()
+                };
+                let mut out = Vec::new();
+                for sys in [&grouped, &per_line] {
+                    let (mut normal, mut rhs) = (Mat::zeros(9, 9), Mat::zeros(9, 3));
+                    let mut work = InstrumentWork::new(3);
+                    let theta = model.stacked();
+                    assert!(sys.instrument_normal(
+                        theta.as_ref(),
+                        normal.as_mut(),
+                        rhs.as_mut(),
+                        &mut work
+                    ));
+                    let residual = sys.residual_norm_into(theta.as_ref(), &mut work);
+                    out.push((bits(&normal), bits(&rhs), residual.to_bits()));
+                }
+                assert_eq!(out[0], out[1], "scale {scale:e}, {lines} lines");
+                // A model singular at the line at 20 Hz (the first group's first lane).
+                let w = 2.0 * std::f64::consts::PI * 20.0;
+                let singular = Coefficients::new(
+                    Mat::<f64>::identity(3, 3) * scale,
+                    Mat::<f64>::zeros(3, 3),
+                    Mat::<f64>::identity(3, 3) * (w * w * scale),
+                )
+                .unwrap();
+                for sys in [&grouped, &per_line] {
+                    let (mut normal, mut rhs) = (Mat::zeros(9, 9), Mat::zeros(9, 3));
+                    let theta = singular.stacked();
+                    assert!(!sys.instrument_normal(
+                        theta.as_ref(),
+                        normal.as_mut(),
+                        rhs.as_mut(),
+                        &mut InstrumentWork::new(3)
+                    ));
+                }
+            }
+        }
+    }
+
     /// `instrument_normal` is the dense `W_sᵀ A_s`, `W_sᵀ Ī` of `fill_instruments`, and
     /// `residual_norm_into` the dense `‖A Θ − Ī‖_F`, to rounding, for every size, both
     /// product paths included.
