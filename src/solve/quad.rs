@@ -37,6 +37,7 @@ struct Mat3 {
 }
 
 impl Mat3 {
+    /// Zero in every entry of every lane.
     const ZERO: Self = Self {
         re: [[0.0; QUAD]; 9],
         im: [[0.0; QUAD]; 9],
@@ -250,6 +251,7 @@ pub(super) struct Group {
 }
 
 impl Group {
+    /// Zeroed buffers (on the stack: a pass allocates nothing).
     pub(super) fn new() -> Self {
         Self {
             h: Mat3::ZERO,

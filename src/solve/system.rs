@@ -495,7 +495,8 @@ impl Stacked {
     /// $H_k = K - \omega_k^2 M + i\omega_k C$, i.e. the real form of $G_k H_k - I$, so
     /// $\lVert A\Theta - \bar I \rVert_F^2 = \sum_k \lVert G_k H_k - I \rVert_F^2$:
     /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`), formed
-    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]). No allocation.
+    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]); for three
+    /// degrees of freedom four lines at once ([`quad`]), bit for bit the same. No allocation.
     pub fn residual_norm_into(&self, theta: MatRef<'_, f64>, work: &mut InstrumentWork) -> f64 {
         work.load(theta, true);
         let arch = work.arch;
@@ -587,8 +588,10 @@ impl Stacked {
     /// `Wᵀ A`) and five weighted sums. `W_kᵀ Ī` is the real rows of `W_k`: `−ω² G_mᴿ`,
     /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Per line, in split storage and vectorised ([`split`]):
     /// `H`, its Gauss–Jordan inverse `G_m` (`8n³` flops), $P^\top = G^\top \bar G_m$ from
-    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums. Returns `false` if the model
-    /// impedance is singular at some line. No allocation.
+    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums; for three degrees of freedom,
+    /// `H`, `G_m` and `Pᵀ` of four lines at once, one per SIMD lane ([`quad`]), bit for bit
+    /// the same. Returns `false` if the model impedance is singular at some line. No
+    /// allocation.
     pub fn instrument_normal(
         &self,
         theta: MatRef<'_, f64>,
