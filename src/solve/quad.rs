@@ -137,6 +137,8 @@ fn cross(
 /// `a` unspecified) if a lane's scale or determinant leaves the range where the per-line
 /// path takes those operations (it takes Gauss–Jordan or the slow reciprocal there),
 /// `Some(false)` if a lane is singular or its inverse is not finite.
+// A lane index runs over several arrays at once: clearer as an index than as zips.
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
 fn invert3(a: &mut Mat3) -> Option<bool> {
     let mut largest = [0.0_f64; QUAD];
