@@ -101,14 +101,19 @@ impl FrfBuilder {
         let by_direction = by_direction(excitation, n);
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let zero = c64::new(0.0, 0.0);
-        // Filled in order, set by set and line by line (no zeroing pass first).
+        // Filled in order, set by set and line by line (no zeroing pass first but that of the
+        // three-degree-of-freedom path, which writes a whole set at once).
         table.impedance = Vec::with_capacity(sets * lines * nn);
         table.regular = Vec::with_capacity(sets * lines);
         table.condition = vec![0.0; sets * lines];
         // One set's displacement matrices on every line side by side: their condition numbers
-        // are computed together.
+        // are computed together, and for three degrees of freedom their quotients `F_s X_s⁻¹`
+        // too, several lines at a time ([`linalg::right_divide3`], the kernel's operations).
         let mut xs = vec![zero; lines * nn];
+        let lanes = n == 3;
+        let mut fs = vec![zero; if lanes { lines * nn } else { 0 }];
         let mut conditioner = linalg::Conditioner::new(n);
+        let mut inverter = linalg::Inverter::new(n);
         let mut kernel = PairedKernel::new(n);
         for s in 0..sets {
             let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
@@ -119,18 +124,33 @@ impl FrfBuilder {
                 })
             };
             for (l, x) in xs.chunks_exact_mut(nn).enumerate() {
-                for (j, (_, xr)) in columns(l).enumerate() {
+                for (j, (fr, xr)) in columns(l).enumerate() {
                     x[j * n..(j + 1) * n].copy_from_slice(xr);
+                    if lanes {
+                        fs[l * nn + j * n..l * nn + (j + 1) * n].copy_from_slice(fr);
+                    }
                 }
             }
             let at = s * lines;
             conditioner.condition_numbers(&xs, &mut table.condition[at..at + lines]);
-            for l in 0..lines {
-                let h = kernel.set_impedance(columns(l));
-                table.regular.push(h.is_some());
-                match h {
-                    Some(h) => table.impedance.extend_from_slice(h),
-                    None => table.impedance.extend(std::iter::repeat_n(zero, nn)),
+            if lanes {
+                table.impedance.resize((at + lines) * nn, zero);
+                table.regular.resize(at + lines, false);
+                linalg::right_divide3(
+                    &mut inverter,
+                    &fs,
+                    &xs,
+                    &mut table.impedance[at * nn..],
+                    &mut table.regular[at..],
+                );
+            } else {
+                for l in 0..lines {
+                    let h = kernel.set_impedance(columns(l));
+                    table.regular.push(h.is_some());
+                    match h {
+                        Some(h) => table.impedance.extend_from_slice(h),
+                        None => table.impedance.extend(std::iter::repeat_n(zero, nn)),
+                    }
                 }
             }
             table.records.push(records);
