@@ -10,7 +10,7 @@ use faer::c64;
 use super::builder::{FrfBuilder, Plan};
 use super::coherence::SpectraCoherence;
 use super::contribution::Contribution;
-use super::variance::{set_equation_scatter, set_scatter};
+use super::variance::set_scatters;
 use super::{Assignment, Band, Estimator, Frf};
 use crate::error::{Error, Result};
 use crate::linalg;
@@ -164,6 +164,8 @@ impl FrfBuilder {
         let weight = |s: usize| weights.map_or(1.0, |w| w.get(s).copied().unwrap_or(0.0));
         let used: Vec<usize> = (0..sets).filter(|&s| weight(s) > 0.0).collect();
         let total_weight: f64 = used.iter().map(|&s| weight(s)).sum();
+        // Each used set's share `w_s/Σw`, formed once rather than on every line.
+        let shares: Vec<f64> = used.iter().map(|&s| weight(s) / total_weight).collect();
         frf.averages = used.len();
         frf.unpaired = by_direction
             .iter()
@@ -183,34 +185,27 @@ impl FrfBuilder {
         let table = self.set_table(excitation);
         let mut inverter = linalg::Inverter::new(n);
         let mut coherence = SpectraCoherence::new(n);
-        let mut per_set = Vec::with_capacity(if with_variance { used.len() * nn } else { 0 });
-        let (mut variance, mut equation) = (vec![0.0; nn], vec![0.0; nn]);
+        // Band lines kept, in order: their scatters are computed together after the loop.
+        let mut kept = Vec::with_capacity(if with_variance { plan.lines.len() } else { 0 });
         'lines: for (l, &k) in plan.lines.iter().enumerate() {
             let freq = k as f64 * plan.resolution_hz;
-            per_set.clear();
             // `H = Σ_s (w_s/Σw) H_s` in set order, and the worst `cond(X_s)`, as
             // [`PairedKernel::average`] forms them; no line where some `X_s` is singular.
             h.fill(zero);
             let mut worst = 0.0_f64;
-            for &s in &used {
+            for (&s, &share) in used.iter().zip(&shares) {
                 let Some(hs) = table.impedance(s, l) else {
                     frf.dropped_hz.push(freq);
                     continue 'lines;
                 };
                 worst = worst.max(table.condition(s, l));
-                Share::Times(weight(s) / total_weight).add(&mut h, hs);
-                if with_variance {
-                    per_set.extend_from_slice(hs);
-                }
+                Share::Times(share).add(&mut h, hs);
             }
             g.copy_from_slice(&h);
             if inverter.invert(&mut g) {
                 frf.push_line(freq, &h, &g, worst);
                 if with_variance {
-                    set_scatter(&per_set, &h, &mut variance);
-                    frf.impedance_variance.extend_from_slice(&variance);
-                    set_equation_scatter(&per_set, &h, &g, &mut equation);
-                    frf.equation_variance.extend_from_slice(&equation);
+                    kept.push(l);
                 }
                 // Coherence from the cross-spectra of all records at this line.
                 coherence.line(
@@ -221,6 +216,23 @@ impl FrfBuilder {
             } else {
                 frf.dropped_hz.push(freq);
             }
+        }
+        if with_variance {
+            // Every kept line's sets are regular (else it was dropped).
+            let per_set = |k: usize, m: usize| {
+                table
+                    .impedance(used[k], kept[m])
+                    .expect("kept lines have regular sets")
+            };
+            frf.impedance_variance.resize(kept.len() * nn, 0.0);
+            frf.equation_variance.resize(kept.len() * nn, 0.0);
+            set_scatters(
+                n,
+                used.len(),
+                per_set,
+                (&frf.impedance, &frf.flexibility),
+                (&mut frf.impedance_variance, &mut frf.equation_variance),
+            );
         }
         Ok(frf)
     }

@@ -258,7 +258,7 @@ mod tests {
     use super::super::invert3;
     use super::*;
     use rand::rngs::StdRng;
-    use rand::{Rng, SeedableRng};
+    use rand::{RngExt, SeedableRng};
 
     /// The one-at-a-time reference: a copy inverted by cofactors, then the product.
     fn reference(f: &[c64], x: &[c64]) -> (Vec<c64>, bool) {
