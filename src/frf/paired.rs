@@ -132,14 +132,18 @@ pub(super) fn by_direction(excitation: &[usize], n: usize) -> Vec<Vec<usize>> {
 impl FrfBuilder {
     /// Band-line spectra `(forces, displacements)` of record `r` at line `l`.
     pub(super) fn spectra_at(&self, r: usize, l: usize, n: usize) -> Option<(&[c64], &[c64])> {
+        self.spectra_of(r)
+            .map(|(f, x)| (&f[l * n..(l + 1) * n], &x[l * n..(l + 1) * n]))
+    }
+
+    /// Band-line spectra `(forces, displacements)` of record `r` on every line, `n` values
+    /// per line back to back.
+    pub(super) fn spectra_of(&self, r: usize) -> Option<(&[c64], &[c64])> {
         match &self.gathered[r].contribution {
             Contribution::Spectra {
                 forces,
                 displacements,
-            } => Some((
-                &forces[l * n..(l + 1) * n],
-                &displacements[l * n..(l + 1) * n],
-            )),
+            } => Some((forces, displacements)),
             Contribution::Cross { .. } => None,
         }
     }
@@ -171,11 +175,16 @@ impl FrfBuilder {
             .iter()
             .flat_map(|d| d[sets..].iter().map(|&r| self.gathered[r].label.clone()))
             .collect();
-        let spectra = |r: usize, l: usize| {
-            self.spectra_at(r, l, n)
-                .expect("paired builders gather spectra")
+        // Every record's spectra on all lines, looked up once.
+        let spectra: Vec<(&[c64], &[c64])> = (0..self.gathered.len())
+            .map(|r| self.spectra_of(r).expect("paired builders gather spectra"))
+            .collect();
+        let at_line = |l: usize| {
+            let line = l * n..(l + 1) * n;
+            spectra
+                .iter()
+                .map(move |(f, x)| (&f[line.clone()], &x[line.clone()]))
         };
-        let spectra = &spectra;
         // Scatter of the per-set impedances, for the error bars of the unweighted finish.
         let with_variance = weights.is_none() && used.len() >= 2;
         frf.reserve_lines(plan.lines.len(), with_variance);
@@ -208,10 +217,7 @@ impl FrfBuilder {
                     kept.push(l);
                 }
                 // Coherence from the cross-spectra of all records at this line.
-                coherence.line(
-                    (0..self.gathered.len()).map(|r| spectra(r, l)),
-                    &mut inverter,
-                );
+                coherence.line(at_line(l), &mut inverter);
                 frf.push_coherence(&coherence.multiple, &coherence.ordinary);
             } else {
                 frf.dropped_hz.push(freq);

@@ -123,11 +123,15 @@ impl FrfBuilder {
                         .expect("paired builders gather spectra")
                 })
             };
-            for (l, x) in xs.chunks_exact_mut(nn).enumerate() {
-                for (j, (fr, xr)) in columns(l).enumerate() {
-                    x[j * n..(j + 1) * n].copy_from_slice(xr);
-                    if lanes {
-                        fs[l * nn + j * n..l * nn + (j + 1) * n].copy_from_slice(fr);
+            // Column `j` of line `l`'s matrices: record `j`'s values at that line.
+            for (j, &r) in records.iter().enumerate() {
+                let (f, x) = self.spectra_of(r).expect("paired builders gather spectra");
+                for (xl, xr) in xs.chunks_exact_mut(nn).zip(x.chunks_exact(n)) {
+                    xl[j * n..(j + 1) * n].copy_from_slice(xr);
+                }
+                if lanes {
+                    for (fl, fr) in fs.chunks_exact_mut(nn).zip(f.chunks_exact(n)) {
+                        fl[j * n..(j + 1) * n].copy_from_slice(fr);
                     }
                 }
             }
