@@ -101,8 +101,7 @@ impl FrfBuilder {
         let by_direction = by_direction(excitation, n);
         let sets = by_direction.iter().map(Vec::len).min().unwrap_or(0);
         let zero = c64::new(0.0, 0.0);
-        // Filled in order, set by set and line by line (no zeroing pass first but that of the
-        // three-degree-of-freedom path, which writes a whole set at once).
+        // Filled in order, set by set and line by line (no zeroing pass first).
         table.impedance = Vec::with_capacity(sets * lines * nn);
         table.regular = Vec::with_capacity(sets * lines);
         table.condition = vec![0.0; sets * lines];
@@ -138,14 +137,12 @@ impl FrfBuilder {
             let at = s * lines;
             conditioner.condition_numbers(&xs, &mut table.condition[at..at + lines]);
             if lanes {
-                table.impedance.resize((at + lines) * nn, zero);
-                table.regular.resize(at + lines, false);
                 linalg::right_divide3(
                     &mut inverter,
                     &fs,
                     &xs,
-                    &mut table.impedance[at * nn..],
-                    &mut table.regular[at..],
+                    &mut table.impedance,
+                    &mut table.regular,
                 );
             } else {
                 for l in 0..lines {

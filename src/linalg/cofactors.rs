@@ -90,8 +90,8 @@ struct Batch<'a> {
     inverter: &'a mut Inverter,
     f: &'a [c64],
     x: &'a [c64],
-    h: &'a mut [c64],
-    regular: &'a mut [bool],
+    h: &'a mut Vec<c64>,
+    regular: &'a mut Vec<bool>,
 }
 
 impl WithSimd for Batch<'_> {
@@ -106,7 +106,7 @@ impl WithSimd for Batch<'_> {
             h,
             regular,
         } = self;
-        let count = regular.len();
+        let count = f.len() / 9;
         for start in (0..count).step_by(LANES) {
             // The last group is padded by repeating its last pair.
             let last = (count - start).min(LANES) - 1;
@@ -135,19 +135,18 @@ impl WithSimd for Batch<'_> {
             }
             for l in 0..=last {
                 let m = start + l;
-                let out = &mut h[9 * m..9 * (m + 1)];
                 if straight[l] {
-                    for (dst, z) in out.iter_mut().zip(&hz) {
-                        *dst = c64::new(z.re[l], z.im[l]);
-                    }
-                    regular[m] = true;
+                    h.extend(hz.iter().map(|z| c64::new(z.re[l], z.im[l])));
+                    regular.push(true);
                 } else {
-                    regular[m] = one_at_a_time(
+                    let mut out = [c64::new(0.0, 0.0); 9];
+                    regular.push(one_at_a_time(
                         inverter,
                         &f[9 * m..9 * (m + 1)],
                         &x[9 * m..9 * (m + 1)],
-                        out,
-                    );
+                        &mut out,
+                    ));
+                    h.extend_from_slice(&out);
                 }
             }
         }
@@ -221,28 +220,30 @@ fn one_at_a_time(inverter: &mut Inverter, f: &[c64], x: &[c64], h: &mut [c64]) -
     }
 }
 
-/// `H_m = F_m X_m⁻¹` of the `regular.len()` column-major `3 × 3` complex pairs stored back to
-/// back in `f` and `x`, into `h`, [`LANES`] pairs at a time: each `H_m` bit for bit what
+/// `H_m = F_m X_m⁻¹` of the column-major `3 × 3` complex pairs stored back to back in `f`
+/// and `x`, appended to `h`, [`LANES`] pairs at a time: each `H_m` bit for bit what
 /// [`Inverter::invert_by_cofactors`] then [`mul_into`] give for it (see the module docs).
-/// `regular[m]` says whether `X_m` could be inverted; `H_m` is zero where it could not.
-/// `inverter` (for `n = 3`) does the pairs the lanes hand back. No allocation.
+/// Whether `X_m` could be inverted is appended to `regular`; `H_m` is zero where it could
+/// not. `inverter` (for `n = 3`) does the pairs the lanes hand back. Appending rather than
+/// writing into a slice spares the caller a zeroing pass; no allocation where `h` and
+/// `regular` have the room.
 ///
 /// # Panics
-/// If `inverter` is not for `3 × 3`, or `f`, `x` or `h` do not hold `9 · regular.len()`
+/// If `inverter` is not for `3 × 3`, or `f` and `x` do not hold the same multiple of 9
 /// values.
 pub(crate) fn right_divide3(
     inverter: &mut Inverter,
     f: &[c64],
     x: &[c64],
-    h: &mut [c64],
-    regular: &mut [bool],
+    h: &mut Vec<c64>,
+    regular: &mut Vec<bool>,
 ) {
-    let count = regular.len();
     assert_eq!(inverter.n, 3, "an inverter for 3 × 3 matrices");
     assert!(
-        f.len() == 9 * count && x.len() == 9 * count && h.len() == 9 * count,
-        "{count} pairs of 3 × 3 need {} entries each",
-        9 * count
+        f.len() == x.len() && f.len() % 9 == 0,
+        "pairs of 3 × 3 matrices, not {} and {} entries",
+        f.len(),
+        x.len()
     );
     Arch::new().dispatch(Batch {
         inverter,
@@ -270,9 +271,12 @@ mod tests {
 
     fn check(f: &[c64], x: &[c64]) {
         let count = f.len() / 9;
-        let mut h = vec![c64::new(7.0, 7.0); 9 * count];
-        let mut regular = vec![false; count];
+        // Appended after what the buffers hold.
+        let mut h = vec![c64::new(7.0, 7.0); 9];
+        let mut regular = vec![false];
         right_divide3(&mut Inverter::new(3), f, x, &mut h, &mut regular);
+        assert_eq!((h.len(), regular.len()), (9 * (count + 1), count + 1));
+        let (h, regular) = (&h[9..], &regular[1..]);
         for m in 0..count {
             let (expect, r) = reference(&f[9 * m..9 * (m + 1)], &x[9 * m..9 * (m + 1)]);
             assert_eq!(regular[m], r, "pair {m}");
@@ -327,8 +331,7 @@ mod tests {
                 let mut x = random(count, &mut rng);
                 special(&mut x[9 * at..9 * (at + 1)]);
                 check(&f, &x);
-                let mut regular = vec![true; count];
-                let mut h = vec![c64::new(0.0, 0.0); 9 * count];
+                let (mut h, mut regular) = (Vec::new(), Vec::new());
                 right_divide3(&mut Inverter::new(3), &f, &x, &mut h, &mut regular);
                 if s < 4 {
                     assert!(!regular[at], "special {s} at {at}");
