@@ -211,8 +211,8 @@ impl<'a, F: Fn(usize, usize) -> &'a [c64] + Copy, const N: usize> WithSimd for I
                 for j in 0..N {
                     for i in 0..N {
                         let (d, v) = ((dr[j][i], di[j][i]), &mut var[j][i]);
-                        for l in 0..LANES {
-                            v[l] += (d.0[l] * d.0[l] + d.1[l] * d.1[l]) / (count * (count - 1.0));
+                        for (l, v) in v.iter_mut().enumerate() {
+                            *v += (d.0[l] * d.0[l] + d.1[l] * d.1[l]) / (count * (count - 1.0));
                         }
                         // (Ḡ (H_s − H̄))_ij, summed over `a` from zero as a complex number.
                         let (mut er, mut ei) = (zero, zero);
@@ -225,8 +225,8 @@ impl<'a, F: Fn(usize, usize) -> &'a [c64] + Copy, const N: usize> WithSimd for I
                             }
                         }
                         let v = &mut equ[j][i];
-                        for l in 0..LANES {
-                            v[l] += (er[l] * er[l] + ei[l] * ei[l]) / (count * (count - 1.0));
+                        for (l, v) in v.iter_mut().enumerate() {
+                            *v += (er[l] * er[l] + ei[l] * ei[l]) / (count * (count - 1.0));
                         }
                     }
                 }

@@ -134,9 +134,9 @@ impl WithSimd for Batch<'_> {
                     hz[i + 3 * j] = s;
                 }
             }
-            for l in 0..=last {
+            for (l, &straight) in straight.iter().enumerate().take(last + 1) {
                 let m = start + l;
-                if straight[l] {
+                if straight {
                     let out: [c64; 9] = std::array::from_fn(|e| c64::new(hz[e].re[l], hz[e].im[l]));
                     h.extend_from_slice(&out);
                     regular.push(true);
@@ -162,8 +162,8 @@ impl WithSimd for Batch<'_> {
 fn inverse(a: &[Z; 9]) -> ([Z; 9], [bool; LANES]) {
     let mut largest = [0.0_f64; LANES];
     for z in a {
-        for l in 0..LANES {
-            largest[l] = largest[l].max(z.re[l].abs()).max(z.im[l].abs());
+        for (l, m) in largest.iter_mut().enumerate() {
+            *m = m.max(z.re[l].abs()).max(z.im[l].abs());
         }
     }
     let mut straight = [true; LANES];
@@ -191,9 +191,9 @@ fn inverse(a: &[Z; 9]) -> ([Z; 9], [bool; LANES]) {
     let det = a00.mul(adj[0]).add(a01.mul(adj[1])).add(a02.mul(adj[2]));
     // `reciprocal(det) · down` through the squared modulus (its straight line).
     let mut factor = Z::ZERO;
-    for l in 0..LANES {
+    for (l, straight) in straight.iter_mut().enumerate() {
         let r2 = det.re[l] * det.re[l] + det.im[l] * det.im[l];
-        straight[l] &= r2.is_finite() && r2 >= f64::MIN_POSITIVE;
+        *straight &= r2.is_finite() && r2 >= f64::MIN_POSITIVE;
         factor.re[l] = det.re[l] / r2;
         factor.im[l] = -det.im[l] / r2;
     }
@@ -203,8 +203,8 @@ fn inverse(a: &[Z; 9]) -> ([Z; 9], [bool; LANES]) {
     let mut inv = adj;
     for z in &mut inv {
         *z = z.mul(factor);
-        for l in 0..LANES {
-            straight[l] &= z.re[l].is_finite() && z.im[l].is_finite();
+        for (l, straight) in straight.iter_mut().enumerate() {
+            *straight &= z.re[l].is_finite() && z.im[l].is_finite();
         }
     }
     (inv, straight)
