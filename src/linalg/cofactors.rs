@@ -56,30 +56,12 @@ impl Z {
         out
     }
 
-    /// `a − b`.
-    #[inline(always)]
-    fn sub(self, b: Z) -> Z {
-        Z {
-            re: map2(self.re, b.re, |x, y| x - y),
-            im: map2(self.im, b.im, |x, y| x - y),
-        }
-    }
-
     /// `a + b`.
     #[inline(always)]
     fn add(self, b: Z) -> Z {
         Z {
             re: map2(self.re, b.re, |x, y| x + y),
             im: map2(self.im, b.im, |x, y| x + y),
-        }
-    }
-
-    /// `a · s`, real `s` per lane.
-    #[inline(always)]
-    fn scale(self, s: Lanes) -> Z {
-        Z {
-            re: map2(self.re, s, |x, y| x * y),
-            im: map2(self.im, s, |x, y| x * y),
         }
     }
 }
@@ -112,17 +94,21 @@ impl WithSimd for Batch<'_> {
             let last = (count - start).min(LANES) - 1;
             let pair = |l: usize| start + l.min(last);
             let mut fz = [Z::ZERO; 9];
-            let mut xz = [Z::ZERO; 9];
+            let mut xs = Split3::ZERO;
             for l in 0..LANES {
                 let m = pair(l);
                 // Slices of the known length: no bounds check per entry.
                 let (fm, xm) = (&f[9 * m..][..9], &x[9 * m..][..9]);
                 for e in 0..9 {
                     (fz[e].re[l], fz[e].im[l]) = (fm[e].re, fm[e].im);
-                    (xz[e].re[l], xz[e].im[l]) = (xm[e].re, xm[e].im);
+                    (xs.re[e][l], xs.im[e][l]) = (xm[e].re, xm[e].im);
                 }
             }
-            let (inv, straight) = inverse(&xz);
+            let straight = invert3_lanes(&mut xs);
+            let inv: [Z; 9] = std::array::from_fn(|e| Z {
+                re: xs.re[e],
+                im: xs.im[e],
+            });
             // `H = F X⁻¹` as `mul_into` sums it: from zero, over `k` in order.
             let mut hz = [Z::ZERO; 9];
             for j in 0..3 {
@@ -134,9 +120,9 @@ impl WithSimd for Batch<'_> {
                     hz[i + 3 * j] = s;
                 }
             }
-            for (l, &straight) in straight.iter().enumerate().take(last + 1) {
+            for l in 0..=last {
                 let m = start + l;
-                if straight {
+                if straight.lane(l) {
                     let out: [c64; 9] = std::array::from_fn(|e| c64::new(hz[e].re[l], hz[e].im[l]));
                     h.extend_from_slice(&out);
                     regular.push(true);
@@ -155,59 +141,156 @@ impl WithSimd for Batch<'_> {
     }
 }
 
-/// [`invert3`] on every lane: the inverse, and per lane whether it took the straight line
-/// (a normal scale and determinant, a finite inverse), where it is [`invert3`]'s bit for
-/// bit. Other lanes hold numbers to be discarded.
+/// A `3 × 3` complex matrix in each of [`LANES`] lanes: column-major entries, each entry's
+/// real parts (one per lane) apart from its imaginary parts.
+#[derive(Clone, Copy)]
+pub(crate) struct Split3 {
+    pub(crate) re: [Lanes; 9],
+    pub(crate) im: [Lanes; 9],
+}
+
+impl Split3 {
+    /// Zero in every entry of every lane.
+    pub(crate) const ZERO: Self = Self {
+        re: [[0.0; LANES]; 9],
+        im: [[0.0; LANES]; 9],
+    };
+}
+
+/// Per lane, which conditions of [`invert3`]'s straight line [`invert3_lanes`] met: where
+/// all of them hold, the lane's inverse is [`invert3`]'s bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Straight {
+    /// The power of two scaling the matrix, and its reciprocal, are normal numbers.
+    pub(crate) scale: [bool; LANES],
+    /// The determinant is not zero.
+    pub(crate) regular: [bool; LANES],
+    /// The determinant's squared modulus is a finite normal number (its reciprocal is taken
+    /// through it).
+    pub(crate) reciprocal: [bool; LANES],
+    /// Every entry of the inverse is finite.
+    pub(crate) finite: [bool; LANES],
+}
+
+impl Straight {
+    /// Whether lane `l` took the straight line all the way (a regular matrix then).
+    pub(crate) fn lane(&self, l: usize) -> bool {
+        self.scale[l] && self.reciprocal[l] && self.finite[l]
+    }
+}
+
+/// The complex product `a b` of each lane, as `num_complex` forms it:
+/// `(a'b' − a''b'') + i(a'b'' + a''b')`.
 #[inline(always)]
-fn inverse(a: &[Z; 9]) -> ([Z; 9], [bool; LANES]) {
+fn cmul((ar, ai): (&Lanes, &Lanes), (br, bi): (&Lanes, &Lanes)) -> (Lanes, Lanes) {
+    (
+        std::array::from_fn(|l| ar[l] * br[l] - ai[l] * bi[l]),
+        std::array::from_fn(|l| ar[l] * bi[l] + ai[l] * br[l]),
+    )
+}
+
+/// `a b − c d` of each lane (complex), as [`invert3`]'s adjugate forms it.
+#[inline(always)]
+fn cross(
+    a: (&Lanes, &Lanes),
+    b: (&Lanes, &Lanes),
+    c: (&Lanes, &Lanes),
+    d: (&Lanes, &Lanes),
+) -> (Lanes, Lanes) {
+    let (x, y) = (cmul(a, b), cmul(c, d));
+    (
+        std::array::from_fn(|l| x.0[l] - y.0[l]),
+        std::array::from_fn(|l| x.1[l] - y.1[l]),
+    )
+}
+
+/// [`invert3`]'s operations on every lane of `a`, in place: the matrix scaled by the power
+/// of two at or below its largest part, its adjugate, the determinant along the first row,
+/// the inverse as the adjugate times `1/det` (through the squared modulus) and the scale.
+/// Returns, per lane, which conditions of that straight line held ([`Straight`]): where all
+/// hold, the lane's inverse is [`invert3`]'s bit for bit; elsewhere it is a number to discard (the per-line path takes Gauss–Jordan, the slow reciprocal, or refuses a
+/// singular matrix there). A straight line of products and sums, no branch: the lanes go
+/// through it as SIMD operations. The IVF's groups of four lines and [`right_divide3`]'s
+/// pairs both invert here.
+// A lane index runs over several arrays at once: clearer as an index than as zips.
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+pub(crate) fn invert3_lanes(a: &mut Split3) -> Straight {
     let mut largest = [0.0_f64; LANES];
-    for z in a {
-        for (l, m) in largest.iter_mut().enumerate() {
-            *m = m.max(z.re[l].abs()).max(z.im[l].abs());
+    for e in 0..9 {
+        for l in 0..LANES {
+            largest[l] = largest[l].max(a.re[e][l].abs()).max(a.im[e][l].abs());
         }
     }
-    let mut straight = [true; LANES];
-    let mut down = [1.0; LANES];
+    let mut down = [0.0; LANES];
+    let mut scale_normal = [true; LANES];
     for l in 0..LANES {
+        // The power of two at or below `largest`: its exponent bits alone.
         let scale = f64::from_bits(largest[l].to_bits() & 0x7ff0_0000_0000_0000);
-        straight[l] = scale.is_normal() && (1.0 / scale).is_normal();
         down[l] = 1.0 / scale;
+        scale_normal[l] = scale.is_normal() && down[l].is_normal();
     }
-    let at = |e: usize| a[e].scale(down);
-    let (a00, a10, a20) = (at(0), at(1), at(2));
-    let (a01, a11, a21) = (at(3), at(4), at(5));
-    let (a02, a12, a22) = (at(6), at(7), at(8));
-    let adj = [
-        a11.mul(a22).sub(a12.mul(a21)),
-        a12.mul(a20).sub(a10.mul(a22)),
-        a10.mul(a21).sub(a11.mul(a20)),
-        a02.mul(a21).sub(a01.mul(a22)),
-        a00.mul(a22).sub(a02.mul(a20)),
-        a01.mul(a20).sub(a00.mul(a21)),
-        a01.mul(a12).sub(a02.mul(a11)),
-        a02.mul(a10).sub(a00.mul(a12)),
-        a00.mul(a11).sub(a01.mul(a10)),
-    ];
-    let det = a00.mul(adj[0]).add(a01.mul(adj[1])).add(a02.mul(adj[2]));
-    // `reciprocal(det) · down` through the squared modulus (its straight line).
-    let mut factor = Z::ZERO;
-    for (l, straight) in straight.iter_mut().enumerate() {
-        let r2 = det.re[l] * det.re[l] + det.im[l] * det.im[l];
-        *straight &= r2.is_finite() && r2 >= f64::MIN_POSITIVE;
-        factor.re[l] = det.re[l] / r2;
-        factor.im[l] = -det.im[l] / r2;
-    }
-    let factor = factor.scale(down);
-    // A loop rather than `adj.map`, which was not inlined (so not compiled for the SIMD
-    // instructions chosen).
-    let mut inv = adj;
-    for z in &mut inv {
-        *z = z.mul(factor);
-        for (l, straight) in straight.iter_mut().enumerate() {
-            *straight &= z.re[l].is_finite() && z.im[l].is_finite();
+    let mut s = Split3::ZERO;
+    for e in 0..9 {
+        for l in 0..LANES {
+            s.re[e][l] = a.re[e][l] * down[l];
+            s.im[e][l] = a.im[e][l] * down[l];
         }
     }
-    (inv, straight)
+    let at = |i: usize, j: usize| (&s.re[i + 3 * j], &s.im[i + 3 * j]);
+    let (a00, a10, a20) = (at(0, 0), at(1, 0), at(2, 0));
+    let (a01, a11, a21) = (at(0, 1), at(1, 1), at(2, 1));
+    let (a02, a12, a22) = (at(0, 2), at(1, 2), at(2, 2));
+    // The adjugate, column-major.
+    let adj = [
+        cross(a11, a22, a12, a21),
+        cross(a12, a20, a10, a22),
+        cross(a10, a21, a11, a20),
+        cross(a02, a21, a01, a22),
+        cross(a00, a22, a02, a20),
+        cross(a01, a20, a00, a21),
+        cross(a01, a12, a02, a11),
+        cross(a02, a10, a00, a12),
+        cross(a00, a11, a01, a10),
+    ];
+    let (t0, t1, t2) = (
+        cmul(a00, (&adj[0].0, &adj[0].1)),
+        cmul(a01, (&adj[1].0, &adj[1].1)),
+        cmul(a02, (&adj[2].0, &adj[2].1)),
+    );
+    let det_re: Lanes = std::array::from_fn(|l| t0.0[l] + t1.0[l] + t2.0[l]);
+    let det_im: Lanes = std::array::from_fn(|l| t0.1[l] + t1.1[l] + t2.1[l]);
+    let mut factor = ([0.0; LANES], [0.0; LANES]);
+    let mut straight = Straight {
+        scale: scale_normal,
+        regular: [true; LANES],
+        reciprocal: [true; LANES],
+        finite: [true; LANES],
+    };
+    for l in 0..LANES {
+        straight.regular[l] = !(det_re[l] == 0.0 && det_im[l] == 0.0);
+        // `reciprocal(det)` through the squared modulus, where that is a normal number.
+        let r2 = det_re[l] * det_re[l] + det_im[l] * det_im[l];
+        straight.reciprocal[l] = r2.is_finite() && r2 >= f64::MIN_POSITIVE;
+        // (A/s)⁻¹ = s A⁻¹: the inverse is (A/s)⁻¹ / s.
+        factor.0[l] = det_re[l] / r2 * down[l];
+        factor.1[l] = -det_im[l] / r2 * down[l];
+    }
+    // A number times zero is zero, an infinity or NaN times zero NaN: the sum of the
+    // entries times zero is zero exactly where every entry is finite (kept as numbers, so the
+    // lanes stay in SIMD registers).
+    let mut nonfinite = [0.0_f64; LANES];
+    for (e, adj) in adj.iter().enumerate() {
+        let (re, im) = cmul((&adj.0, &adj.1), (&factor.0, &factor.1));
+        for l in 0..LANES {
+            nonfinite[l] += re[l] * 0.0 + im[l] * 0.0;
+        }
+        (a.re[e], a.im[e]) = (re, im);
+    }
+    for l in 0..LANES {
+        straight.finite[l] = nonfinite[l] == 0.0;
+    }
+    straight
 }
 
 /// `h = f x⁻¹` of one pair by [`Inverter::invert_by_cofactors`] and [`mul_into`]; whether `x` could be inverted (`h` zero if not).

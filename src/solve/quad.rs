@@ -25,29 +25,19 @@
 #[cfg(doc)]
 use super::split;
 use super::split::Simd;
+use crate::lanes::LANES;
 #[cfg(doc)]
 use crate::linalg;
+use crate::linalg::{Split3, invert3_lanes};
 
 /// Lines per group: the lanes.
-pub(super) const QUAD: usize = 4;
+pub(super) const QUAD: usize = LANES;
 
 /// One value of each line of a group.
 pub(super) type Lanes = [f64; QUAD];
 
 /// A split `3 × 3` matrix of each line of a group, column-major entries, each four lanes.
-#[derive(Clone, Copy)]
-struct Mat3 {
-    re: [Lanes; 9],
-    im: [Lanes; 9],
-}
-
-impl Mat3 {
-    /// Zero in every entry of every lane.
-    const ZERO: Self = Self {
-        re: [[0.0; QUAD]; 9],
-        im: [[0.0; QUAD]; 9],
-    };
-}
+type Mat3 = Split3;
 
 /// The measured data of the full groups of four lines, entry-major: built once per fit.
 #[derive(Debug)]
@@ -114,111 +104,24 @@ fn impedance<S: Simd>(h: &mut Mat3, (m, c, k): (&[f64], &[f64], &[f64]), w: &Lan
     }
 }
 
-/// The complex product `a b` of each lane, as `num_complex` forms it.
-#[inline(always)]
-fn cmul((ar, ai): (&Lanes, &Lanes), (br, bi): (&Lanes, &Lanes)) -> (Lanes, Lanes) {
-    (
-        std::array::from_fn(|l| ar[l] * br[l] - ai[l] * bi[l]),
-        std::array::from_fn(|l| ar[l] * bi[l] + ai[l] * br[l]),
-    )
-}
-
-/// `a b − c d` of each lane (complex), as [`linalg::invert3`]'s adjugate forms it.
-#[inline(always)]
-fn cross(
-    a: (&Lanes, &Lanes),
-    b: (&Lanes, &Lanes),
-    c: (&Lanes, &Lanes),
-    d: (&Lanes, &Lanes),
-) -> (Lanes, Lanes) {
-    let (x, y) = (cmul(a, b), cmul(c, d));
-    (
-        std::array::from_fn(|l| x.0[l] - y.0[l]),
-        std::array::from_fn(|l| x.1[l] - y.1[l]),
-    )
-}
-
-/// Each lane's `3 × 3` inverted in place by [`linalg::invert3`]'s operations: `None` (and
-/// `a` unspecified) if a lane's scale or determinant leaves the range where the per-line
-/// path takes those operations (it takes Gauss–Jordan or the slow reciprocal there),
-/// `Some(false)` if a lane is singular or its inverse is not finite.
-// A lane index runs over several arrays at once: clearer as an index than as zips.
-#[allow(clippy::needless_range_loop)]
+/// Each lane's `3 × 3` inverted in place by [`linalg::invert3`]'s operations
+/// ([`invert3_lanes`]): `None` (and `a` unspecified) if a lane's scale or determinant leaves
+/// the range where the per-line path takes those operations (it takes Gauss–Jordan or the
+/// slow reciprocal there), `Some(false)` if a lane is singular or its inverse is not finite.
 #[inline(always)]
 fn invert3(a: &mut Mat3) -> Option<bool> {
-    let mut largest = [0.0_f64; QUAD];
-    for e in 0..9 {
-        for l in 0..QUAD {
-            largest[l] = largest[l].max(a.re[e][l].abs()).max(a.im[e][l].abs());
-        }
-    }
-    let mut down = [0.0; QUAD];
-    let mut normal = true;
-    for l in 0..QUAD {
-        // The power of two at or below `largest`: its exponent bits alone.
-        let scale = f64::from_bits(largest[l].to_bits() & 0x7ff0_0000_0000_0000);
-        down[l] = 1.0 / scale;
-        normal &= scale.is_normal() && down[l].is_normal();
-    }
-    if !normal {
+    let straight = invert3_lanes(a);
+    let all = |flags: [bool; QUAD]| flags.iter().all(|&f| f);
+    if !all(straight.scale) {
         return None;
     }
-    let mut s = Mat3::ZERO;
-    for e in 0..9 {
-        for l in 0..QUAD {
-            s.re[e][l] = a.re[e][l] * down[l];
-            s.im[e][l] = a.im[e][l] * down[l];
-        }
-    }
-    let at = |i: usize, j: usize| (&s.re[i + 3 * j], &s.im[i + 3 * j]);
-    let (a00, a10, a20) = (at(0, 0), at(1, 0), at(2, 0));
-    let (a01, a11, a21) = (at(0, 1), at(1, 1), at(2, 1));
-    let (a02, a12, a22) = (at(0, 2), at(1, 2), at(2, 2));
-    // The adjugate, column-major.
-    let adj = [
-        cross(a11, a22, a12, a21),
-        cross(a12, a20, a10, a22),
-        cross(a10, a21, a11, a20),
-        cross(a02, a21, a01, a22),
-        cross(a00, a22, a02, a20),
-        cross(a01, a20, a00, a21),
-        cross(a01, a12, a02, a11),
-        cross(a02, a10, a00, a12),
-        cross(a00, a11, a01, a10),
-    ];
-    let (t0, t1, t2) = (
-        cmul(a00, (&adj[0].0, &adj[0].1)),
-        cmul(a01, (&adj[1].0, &adj[1].1)),
-        cmul(a02, (&adj[2].0, &adj[2].1)),
-    );
-    let det_re: Lanes = std::array::from_fn(|l| t0.0[l] + t1.0[l] + t2.0[l]);
-    let det_im: Lanes = std::array::from_fn(|l| t0.1[l] + t1.1[l] + t2.1[l]);
-    let mut factor = ([0.0; QUAD], [0.0; QUAD]);
-    let (mut regular, mut fast) = (true, true);
-    for l in 0..QUAD {
-        regular &= !(det_re[l] == 0.0 && det_im[l] == 0.0);
-        // `linalg::reciprocal` through the squared modulus, where it is a normal number.
-        let r2 = det_re[l] * det_re[l] + det_im[l] * det_im[l];
-        fast &= r2.is_finite() && r2 >= f64::MIN_POSITIVE;
-        // (A/s)⁻¹ = s A⁻¹: the inverse is (A/s)⁻¹ / s.
-        factor.0[l] = det_re[l] / r2 * down[l];
-        factor.1[l] = -det_im[l] / r2 * down[l];
-    }
-    if !regular {
+    if !all(straight.regular) {
         return Some(false);
     }
-    if !fast {
+    if !all(straight.reciprocal) {
         return None;
     }
-    let mut finite = true;
-    for (e, adj) in adj.iter().enumerate() {
-        let (re, im) = cmul((&adj.0, &adj.1), (&factor.0, &factor.1));
-        for l in 0..QUAD {
-            finite &= re[l].is_finite() && im[l].is_finite();
-        }
-        (a.re[e], a.im[e]) = (re, im);
-    }
-    Some(finite)
+    Some(all(straight.finite))
 }
 
 /// `out = X Y` (`conj = false`) or `X Ȳ` (`conj = true`) of each lane, as [`split::mul`]
