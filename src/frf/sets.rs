@@ -16,7 +16,9 @@ use crate::linalg;
 /// `H_s = F_s X_s⁻¹`, or nothing where `X_s` is singular.
 ///
 /// Built by [`FrfBuilder::set_table`]; each value is the one [`PairedKernel`] computes for the
-/// same set and line, bit for bit (the same condition number, the same inversion and product).
+/// same set and line, bit for bit (the same condition number, the same inversion and product:
+/// for three degrees of freedom the kernel's cofactors, run by [`linalg::right_divide3`] four
+/// lines at a time).
 #[derive(Debug, Clone)]
 pub(crate) struct SetTable {
     /// The excitation (direction per record, push order) the sets were formed from.
@@ -106,9 +108,13 @@ impl FrfBuilder {
         table.regular = Vec::with_capacity(sets * lines);
         table.condition = vec![0.0; sets * lines];
         // One set's displacement matrices on every line side by side: their condition numbers
-        // are computed together.
+        // are computed together, and for three degrees of freedom their quotients `F_s X_s⁻¹`
+        // too, several lines at a time ([`linalg::right_divide3`], the kernel's operations).
         let mut xs = vec![zero; lines * nn];
+        let lanes = n == 3;
+        let mut fs = vec![zero; if lanes { lines * nn } else { 0 }];
         let mut conditioner = linalg::Conditioner::new(n);
+        let mut inverter = linalg::Inverter::new(n);
         let mut kernel = PairedKernel::new(n);
         for s in 0..sets {
             let records: Vec<usize> = by_direction.iter().map(|d| d[s]).collect();
@@ -118,19 +124,36 @@ impl FrfBuilder {
                         .expect("paired builders gather spectra")
                 })
             };
-            for (l, x) in xs.chunks_exact_mut(nn).enumerate() {
-                for (j, (_, xr)) in columns(l).enumerate() {
-                    x[j * n..(j + 1) * n].copy_from_slice(xr);
+            // Column `j` of line `l`'s matrices: record `j`'s values at that line.
+            for (j, &r) in records.iter().enumerate() {
+                let (f, x) = self.spectra_of(r).expect("paired builders gather spectra");
+                for (xl, xr) in xs.chunks_exact_mut(nn).zip(x.chunks_exact(n)) {
+                    xl[j * n..(j + 1) * n].copy_from_slice(xr);
+                }
+                if lanes {
+                    for (fl, fr) in fs.chunks_exact_mut(nn).zip(f.chunks_exact(n)) {
+                        fl[j * n..(j + 1) * n].copy_from_slice(fr);
+                    }
                 }
             }
             let at = s * lines;
             conditioner.condition_numbers(&xs, &mut table.condition[at..at + lines]);
-            for l in 0..lines {
-                let h = kernel.set_impedance(columns(l));
-                table.regular.push(h.is_some());
-                match h {
-                    Some(h) => table.impedance.extend_from_slice(h),
-                    None => table.impedance.extend(std::iter::repeat_n(zero, nn)),
+            if lanes {
+                linalg::right_divide3(
+                    &mut inverter,
+                    &fs,
+                    &xs,
+                    &mut table.impedance,
+                    &mut table.regular,
+                );
+            } else {
+                for l in 0..lines {
+                    let h = kernel.set_impedance(columns(l));
+                    table.regular.push(h.is_some());
+                    match h {
+                        Some(h) => table.impedance.extend_from_slice(h),
+                        None => table.impedance.extend(std::iter::repeat_n(zero, nn)),
+                    }
                 }
             }
             table.records.push(records);
@@ -174,6 +197,72 @@ mod tests {
             }
         }
         out
+    }
+
+    /// Three degrees of freedom, where the table's quotients come from
+    /// [`linalg::right_divide3`]'s lanes: every value is still the kernel's bit for bit, and
+    /// within rounding (`ε·κ`) of the Gauss–Jordan quotient the kernel used before.
+    #[test]
+    fn three_dof_table_is_the_kernel_and_gauss_jordan_to_rounding() {
+        let system = crate::model::Coefficients::new(
+            faer::mat![[2.0, 0.1, 0.0], [0.1, 2.5, 0.2], [0.0, 0.2, 3.0]],
+            faer::mat![[60.0, 8.0, -3.0], [-5.0, 70.0, 4.0], [2.0, -6.0, 80.0]],
+            faer::mat![[4e5, 6e4, -1e4], [2e4, 6e5, 5e4], [-2e4, 1e4, 9e5]],
+        )
+        .unwrap();
+        let records = ImpactTest {
+            per_direction: 2,
+            sample_rate: 4096.0,
+            duration_s: 2.0,
+            noise: 0.03,
+            seed: 5,
+            ..ImpactTest::seed_rig()
+        }
+        .run(&system)
+        .unwrap();
+        let mut b = FrfBuilder::new(
+            Estimator::PairedSets,
+            Band::new(20.0, 250.0).unwrap(),
+            Segmentation::WholeRecord,
+            Window::Rectangular,
+        );
+        b.push_all(&records).unwrap();
+        let excitation = b.excitations(&Assignment::DominantForce).unwrap();
+        let table = b.set_table(&excitation);
+        assert_eq!((table.sets(), table.dofs()), (2, 3));
+        let (n, nn) = (3, 9);
+        let mut kernel = PairedKernel::new(n);
+        let mut conditioner = linalg::Conditioner::new(n);
+        let mut inverter = linalg::Inverter::new(n);
+        let zero = c64::new(0.0, 0.0);
+        let (mut x, mut f, mut gj) = (vec![zero; nn], vec![zero; nn], vec![zero; nn]);
+        for s in 0..table.sets() {
+            for l in 0..table.lines() {
+                let columns = || {
+                    table.records[s]
+                        .iter()
+                        .map(|&r| b.spectra_at(r, l, n).unwrap())
+                };
+                for (j, (fr, xr)) in columns().enumerate() {
+                    x[j * n..(j + 1) * n].copy_from_slice(xr);
+                    f[j * n..(j + 1) * n].copy_from_slice(fr);
+                }
+                let cond = conditioner.condition_number(&x);
+                assert_eq!(table.condition(s, l).to_bits(), cond.to_bits());
+                let h = table.impedance(s, l).unwrap();
+                assert_eq!(h, kernel.set_impedance(columns()).unwrap());
+                assert!(inverter.invert(&mut x));
+                linalg::mul_into(&f, &x, &mut gj, n);
+                let norm = |m: &[c64]| m.iter().fold(0.0_f64, |a, z| a.max(z.norm()));
+                let diff: Vec<c64> = h.iter().zip(&gj).map(|(a, b)| a - b).collect();
+                assert!(
+                    norm(&diff) <= 100.0 * f64::EPSILON * cond * norm(&gj),
+                    "set {s} line {l}: {} vs {}",
+                    norm(&diff),
+                    norm(&gj)
+                );
+            }
+        }
     }
 
     /// The table holds the kernel's values, is computed once, and is computed again after

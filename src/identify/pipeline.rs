@@ -452,7 +452,7 @@ impl Settings {
             e => e,
         };
         let fitted = self
-            .fitter()
+            .identification_fitter()
             .fit(&frf, builder, self.window)
             .map_err(scale_cause)?;
         let (fit, ml) = (fitted.fit, fitted.ml);

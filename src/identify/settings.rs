@@ -227,6 +227,15 @@ impl Settings {
         fitter
     }
 
+    /// [`Settings::fitter`] for the identification itself: without the fit's first-order
+    /// covariance under [`Uncertainty::None`], which shows no error bars.
+    pub(super) fn identification_fitter(&self) -> Fitter {
+        match self.uncertainty {
+            Uncertainty::None => self.fitter().without_covariance(),
+            _ => self.fitter(),
+        }
+    }
+
     /// The spectra's builder for these settings (replicates kept when the uncertainty
     /// resamples or the method is ML).
     pub(super) fn builder(&self) -> FrfBuilder {

@@ -3,8 +3,8 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
-use super::scan::smallest_step;
-use super::{CLIP_SIDE_FRACTION, CLIP_TOLERANCE, ImpactChecks, ImpactIssue, Scan};
+use super::scan::{near_extremes, smallest_step};
+use super::{CLIP_SIDE_FRACTION, ImpactChecks, ImpactIssue, Scan};
 use crate::error::Channel;
 
 /// Longest run of consecutive samples meeting a condition, tracked one sample at a time.
@@ -86,12 +86,16 @@ pub(super) fn clipping(
     if range <= 0.0 {
         return;
     }
+    // Fewer samples at the extremes than a run needs (the scan counted them against the same
+    // levels): no run is long enough, the channel is cleared without a pass of its own.
+    if scan.near_extremes < checks.clip_run {
+        return;
+    }
     let mean = scan.mean;
     // The quantisation step: the smallest non-zero change between consecutive samples, found
     // only for a run long enough to report (one more pass over the channel).
     let mut step = None;
-    let tol = CLIP_TOLERANCE * range;
-    let (top, bottom) = (hi - tol, lo + tol);
+    let (top, bottom) = near_extremes(lo, hi);
     let (at_hi, at_lo) = Arch::new().dispatch(ExtremeRuns { x, top, bottom });
     for (value, run) in [(hi, at_hi), (lo, at_lo)] {
         if run.longest < checks.clip_run || (value - mean).abs() < CLIP_SIDE_FRACTION * range {

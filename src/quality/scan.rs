@@ -2,6 +2,7 @@
 
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
+use super::CLIP_TOLERANCE;
 use crate::lanes::LANES;
 use crate::records::Record;
 
@@ -25,6 +26,20 @@ pub(crate) struct Scan {
     /// samples' bits, each step a bijection of `h` and one-to-one in the sample, so records
     /// that differ in one sample always differ here.
     pub(crate) digest: [u64; CHAINS],
+    /// Samples at either extreme within the clipping tolerance ([`near_extremes`]: at or
+    /// above its top or at or below its bottom, counted once): no run at an extreme is longer,
+    /// so fewer than the run the clipping check asks for clears the channel without its pass.
+    pub(crate) near_extremes: usize,
+}
+
+/// The levels `(top, bottom)` within [`CLIP_TOLERANCE`] of the range `hi − lo` from the
+/// extremes `hi`, `lo`: samples at or above `top` (at or below `bottom`) sit at an extreme for
+/// the clipping check. One expression for the scan's count and the check's runs, so both
+/// compare against the same bits.
+#[inline(always)]
+pub(crate) fn near_extremes(lo: f64, hi: f64) -> (f64, f64) {
+    let tol = CLIP_TOLERANCE * (hi - lo);
+    (hi - tol, lo + tol)
 }
 
 /// [`Scan::new`]'s pass as an operation of faer's SIMD dispatch: a named type rather than a
@@ -40,16 +55,21 @@ impl WithSimd for Pass<'_> {
     }
 }
 
-/// The second pass of [`Scan::new`] (`Σ (x − x̄)²` and the digest) as an operation of faer's
-/// SIMD dispatch.
-struct Spread<'a>(&'a [f64], f64);
+/// The second pass of [`Scan::new`] (`Σ (x − x̄)²`, the digest and the count at the extremes
+/// between `top` and `bottom`) as an operation of faer's SIMD dispatch.
+struct Spread<'a> {
+    x: &'a [f64],
+    mean: f64,
+    top: f64,
+    bottom: f64,
+}
 
 impl WithSimd for Spread<'_> {
-    type Output = (f64, [u64; CHAINS]);
+    type Output = (f64, [u64; CHAINS], usize);
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _: S) -> Self::Output {
-        Scan::spread(self.0, self.1)
+        Scan::spread(self.x, self.mean, self.top, self.bottom)
     }
 }
 
@@ -103,9 +123,16 @@ impl Scan {
         if !x.is_empty() {
             let n = x.len() as f64;
             scan.mean /= n;
-            let (squares, digest) = Arch::new().dispatch(Spread(x, scan.mean));
+            let (top, bottom) = near_extremes(scan.lo, scan.hi);
+            let (squares, digest, count) = Arch::new().dispatch(Spread {
+                x,
+                mean: scan.mean,
+                top,
+                bottom,
+            });
             scan.rms = (squares / n).sqrt();
             scan.digest = digest;
+            scan.near_extremes = count;
         }
         scan
     }
@@ -130,6 +157,7 @@ impl Scan {
             mean: (sum[0] + sum[1]) + (sum[2] + sum[3]),
             rms: 0.0,
             digest: DIGEST_START,
+            near_extremes: 0,
         }
     }
 
@@ -154,10 +182,12 @@ impl Scan {
     }
 
     /// The second pass over `x`: `Σ (x − c)²` as [`crate::lanes::sum_sq_dev`] sums it (the same
-    /// operations in the same lanes, so the same bits) and the digest's chains.
+    /// operations in the same lanes, so the same bits), the digest's chains, and the number of
+    /// samples at or above `top` or at or below `bottom`.
     #[inline(always)]
-    fn spread(x: &[f64], c: f64) -> (f64, [u64; CHAINS]) {
+    fn spread(x: &[f64], c: f64, top: f64, bottom: f64) -> (f64, [u64; CHAINS], usize) {
         let mut a = [0.0; LANES];
+        let mut near = [0u64; LANES];
         let mut digest = DIGEST_START;
         let groups = x.chunks_exact(CHAINS);
         let tail = groups.remainder();
@@ -166,6 +196,7 @@ impl Scan {
                 for j in 0..LANES {
                     let v = g[q * LANES + j];
                     a[j] += (v - c) * (v - c);
+                    near[j] += u64::from((v >= top) | (v <= bottom));
                 }
             }
             for (h, &v) in digest.iter_mut().zip(g) {
@@ -174,9 +205,11 @@ impl Scan {
         }
         for (m, &v) in tail.iter().enumerate() {
             a[m % LANES] += (v - c) * (v - c);
+            near[m % LANES] += u64::from((v >= top) | (v <= bottom));
             digest[m] = mix(digest[m], v);
         }
-        ((a[0] + a[1]) + (a[2] + a[3]), digest)
+        let near = near.iter().sum::<u64>() as usize;
+        ((a[0] + a[1]) + (a[2] + a[3]), digest, near)
     }
 }
 
@@ -245,6 +278,27 @@ mod tests {
                     "length {len}, sample {m}"
                 );
             }
+        }
+    }
+
+    /// The count at the extremes is that of a plain filter against [`near_extremes`]'s levels,
+    /// at every length about the lanes and groups, with samples at both extremes, scattered
+    /// or in runs.
+    #[test]
+    fn count_at_the_extremes_is_the_filtered_count() {
+        for len in [1, 3, 4, 5, 16, 17, 33, 100, 8191] {
+            let mut x: Vec<f64> = (0..len).map(|m| (m as f64 * 0.37).sin()).collect();
+            for m in (0..len).step_by(7) {
+                x[m] = 1.5;
+            }
+            for m in (3..len).step_by(11) {
+                x[m] = -2.0;
+            }
+            let scan = Scan::new(&x);
+            let (top, bottom) = near_extremes(scan.lo, scan.hi);
+            let filtered = x.iter().filter(|&&v| v >= top || v <= bottom).count();
+            assert_eq!(scan.near_extremes, filtered, "length {len}");
+            assert!(filtered >= 1);
         }
     }
 }

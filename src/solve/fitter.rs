@@ -35,6 +35,10 @@ pub struct Fitter {
     pub ml: MlOptions,
     /// What a fit that does not converge does.
     pub non_convergence: NonConvergence,
+    /// Whether least squares and IVF form their first-order (sandwich) covariance
+    /// ([`Fit::std_dev`], [`Fit::covariance`]); `true` but for an identification under
+    /// `Uncertainty::None`, which shows no error bars ([`Fitter::without_covariance`]).
+    covariance: bool,
 }
 
 /// What a [`Fitter`] gives: the fit, maximum likelihood's report, and the warnings of the fit
@@ -60,6 +64,25 @@ impl Fitter {
             ivf: IvfOptions::default(),
             ml: MlOptions::default(),
             non_convergence: NonConvergence::default(),
+            covariance: true,
+        }
+    }
+
+    /// The fitter without the first-order covariance of least squares and IVF (no
+    /// [`Fit::std_dev`], no [`Fit::covariance`]; maximum likelihood keeps its Fisher
+    /// information): for an identification under `Uncertainty::None`, where the sandwich
+    /// and its instruments cost as much as the IVF iterations themselves.
+    pub(crate) fn without_covariance(mut self) -> Self {
+        self.covariance = false;
+        self
+    }
+
+    /// [`super::fit`], or [`super::fit_point`] without the covariance.
+    fn fit_frf(&self, frf: &Frf, method: Method) -> Result<Fit> {
+        if self.covariance {
+            super::fit(frf, method, &self.ivf)
+        } else {
+            super::fit_point(frf, method, &self.ivf)
         }
     }
 
@@ -76,7 +99,7 @@ impl Fitter {
                 let (fit, report, warnings) = self.maximum_likelihood(frf, records, window)?;
                 (fit, Some(report), warnings)
             }
-            method => (super::fit(frf, method, &self.ivf)?, None, Vec::new()),
+            method => (self.fit_frf(frf, method)?, None, Vec::new()),
         };
         let last_change = fit.history().last().map(Iteration::change);
         let unconverged =
@@ -102,7 +125,7 @@ impl Fitter {
     ) -> Result<(Fit, MlReport, Vec<Warning>)> {
         let records = records.ok_or(Error::MlNeedsRepeats)?;
         let mut warnings = Vec::new();
-        let start = super::fit(frf, Method::Ivf, &self.ivf)?;
+        let start = self.fit_frf(frf, Method::Ivf)?;
         if let c @ Convergence::NonFinite { .. } = start.convergence() {
             // A start that met NaN: the error under `NonConvergence::Fail`, before the noise
             // model meets it too.

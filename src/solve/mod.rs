@@ -26,6 +26,7 @@ mod fitter;
 mod ivf;
 mod ls;
 pub mod ml;
+mod quad;
 mod split;
 mod system;
 
@@ -224,7 +225,8 @@ impl Fit {
 
     /// Covariance of column `j` of `Θ = [M; C; K]` (`3n × 3n`, rows and columns ordered
     /// `M_0j … M_(n-1)j, C_0j …, K_0j …`), for every `j`; least squares and IVF only. Columns
-    /// are independent in this first-order (sandwich) model.
+    /// are independent in this first-order (sandwich) model. `None` for an identification
+    /// under [`Uncertainty::None`](crate::Uncertainty::None), which forms no error bars.
     pub fn covariance(&self) -> Option<&[Mat<f64>]> {
         self.covariance.as_deref()
     }
@@ -259,6 +261,8 @@ impl Fit {
     /// [`Coefficients`] (for least squares and IVF):
     /// $\mathrm{Cov}(\Theta_j) = (W^\top A)^{-1} W^\top \mathrm{diag}(r_j^2) W (A^\top W)^{-1}
     /// \cdot \frac{m}{m-p}$ with the residuals `r_j = A Θ_j − Ī_j`, `W = A` for least squares.
+    /// `None` for an identification under [`Uncertainty::None`](crate::Uncertainty::None),
+    /// which forms no error bars (the sandwich costs about as much as three IVF iterations).
     pub fn std_dev(&self) -> Option<&Coefficients> {
         self.std_dev.as_ref()
     }

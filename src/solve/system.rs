@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::frf::Frf;
 use crate::linalg;
 
+use super::quad::{self, Quads};
 use super::required_lines;
 use super::split::{self, Simd, WithSimd};
 
@@ -65,6 +66,9 @@ pub(super) struct Stacked {
     /// measured impedance's own variance ([`Frf::impedance_variance`]):
     /// $\sum_a |G_{ia}|^2 v_{aj}$, `[k * n² + i + j * n]`; `None` when the FRF has none.
     row_variance: Option<Vec<f64>>,
+    /// For three degrees of freedom, the full groups of four lines of `omegas`, `gt_re`,
+    /// `gt_im` in lanes ([`quad`]); `None` otherwise.
+    quads: Option<Quads>,
 }
 
 /// The buffers of [`Stacked::instrument_normal`] and [`Stacked::residual_norm_into`], split
@@ -175,41 +179,104 @@ impl InstrumentSums<'_> {
         } = work;
         sums.fill(0.0);
         let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
-        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
-        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
-            split::impedance(simd, (h_re, h_im), (m, c, k), w);
-            // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
-            // impedance's scale leaves the normal range.
-            let cofactors = if n == 3 {
-                split::invert3((h_re, h_im))
-            } else {
-                None
-            };
-            let regular = match cofactors {
-                Some(regular) => regular,
-                None => split::invert(simd, (h_re, h_im), n, pivots),
-            };
-            if !regular {
-                return false;
+        let line = |q: usize| {
+            let at = q * nn..(q + 1) * nn;
+            (sys.omegas[q], (&sys.gt_re[at.clone()], &sys.gt_im[at]))
+        };
+        // Three degrees of freedom: the full groups of four lines in lanes ([`quad`]), each
+        // line then summed in line order as below; the last lines, and a group out of the
+        // cofactors' range, line by line.
+        let mut first = 0;
+        if let (3, Some(quads)) = (n, &sys.quads) {
+            let mut group = quad::Group::new();
+            for g in 0..quads.groups() {
+                let lines = g * quad::QUAD..(g + 1) * quad::QUAD;
+                match group.instruments::<S>(quads, g, (m, c, k)) {
+                    Some(false) => return false,
+                    Some(true) => {}
+                    None => {
+                        for q in lines {
+                            let (w, gt) = line(q);
+                            let buffers = (&mut **h_re, &mut **h_im, &mut **p_re, &mut **p_im);
+                            if !line_sums(simd, n, w, gt, (m, c, k), buffers, sums, pivots) {
+                                return false;
+                            }
+                        }
+                    }
+                }
             }
-            // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
-            split::mul(simd, (p_re, p_im), (gt_re, gt_im), (h_re, h_im), n, true);
-            let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
-            let sources: [(&[f64], f64); 8] = [
-                (p_re, 1.0),
-                (p_re, w2),
-                (p_re, w4),
-                (p_im, w),
-                (p_im, w3),
-                (h_re, 1.0),
-                (h_re, w2),
-                (h_im, w),
-            ];
-            for (dst, (src, weight)) in sums.chunks_exact_mut(nn).zip(sources) {
-                split::add_scaled(simd, dst, src, weight);
+            first = quads.groups() * quad::QUAD;
+            group.add_sums_to(sums);
+        }
+        for q in first..sys.omegas.len() {
+            let (w, gt) = line(q);
+            let buffers = (&mut **h_re, &mut **h_im, &mut **p_re, &mut **p_im);
+            if !line_sums(simd, n, w, gt, (m, c, k), buffers, sums, pivots) {
+                return false;
             }
         }
         true
+    }
+}
+
+/// One line of [`InstrumentSums`]: the model impedance `H` of the blocks `M`, `C`, `K` at
+/// `w`, its inverse `G_m` (in `h`), `Pᵀ = Gᵀ Ḡ_m` (in `p`) from the line's `Gᵀ`, and the
+/// eight weighted sums ([`add_sums`]). `false` if the impedance is singular.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn line_sums<S: Simd>(
+    simd: S,
+    n: usize,
+    w: f64,
+    (gt_re, gt_im): (&[f64], &[f64]),
+    (m, c, k): (&[f64], &[f64], &[f64]),
+    (h_re, h_im, p_re, p_im): (&mut [f64], &mut [f64], &mut [f64], &mut [f64]),
+    sums: &mut [f64],
+    pivots: &mut [usize],
+) -> bool {
+    split::impedance(simd, (h_re, h_im), (m, c, k), w);
+    // Three degrees of freedom by cofactors; Gauss–Jordan otherwise, or where the
+    // impedance's scale leaves the normal range.
+    let cofactors = if n == 3 {
+        split::invert3((h_re, h_im))
+    } else {
+        None
+    };
+    let regular = match cofactors {
+        Some(regular) => regular,
+        None => split::invert(simd, (h_re, h_im), n, pivots),
+    };
+    if !regular {
+        return false;
+    }
+    // Pᵀ = Gᵀ Ḡ_m, the transpose of P = G_mᴴ G.
+    split::mul(simd, (p_re, p_im), (gt_re, gt_im), (h_re, h_im), n, true);
+    add_sums(simd, sums, (p_re, p_im), (h_re, h_im), w);
+    true
+}
+
+/// Adds one line's `Pᵀ` and `G_m` at `w` to the eight weighted sums of [`InstrumentWork`].
+#[inline(always)]
+fn add_sums<S: Simd>(
+    simd: S,
+    sums: &mut [f64],
+    (p_re, p_im): (&[f64], &[f64]),
+    (h_re, h_im): (&[f64], &[f64]),
+    w: f64,
+) {
+    let (w2, w3, w4) = (w * w, w * w * w, w * w * w * w);
+    let sources: [(&[f64], f64); 8] = [
+        (p_re, 1.0),
+        (p_re, w2),
+        (p_re, w4),
+        (p_im, w),
+        (p_im, w3),
+        (h_re, 1.0),
+        (h_re, w2),
+        (h_im, w),
+    ];
+    for (dst, (src, weight)) in sums.chunks_exact_mut(p_re.len()).zip(sources) {
+        split::add_scaled(simd, dst, src, weight);
     }
 }
 
@@ -242,9 +309,20 @@ impl ResidualNorm<'_> {
             ..
         } = work;
         let (m, c, k) = (&blocks[..nn], &blocks[nn..2 * nn], &blocks[2 * nn..]);
-        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
         let mut sum = 0.0;
-        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im) {
+        // Three degrees of freedom: the full groups of four lines in lanes ([`quad`]), each
+        // line's norm then formed and summed in line order as below.
+        let mut first = 0;
+        if let (3, Some(quads)) = (n, &sys.quads) {
+            let (mut group, mut acc) = (quad::Group::new(), [0.0; quad::QUAD]);
+            for g in 0..quads.groups() {
+                group.residual::<S>(quads, g, (m, c, k), &mut acc);
+            }
+            sum = quad::combine(&acc);
+            first = quads.groups() * quad::QUAD;
+        }
+        let (gt_re, gt_im) = (sys.gt_re.chunks_exact(nn), sys.gt_im.chunks_exact(nn));
+        for ((&w, gt_re), gt_im) in sys.omegas.iter().zip(gt_re).zip(gt_im).skip(first) {
             // Hᵀ from the transposed blocks; (G H)ᵀ = Hᵀ Gᵀ.
             split::impedance(simd, (h_re, h_im), (m, c, k), w);
             split::mul(simd, (p_re, p_im), (h_re, h_im), (gt_re, gt_im), n, false);
@@ -348,13 +426,15 @@ impl Stacked {
             *s = 1.0 / norm;
             a.col_mut(p).iter_mut().for_each(|v| *v *= *s);
         }
+        let (gt_re, gt_im) = (transposed(g, n, |z| z.re), transposed(g, n, |z| z.im));
         Ok(Self {
             n,
+            quads: (n == 3).then(|| Quads::new(&omegas, &gt_re, &gt_im)),
             omegas,
             a,
             scale,
-            gt_re: transposed(g, n, |z| z.re),
-            gt_im: transposed(g, n, |z| z.im),
+            gt_re,
+            gt_im,
             row_variance: row_variance(frf),
         })
     }
@@ -408,7 +488,8 @@ impl Stacked {
     /// $H_k = K - \omega_k^2 M + i\omega_k C$, i.e. the real form of $G_k H_k - I$, so
     /// $\lVert A\Theta - \bar I \rVert_F^2 = \sum_k \lVert G_k H_k - I \rVert_F^2$:
     /// one complex `n × n` product per line (`8n³` flops instead of the dense `12n³`), formed
-    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]). No allocation.
+    /// as $(G_k H_k)^\top = H_k^\top G_k^\top$ in split storage ([`split`]); for three
+    /// degrees of freedom four lines at once ([`quad`]), each lane summed apart. No allocation.
     pub fn residual_norm_into(&self, theta: MatRef<'_, f64>, work: &mut InstrumentWork) -> f64 {
         work.load(theta, true);
         let arch = work.arch;
@@ -500,8 +581,9 @@ impl Stacked {
     /// `Wᵀ A`) and five weighted sums. `W_kᵀ Ī` is the real rows of `W_k`: `−ω² G_mᴿ`,
     /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Per line, in split storage and vectorised ([`split`]):
     /// `H`, its Gauss–Jordan inverse `G_m` (`8n³` flops), $P^\top = G^\top \bar G_m$ from
-    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums. Returns `false` if the model
-    /// impedance is singular at some line. No allocation.
+    /// the stored `Gᵀ` (`8n³`) and the eight weighted sums; for three degrees of freedom,
+    /// `H`, `G_m`, `Pᵀ` and the sums of four lines at once, one per SIMD lane ([`quad`]). Returns `false` if the model impedance is singular at some line. No
+    /// allocation.
     pub fn instrument_normal(
         &self,
         theta: MatRef<'_, f64>,
@@ -655,6 +737,88 @@ impl Stacked {
 mod tests {
     use super::*;
     use crate::model::Coefficients;
+
+    /// For three degrees of freedom, the lines in groups of four ([`quad`]) give the normal
+    /// equations and the residual norm of the per-line path to the rounding of their sums
+    /// over the lines (the lanes summed apart), at every scale the coefficients may have (the
+    /// impedance scaled exactly by a power of two either way), and a singular model impedance
+    /// is refused by both.
+    #[test]
+    fn grouped_lines_are_the_per_line_path() {
+        // Powers of two (about 1e-140 and 1e140), so that the singular model below is exact.
+        for scale in [2f64.powi(-465), 1.0, 2f64.powi(465)] {
+            for lines in [13, 16, 19] {
+                let truth = Coefficients::new(
+                    faer::mat![[2.0, 0.1, 0.0], [0.1, 2.5, 0.2], [0.0, 0.2, 3.0]] * scale,
+                    faer::mat![[60.0, 8.0, -3.0], [-5.0, 70.0, 4.0], [2.0, -6.0, 80.0]] * scale,
+                    faer::mat![[4e5, 6e4, -1e4], [2e4, 6e5, 5e4], [-2e4, 1e4, 9e5]] * scale,
+                )
+                .unwrap();
+                let freqs: Vec<f64> = (0..lines).map(|l| 20.0 + 13.0 * l as f64).collect();
+                let g: Vec<Mat<c64>> = freqs
+                    .iter()
+                    .map(|&f| {
+                        let g = truth.flexibility_at(f).unwrap();
+                        Mat::from_fn(3, 3, |i, j| {
+                            g[(i, j)] * (1.0 + 0.01 * ((i + 2 * j) % 3) as f64)
+                        })
+                    })
+                    .collect();
+                let frf = Frf::from_flexibility(freqs, &g).unwrap();
+                let grouped = Stacked::new(&frf, Method::Ivf).unwrap();
+                assert_eq!(grouped.quads.as_ref().unwrap().groups(), lines / 4);
+                let mut per_line = Stacked::new(&frf, Method::Ivf).unwrap();
+                per_line.quads = None;
+                let model = Coefficients::new(
+                    truth.mass() * 1.01,
+                    truth.damping() * 0.97,
+                    truth.stiffness() * 1.02,
+                )
+                .unwrap();
+                let mut out = Vec::new();
+                for sys in [&grouped, &per_line] {
+                    let (mut normal, mut rhs) = (Mat::zeros(9, 9), Mat::zeros(9, 3));
+                    let mut work = InstrumentWork::new(3);
+                    let theta = model.stacked();
+                    assert!(sys.instrument_normal(
+                        theta.as_ref(),
+                        normal.as_mut(),
+                        rhs.as_mut(),
+                        &mut work
+                    ));
+                    let residual = sys.residual_norm_into(theta.as_ref(), &mut work);
+                    out.push((normal, rhs, residual));
+                }
+                let ((normal, rhs, residual), reference) = (&out[0], &out[1]);
+                let errors = [
+                    (normal - &reference.0).norm_l2() / reference.0.norm_l2(),
+                    (rhs - &reference.1).norm_l2() / reference.1.norm_l2(),
+                    (residual - reference.2).abs() / reference.2,
+                ];
+                for err in errors {
+                    assert!(err < 1e-14, "scale {scale:e}, {lines} lines: {errors:?}");
+                }
+                // A model singular at the line at 20 Hz (the first group's first lane).
+                let w = 2.0 * std::f64::consts::PI * 20.0;
+                let singular = Coefficients::new(
+                    Mat::<f64>::identity(3, 3) * scale,
+                    Mat::<f64>::zeros(3, 3),
+                    Mat::<f64>::identity(3, 3) * (w * w * scale),
+                )
+                .unwrap();
+                for sys in [&grouped, &per_line] {
+                    let (mut normal, mut rhs) = (Mat::zeros(9, 9), Mat::zeros(9, 3));
+                    let theta = singular.stacked();
+                    assert!(!sys.instrument_normal(
+                        theta.as_ref(),
+                        normal.as_mut(),
+                        rhs.as_mut(),
+                        &mut InstrumentWork::new(3)
+                    ));
+                }
+            }
+        }
+    }
 
     /// `instrument_normal` is the dense `W_sᵀ A_s`, `W_sᵀ Ī` of `fill_instruments`, and
     /// `residual_norm_into` the dense `‖A Θ − Ī‖_F`, to rounding, for every size, both

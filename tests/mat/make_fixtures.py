@@ -167,6 +167,15 @@ def write_v73(p, a, b, names):
         matlab_header(p(f"{name}_v73.mat"))
 
 
+def fixed_text(path):
+    """Overwrites the 116-byte descriptive text of a level-5 MAT-file, where SciPy writes the
+    time of writing, with a fixed one: the same inputs give the same bytes, and rewriting the
+    fixtures (`.ci/run` does) leaves the checkout clean."""
+    text = b"MATLAB 5.0 MAT-file, written by tests/mat/make_fixtures.py with SciPy"
+    with open(path, "r+b") as f:
+        f.write(text.ljust(116, b" "))
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join("tests", "mat", "fixtures")
     os.makedirs(out, exist_ok=True)
@@ -201,6 +210,8 @@ def main():
         {"t": a[0], "fx": "not a number", "fy": a[2] * (1 + 1j), "x": a[3], "y": a[4]},
         do_compression=False,
     )
+    for name in ["plain", "compressed", "struct", "matrix", "struct_array", "cell", "wrong_classes"]:
+        fixed_text(p(f"{name}.mat"))
     write_v73(p, a, b, names)
 
 
