@@ -17,7 +17,11 @@ use faer::c64;
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 use super::{Inverter, mul_into};
-use crate::lanes::LANES;
+
+/// Matrices side by side, one per lane: four `f64` fill an AVX2 register (the count of the
+/// crate's other lane passes, written here so that `linalg` needs nothing but faer: the
+/// benches compile it alone).
+pub(crate) const LANES: usize = 4;
 
 /// One number of each of the [`LANES`] pairs.
 type Lanes = [f64; LANES];

@@ -15,7 +15,7 @@ use faer::{ColMut, MatMut, MatRef, Par, c64};
 mod cofactors;
 mod jacobi;
 
-pub(crate) use cofactors::{Split3, invert3_lanes, right_divide3};
+pub(crate) use cofactors::{LANES as SPLIT3_LANES, Split3, invert3_lanes, right_divide3};
 use jacobi::{condition_numbers_in_lanes, singular_values_in_place};
 
 /// The inverse of the column-major `3 × 3` complex `a` in place by cofactors,

@@ -25,13 +25,12 @@
 #[cfg(doc)]
 use super::split;
 use super::split::Simd;
-use crate::lanes::LANES;
 #[cfg(doc)]
 use crate::linalg;
-use crate::linalg::{Split3, invert3_lanes};
+use crate::linalg::{SPLIT3_LANES, Split3, invert3_lanes};
 
 /// Lines per group: the lanes.
-pub(super) const QUAD: usize = LANES;
+pub(super) const QUAD: usize = SPLIT3_LANES;
 
 /// One value of each line of a group.
 pub(super) type Lanes = [f64; QUAD];
