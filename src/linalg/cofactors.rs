@@ -212,7 +212,8 @@ fn cross(
 /// of two at or below its largest part, its adjugate, the determinant along the first row,
 /// the inverse as the adjugate times `1/det` (through the squared modulus) and the scale.
 /// Returns, per lane, which conditions of that straight line held ([`Straight`]): where all
-/// hold, the lane's inverse is [`invert3`]'s bit for bit; elsewhere it is a number to discard (the per-line path takes Gauss–Jordan, the slow reciprocal, or refuses a
+/// hold, the lane's inverse is [`invert3`]'s bit for bit; elsewhere it is a number to discard
+/// (the per-line path takes Gauss–Jordan, the slow reciprocal, or refuses a
 /// singular matrix there). A straight line of products and sums, no branch: the lanes go
 /// through it as SIMD operations. The IVF's groups of four lines and [`right_divide3`]'s
 /// pairs both invert here.
@@ -297,7 +298,8 @@ pub(crate) fn invert3_lanes(a: &mut Split3) -> Straight {
     straight
 }
 
-/// `h = f x⁻¹` of one pair by [`Inverter::invert_by_cofactors`] and [`mul_into`]; whether `x` could be inverted (`h` zero if not).
+/// `h = f x⁻¹` of one pair by [`Inverter::invert_by_cofactors`] and [`mul_into`]; whether `x`
+/// could be inverted (`h` zero if not).
 fn one_at_a_time(inverter: &mut Inverter, f: &[c64], x: &[c64], h: &mut [c64]) -> bool {
     let mut inv: [c64; 9] = std::array::from_fn(|e| x[e]);
     if inverter.invert_by_cofactors(&mut inv) {

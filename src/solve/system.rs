@@ -582,8 +582,8 @@ impl Stacked {
     /// `−ω G_mᴵ`, `G_mᴿ`, transposed. Per line, in split storage and vectorised ([`split`]):
     /// `H`, its Gauss–Jordan inverse `G_m` (`8n³` flops), $P^\top = G^\top \bar G_m$ from
     /// the stored `Gᵀ` (`8n³`) and the eight weighted sums; for three degrees of freedom,
-    /// `H`, `G_m`, `Pᵀ` and the sums of four lines at once, one per SIMD lane ([`quad`]). Returns `false` if the model impedance is singular at some line. No
-    /// allocation.
+    /// `H`, `G_m`, `Pᵀ` and the sums of four lines at once, one per SIMD lane ([`quad`]).
+    /// Returns `false` if the model impedance is singular at some line. No allocation.
     pub fn instrument_normal(
         &self,
         theta: MatRef<'_, f64>,

@@ -31,9 +31,9 @@ pub use budget::Budget;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum Uncertainty {
-    /// No error bars: nor does the fit form its first-order covariance
-    /// ([`Fit::std_dev`] and [`Fit::covariance`] of [`Identification::fit`](crate::Identification::fit) are `None`,
-    /// except for [`Method::Ml`]'s Fisher information).
+    /// No error bars: nor does the fit form its first-order covariance ([`Fit::std_dev`] and
+    /// [`Fit::covariance`] of [`Identification::fit`](crate::Identification::fit) are
+    /// `None`, except for [`Method::Ml`]'s Fisher information).
     None,
     /// First-order covariance: the sandwich from the fit's own residuals (least squares and IVF;
     /// see [`Fit::std_dev`]), the inverse Fisher information for [`Method::Ml`] (JSON
