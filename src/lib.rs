@@ -121,7 +121,20 @@
 //! - H. Massmann and R. Nordmann (1985), *Some new results concerning the dynamic behavior of
 //!   annular turbulent seals*, NASA CP 2409, 179–194.
 //! - J. S. Bendat and A. G. Piersol, *Random Data: Analysis and Measurement Procedures*, Wiley.
-
+//!
+// Without its feature, an item of the feature list links to the list.
+#![cfg_attr(not(feature = "csv"), doc = "[`io`]: crate#feature-flags")]
+#![cfg_attr(
+    not(feature = "json"),
+    doc = "[`Baseline::from_json`]: crate#feature-flags"
+)]
+#![cfg_attr(not(feature = "plot"), doc = "[`plot`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "uff"), doc = "[`uff`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "tdms"), doc = "[`tdms`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "mat"), doc = "[`mat`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "ross"), doc = "[`export::ross`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "uff"), doc = "[`export::uff`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "job"), doc = "[`job`]: crate#feature-flags")]
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 #![deny(clippy::float_cmp)]

@@ -244,7 +244,7 @@ impl Record {
 
     /// The same record carrying `warnings`, in place of any it carried: what its reader
     /// noticed and did not refuse (a unit it does not convert, [`Warning::UnknownUnit`]). A
-    /// [`Job`](crate::job::Job) reports them with its result's warnings.
+    /// [`Job`] reports them with its result's warnings.
     ///
     /// # Examples
     /// ```
@@ -261,6 +261,9 @@ impl Record {
     /// assert_eq!(r.trimmed(2..16)?.warnings().len(), 1);
     /// # Ok::<(), bearing_ident::Error>(())
     /// ```
+    ///
+    #[cfg_attr(feature = "job", doc = "[`Job`]: crate::job::Job")]
+    #[cfg_attr(not(feature = "job"), doc = "[`Job`]: crate#feature-flags")]
     #[must_use]
     pub fn with_warnings(mut self, warnings: Vec<Warning>) -> Self {
         self.warnings = warnings;

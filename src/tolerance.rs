@@ -7,15 +7,18 @@
 // ---------------------------------------------------------------------------------------------
 
 /// How far a sample's time may sit from its place on a uniform grid, as a fraction of one
-/// sampling step: the CSV reader ([`io`](crate::io), feature `csv`) accepts a time column whose
-/// every sample is within this tolerance of the grid through its first and last time, and the
-/// same tolerance decides when two records' sampling rates agree
+/// sampling step: the CSV reader ([`io`], feature `csv`) accepts a time column whose every
+/// sample is within this tolerance of the grid through its first and last time, and the same
+/// tolerance decides when two records' sampling rates agree
 /// ([`sample_rates_agree`](crate::records::sample_rates_agree)).
 ///
 /// Why 1 %: data loggers stamp samples from one clock, so real jitter is far smaller; a
 /// column off by more is not uniformly sampled (dropped or repeated samples). Over a record
 /// the tolerance moves the highest band line by at most about 2 % of a line spacing, which the
 /// spectra do not notice.
+///
+#[cfg_attr(feature = "csv", doc = "[`io`]: crate::io")]
+#[cfg_attr(not(feature = "csv"), doc = "[`io`]: crate#feature-flags")]
 pub const TIME_GRID_TOLERANCE: f64 = 0.01;
 
 /// Relative slack added to the agreement of two sampling rates for the rounding of

@@ -75,6 +75,12 @@ pub enum Error {
     /// a value that does not parse, or one the records cannot take (a period without periodic
     /// records, a period longer than the records). The message names the option as the
     /// command line spells it.
+    ///
+    // Without feature `job`, the link goes to the crate's feature list.
+    #[cfg_attr(
+        not(feature = "job"),
+        doc = "[`crate::job::Options`]: crate#feature-flags"
+    )]
     InvalidOption {
         /// The option's long name (`period`, `window`, …).
         option: &'static str,

@@ -10,6 +10,11 @@
 //!   joint uncertainty, for stochastic rotor models.
 //!
 //! Both read a finished result only; nothing in the pipeline depends on them.
+//!
+// Without its feature, a link goes to the crate's feature list.
+#![cfg_attr(not(feature = "uff"), doc = "[`uff`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "ross"), doc = "[`ross`]: crate#feature-flags")]
+#![cfg_attr(not(feature = "ross"), doc = "[`samples`]: crate#feature-flags")]
 
 #[cfg(feature = "ross")]
 pub mod ross;

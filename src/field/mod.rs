@@ -114,6 +114,12 @@
 //! assert!((k[1][0] / -4e6 - 1.0).abs() < 1e-8);
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
+//!
+// Without feature `json`, the link goes to the crate's feature list.
+#![cfg_attr(
+    not(feature = "json"),
+    doc = "[`RotorModel::from_json`]: crate#feature-flags"
+)]
 
 mod beam;
 mod fit;

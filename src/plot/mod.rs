@@ -50,6 +50,12 @@
 //! assert_eq!(svg.matches("class=\"series\"").count(), 4 * 2 * 2);
 //! # Ok::<(), bearing_ident::Error>(())
 //! ```
+//!
+// Without feature `campaign`, the link goes to the crate's feature list.
+#![cfg_attr(
+    not(feature = "campaign"),
+    doc = "[`campaign_report`]: crate#feature-flags"
+)]
 
 #[cfg(feature = "campaign")]
 mod campaign_report;
