@@ -517,14 +517,16 @@ impl Residuals {
         let n = self.n;
         let rows = self.unexplained.len();
         let k = 2 * n + 1;
-        let regressor = |row: usize, col: usize| -> f64 {
-            let i = row % n;
-            match col {
-                c if c < n => f64::from(u8::from(c == i)) * self.floor[row],
-                c if c < 2 * n => self.gain[row * n + (c - n)],
-                _ => self.leakage[row],
+        // The regressors, row-major (`[row * k + col]`), laid out once for every solve.
+        let mut design = vec![0.0; rows * k];
+        for (row, d) in design.chunks_exact_mut(k).enumerate() {
+            for (c, v) in d[..n].iter_mut().enumerate() {
+                *v = f64::from(u8::from(c == row % n)) * self.floor[row];
             }
-        };
+            d[n..2 * n].copy_from_slice(&self.gain[row * n..(row + 1) * n]);
+            d[2 * n] = self.leakage[row];
+        }
+        let regressor = |row: usize, col: usize| design[row * k + col];
         let y: Vec<f64> = self.unexplained.iter().map(|v| v / dof).collect();
         // Weights 1/m² from the observations first, then from the model.
         let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -549,7 +551,7 @@ impl Residuals {
             // Non-negative; each reweighting starts again from every column.
             active.fill(true);
             loop {
-                (theta, diagonal) = solve_weighted(&regressor, &y, &weights, &active, rows, k)?;
+                (theta, diagonal) = solve_weighted(&design, &y, &weights, &active, k)?;
                 let negative = (0..k)
                     .filter(|&c| active[c] && theta[c] < 0.0)
                     .min_by(|&a, &b| theta[a].total_cmp(&theta[b]));
@@ -592,17 +594,19 @@ const NOISE_FIT_ITERATIONS: usize = 5;
 /// first weights.
 const SMOOTHING: usize = 5;
 
-/// The weighted least-squares solution over the `active` columns (the others zero), with the
+/// The weighted least-squares solution of `y` by the `k` columns of the row-major `design`
+/// over the `active` columns (the others zero), with the
 /// diagonal of the inverse of the weighted normal matrix (0 for inactive columns); `None`
 /// when it is singular.
 fn solve_weighted(
-    regressor: &dyn Fn(usize, usize) -> f64,
+    design: &[f64],
     y: &[f64],
     weights: &[f64],
     active: &[bool],
-    rows: usize,
     k: usize,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
+    let rows = y.len();
+    let regressor = |r: usize, c: usize| design[r * k + c];
     // Columns scaled to unit weighted norm: the regressors differ by many orders.
     let norms: Vec<f64> = (0..k)
         .map(|c| match active[c] {
@@ -614,21 +618,32 @@ fn solve_weighted(
         })
         .collect();
     let used: Vec<usize> = (0..k).filter(|&c| norms[c] > 0.0).collect();
+    let u = used.len();
+    // The sums over the rows among the used columns (`[a * u + b]`, `[a]`), each in the
+    // rows' order; the unused columns' rows and columns of the normal matrix are the
+    // identity's.
+    let (mut sums, mut rhs_sums) = (vec![0.0; u * u], vec![0.0; u]);
+    let (mut x, mut wx) = (vec![0.0; u], vec![0.0; u]);
+    for r in 0..rows {
+        for (x, &c) in x.iter_mut().zip(&used) {
+            *x = regressor(r, c) / norms[c];
+        }
+        for (wx, x) in wx.iter_mut().zip(&x) {
+            *wx = weights[r] * x;
+        }
+        for a in 0..u {
+            rhs_sums[a] += wx[a] * y[r];
+            for (s, xb) in sums[a * u..(a + 1) * u].iter_mut().zip(&x) {
+                *s += wx[a] * xb;
+            }
+        }
+    }
     let mut rhs = Mat::<f64>::zeros(k, 1);
     let mut normal = Mat::<f64>::identity(k, k);
-    for &a in &used {
-        normal[(a, a)] = 0.0;
-    }
-    let mut x = vec![0.0; k];
-    for r in 0..rows {
-        for &c in &used {
-            x[c] = regressor(r, c) / norms[c];
-        }
-        for &a in &used {
-            rhs[(a, 0)] += weights[r] * x[a] * y[r];
-            for &b in &used {
-                normal[(a, b)] += weights[r] * x[a] * x[b];
-            }
+    for (i, &a) in used.iter().enumerate() {
+        rhs[(a, 0)] = rhs_sums[i];
+        for (j, &b) in used.iter().enumerate() {
+            normal[(a, b)] = sums[i * u + j];
         }
     }
     let lu = normal.partial_piv_lu();

@@ -265,29 +265,31 @@ impl Job {
         };
         let sample_rate = first.sample_rate();
         // Forces read as random whose responses look like a hammer's: the columns may be
-        // exchanged, the likely cause if the run then fails.
-        let response_crest = if detected && excitation == Excitation::Random {
-            response_crest_factor(first)
-        } else {
-            0.0
-        };
-        let swapped = |e: Error| match e {
-            Error::TooFewLines { .. }
-            | Error::NotConverged { .. }
-            | Error::RankDeficient { .. }
-            | Error::Singular { .. }
-            | Error::SingularFit { .. }
-                if detected
-                    && excitation == Excitation::Random
-                    && response_crest >= IMPACT_CREST_FACTOR =>
-            {
-                Error::LooksSwapped {
-                    failure: Box::new(e),
-                    force_crest: crest,
-                    response_crest,
-                }
+        // exchanged, the likely cause if the run then fails. The responses' crest factor is
+        // read only then, from the first record kept for it (a clone shares its samples).
+        let suspect = (detected && excitation == Excitation::Random).then(|| first.clone());
+        let swapped = |e: Error| {
+            let fails = matches!(
+                e,
+                Error::TooFewLines { .. }
+                    | Error::NotConverged { .. }
+                    | Error::RankDeficient { .. }
+                    | Error::Singular { .. }
+                    | Error::SingularFit { .. }
+            );
+            match &suspect {
+                Some(record) if fails => match response_crest_factor(record) {
+                    response_crest if response_crest >= IMPACT_CREST_FACTOR => {
+                        Error::LooksSwapped {
+                            failure: Box::new(e),
+                            force_crest: crest,
+                            response_crest,
+                        }
+                    }
+                    _ => e,
+                },
+                _ => e,
             }
-            e => e,
         };
         let (identifier, segment_len) = self.identifier(excitation, first).map_err(swapped)?;
         timings.detect = detect_start.elapsed();
