@@ -34,8 +34,8 @@ thread_local! {
 }
 
 /// Longest force whose spectrum's buffers [`BUFFERS`] keeps from one record to the next
-/// (about 6 MB per thread): longer ones are given back after use.
-const KEPT_SAMPLES: usize = 1 << 18;
+/// (131 072 samples, about 5 MB per thread): longer ones are given back after use.
+const KEPT_SAMPLES: usize = 1 << 17;
 
 /// The buffers of [`Evidence::of`]: the centred force `x` and `m x_m`, their one-sided
 /// spectra, the transform's scratch.
