@@ -27,6 +27,25 @@ use crate::tolerance::{
 thread_local! {
     /// The FFT plans, kept per thread: records of one test share a length.
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// The buffers of a force's spectrum, kept per thread for forces up to [`KEPT_SAMPLES`]:
+    /// memory the allocator would hand back to the system after each record and fault in
+    /// again, page by page, for the next.
+    static BUFFERS: RefCell<Buffers> = RefCell::new(Buffers::default());
+}
+
+/// Longest force whose spectrum's buffers [`BUFFERS`] keeps from one record to the next
+/// (131 072 samples, about 5 MB per thread): longer ones are given back after use.
+const KEPT_SAMPLES: usize = 1 << 17;
+
+/// The buffers of [`Evidence::of`]: the centred force `x` and `m x_m`, their one-sided
+/// spectra, the transform's scratch.
+#[derive(Default)]
+struct Buffers {
+    x: Vec<f64>,
+    moment: Vec<f64>,
+    spectrum: Vec<c64>,
+    moment_spectrum: Vec<c64>,
+    scratch: Vec<c64>,
 }
 
 /// Fewest samples of a force whose spectrum is read: shorter ones hold no tone or sweep.
@@ -149,15 +168,25 @@ impl Evidence {
         let f = record.force(record.dominant_force());
         // The centred force gives the crest factor and the steadiness in one pass, then its
         // spectrum (the crest factor's own passes would centre it again).
-        let x = centred(f);
-        let powers = x.as_deref().map(Powers::of).unwrap_or_default();
-        let spectral = x
-            .filter(|x| x.len() >= MIN_SAMPLES)
-            .and_then(|mut x| {
-                x.truncate(quick_len(x.len()));
-                Spectral::of(x)
-            })
-            .unwrap_or_default();
+        let (powers, spectral) = BUFFERS.with(|buffers| {
+            let mut buffers = buffers.borrow_mut();
+            let read = if centre_into(f, &mut buffers.x) {
+                let powers = Powers::of(&buffers.x);
+                let spectral = if f.len() >= MIN_SAMPLES {
+                    buffers.x.truncate(quick_len(f.len()));
+                    Spectral::of(&mut buffers).unwrap_or_default()
+                } else {
+                    Spectral::default()
+                };
+                (powers, spectral)
+            } else {
+                Default::default()
+            };
+            if f.len() > KEPT_SAMPLES {
+                *buffers = Buffers::default();
+            }
+            read
+        });
         let repeat = repeat(record);
         Evidence {
             crest_factor: powers.crest,
@@ -372,14 +401,17 @@ fn crest(f: &[f64]) -> f64 {
     if rms > 0.0 { peak / rms } else { 0.0 }
 }
 
-/// `f` over its largest magnitude, less its mean; `None` when flat or not finite.
-fn centred(f: &[f64]) -> Option<Vec<f64>> {
+/// `f` over its largest magnitude, less its mean, into `x`; `false` (and `x` left as it was)
+/// when flat or not finite.
+fn centre_into(f: &[f64], x: &mut Vec<f64>) -> bool {
     let scale = crate::lanes::max_abs(f);
     if scale <= 0.0 || !scale.is_finite() {
-        return None;
+        return false;
     }
     let mean = f.iter().map(|v| v / scale).sum::<f64>() / f.len() as f64;
-    Some(f.iter().map(|v| v / scale - mean).collect())
+    x.clear();
+    x.extend(f.iter().map(|v| v / scale - mean));
+    true
 }
 
 /// What one pass over a centred force gives: its crest factor (as [`crest`] of the force) and
@@ -428,20 +460,28 @@ struct Spectral {
 }
 
 impl Spectral {
-    /// From the DFT of `x` (centred, at least [`MIN_SAMPLES`] long) and that of `m x_m`.
-    fn of(mut x: Vec<f64>) -> Option<Spectral> {
+    /// From the DFT of `buffers.x` (centred, at least [`MIN_SAMPLES`] long, overwritten) and
+    /// that of `m x_m`.
+    fn of(buffers: &mut Buffers) -> Option<Spectral> {
+        let Buffers {
+            x,
+            moment,
+            spectrum,
+            moment_spectrum,
+            scratch,
+        } = buffers;
         let n = x.len();
         let fft = PLANNER.with(|planner| planner.borrow_mut().plan_fft_forward(n));
-        let mut moment: Vec<f64> = x.iter().enumerate().map(|(m, v)| m as f64 * v).collect();
-        let mut scratch = fft.make_scratch_vec();
-        let mut spectrum = fft.make_output_vec();
-        fft.process_with_scratch(&mut x, &mut spectrum, &mut scratch)
+        moment.clear();
+        moment.extend(x.iter().enumerate().map(|(m, v)| m as f64 * v));
+        scratch.resize(fft.get_scratch_len(), c64::ZERO);
+        spectrum.resize(n / 2 + 1, c64::ZERO);
+        moment_spectrum.resize(n / 2 + 1, c64::ZERO);
+        fft.process_with_scratch(x, spectrum, scratch).ok()?;
+        fft.process_with_scratch(moment, moment_spectrum, scratch)
             .ok()?;
-        let mut moment_spectrum = fft.make_output_vec();
-        fft.process_with_scratch(&mut moment, &mut moment_spectrum, &mut scratch)
-            .ok()?;
-        let (tone, peak) = tone(&spectrum, n);
-        let (sweep, lines) = sweep(&spectrum, &moment_spectrum);
+        let (tone, peak) = tone(spectrum, n);
+        let (sweep, lines) = sweep(spectrum, moment_spectrum);
         Some(Spectral {
             tone,
             cycles: peak as f64 / n as f64,

@@ -12,6 +12,7 @@
 
 use std::cell::RefCell;
 
+use faer::c64;
 use realfft::RealFftPlanner;
 
 use crate::error::Warning;
@@ -25,6 +26,24 @@ thread_local! {
     /// The autocorrelation's FFT plans, kept per thread: records of one test share a length,
     /// and planning a transform costs about as much as running it.
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    /// The autocorrelation's buffers, kept per thread for transforms up to [`KEPT_LEN`]
+    /// points: memory the allocator would hand back to the system after each record and fault
+    /// in again, page by page, for the next.
+    static BUFFERS: RefCell<Buffers> = RefCell::new(Buffers::default());
+}
+
+/// Longest transform whose buffers [`BUFFERS`] keeps from one record to the next (records up
+/// to 174 762 samples; about 7 MB per thread): longer ones are given back after use.
+const KEPT_LEN: usize = 1 << 18;
+
+/// The autocorrelation's buffers: the padded force, then its autocorrelation; the spectrum;
+/// the transforms' scratch; the normalised autocorrelation at the lags read.
+#[derive(Default)]
+struct Buffers {
+    signal: Vec<f64>,
+    spectrum: Vec<c64>,
+    scratch: Vec<c64>,
+    rho: Vec<f64>,
 }
 
 /// The period of `record` (s), if its dominant force repeats: the lag `L ≥ 8` samples, at
@@ -149,32 +168,60 @@ fn autocorrelation_peak(record: &Record) -> Option<(f64, f64, usize)> {
         let mut planner = planner.borrow_mut();
         (planner.plan_fft_forward(len), planner.plan_fft_inverse(len))
     });
-    let mut input = vec![0.0; len];
-    for (t, v) in input.iter_mut().zip(f) {
-        *t = v - mean;
-    }
-    let mut spectrum = forward.make_output_vec();
-    forward.process(&mut input, &mut spectrum).ok()?;
-    for z in spectrum.iter_mut() {
-        *z = faer::c64::new(z.norm_sqr(), 0.0);
-    }
-    let mut r = vec![0.0; len];
-    inverse.process(&mut spectrum, &mut r).ok()?;
+    BUFFERS.with(|buffers| {
+        let mut buffers = buffers.borrow_mut();
+        let Buffers {
+            signal,
+            spectrum,
+            scratch,
+            rho,
+        } = &mut *buffers;
+        signal.clear();
+        signal.extend(f.iter().map(|v| v - mean));
+        signal.resize(len, 0.0);
+        spectrum.resize(len / 2 + 1, c64::ZERO);
+        scratch.resize(
+            forward.get_scratch_len().max(inverse.get_scratch_len()),
+            c64::ZERO,
+        );
+        let transformed = forward
+            .process_with_scratch(signal, spectrum, scratch)
+            .is_ok()
+            && {
+                for z in spectrum.iter_mut() {
+                    *z = c64::new(z.norm_sqr(), 0.0);
+                }
+                // The autocorrelation overwrites the padded force.
+                inverse
+                    .process_with_scratch(spectrum, signal, scratch)
+                    .is_ok()
+            };
+        let found = transformed.then(|| peak(record, signal, rho)).flatten();
+        if len > KEPT_LEN {
+            *buffers = Buffers::default();
+        }
+        found
+    })
+}
+
+/// The peak [`autocorrelation_peak`] reads in the circular autocorrelation `r` of `record`'s
+/// centred, zero-padded dominant force; `rho` is scratch for the normalised autocorrelation at
+/// the lags read.
+fn peak(record: &Record, r: &[f64], rho: &mut Vec<f64>) -> Option<(f64, f64, usize)> {
+    let n = record.len();
     if !(r[0] > 0.0 && r[0].is_finite()) {
         return None;
     }
     let last = n / 2;
     // ρ at every lag read (8 up to `last + 1`), each computed once.
-    let values: Vec<f64> = (8..=last + 1)
-        .map(|lag| r[lag] / r[0] * n as f64 / (n - lag) as f64)
-        .collect();
-    let rho = |lag: usize| values[lag - 8];
-    let peaks: Vec<(usize, f64)> = (9..=last)
+    rho.clear();
+    rho.extend((8..=last + 1).map(|lag| r[lag] / r[0] * n as f64 / (n - lag) as f64));
+    let rho = |lag: usize| rho[lag - 8];
+    let peaks = (9..=last)
         .map(|lag| (lag, rho(lag)))
-        .filter(|&(lag, v)| v >= rho(lag - 1) && v >= rho(lag + 1))
-        .collect();
-    let best = peaks.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-    let &(lag, _) = peaks.iter().find(|p| p.1 > best - 0.05)?;
+        .filter(|&(lag, v)| v >= rho(lag - 1) && v >= rho(lag + 1));
+    let best = peaks.clone().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+    let (lag, _) = peaks.clone().find(|p| p.1 > best - 0.05)?;
     let (a, b, c) = (rho(lag - 1), rho(lag), rho(lag + 1));
     let curvature = a - 2.0 * b + c;
     let shift = if curvature < 0.0 {
