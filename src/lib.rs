@@ -158,6 +158,7 @@ pub mod io;
 pub mod job;
 #[cfg(feature = "json")]
 pub mod json;
+mod kept;
 mod lanes;
 pub mod limits;
 mod linalg;

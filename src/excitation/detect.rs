@@ -14,6 +14,7 @@ use realfft::RealFftPlanner;
 use super::Excitation;
 use crate::choice::Choice;
 use crate::error::{Channel, Error, Result};
+use crate::kept::with_kept;
 use crate::quality::IMPACT_CREST_FACTOR;
 use crate::records::Record;
 #[cfg(doc)]
@@ -27,15 +28,9 @@ use crate::tolerance::{
 thread_local! {
     /// The FFT plans, kept per thread: records of one test share a length.
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
-    /// The buffers of a force's spectrum, kept per thread for forces up to [`KEPT_SAMPLES`]:
-    /// memory the allocator would hand back to the system after each record and fault in
-    /// again, page by page, for the next.
+    /// The buffers of a force's spectrum, kept per thread ([`with_kept`]).
     static BUFFERS: RefCell<Buffers> = RefCell::new(Buffers::default());
 }
-
-/// Longest force whose spectrum's buffers [`BUFFERS`] keeps from one record to the next
-/// (131 072 samples, about 5 MB per thread): longer ones are given back after use.
-const KEPT_SAMPLES: usize = 1 << 17;
 
 /// The buffers of [`Evidence::of`]: the centred force `x` and `m x_m`, their one-sided
 /// spectra, the transform's scratch.
@@ -168,24 +163,18 @@ impl Evidence {
         let f = record.force(record.dominant_force());
         // The centred force gives the crest factor and the steadiness in one pass, then its
         // spectrum (the crest factor's own passes would centre it again).
-        let (powers, spectral) = BUFFERS.with(|buffers| {
-            let mut buffers = buffers.borrow_mut();
-            let read = if centre_into(f, &mut buffers.x) {
-                let powers = Powers::of(&buffers.x);
-                let spectral = if f.len() >= MIN_SAMPLES {
-                    buffers.x.truncate(quick_len(f.len()));
-                    Spectral::of(&mut buffers).unwrap_or_default()
-                } else {
-                    Spectral::default()
-                };
-                (powers, spectral)
-            } else {
-                Default::default()
-            };
-            if f.len() > KEPT_SAMPLES {
-                *buffers = Buffers::default();
+        let (powers, spectral) = with_kept(&BUFFERS, f.len(), |buffers| {
+            if !centre_into(f, &mut buffers.x) {
+                return Default::default();
             }
-            read
+            let powers = Powers::of(&buffers.x);
+            let spectral = if f.len() >= MIN_SAMPLES {
+                buffers.x.truncate(quick_len(f.len()));
+                Spectral::of(buffers).unwrap_or_default()
+            } else {
+                Spectral::default()
+            };
+            (powers, spectral)
         });
         let repeat = repeat(record);
         Evidence {

@@ -16,6 +16,7 @@ use faer::c64;
 use realfft::RealFftPlanner;
 
 use crate::error::Warning;
+use crate::kept::with_kept;
 use crate::records::Record;
 use crate::tolerance::{
     PERIOD_MISMATCH, PERIOD_REPEATS, PERIODIC_CORRELATION, PERIODIC_CORRELATION_DOUBT,
@@ -26,15 +27,9 @@ thread_local! {
     /// The autocorrelation's FFT plans, kept per thread: records of one test share a length,
     /// and planning a transform costs about as much as running it.
     static PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
-    /// The autocorrelation's buffers, kept per thread for transforms up to [`KEPT_LEN`]
-    /// points: memory the allocator would hand back to the system after each record and fault
-    /// in again, page by page, for the next.
+    /// The autocorrelation's buffers, kept per thread ([`with_kept`]).
     static BUFFERS: RefCell<Buffers> = RefCell::new(Buffers::default());
 }
-
-/// Longest transform whose buffers [`BUFFERS`] keeps from one record to the next (records up
-/// to 174 762 samples; about 7 MB per thread): longer ones are given back after use.
-const KEPT_LEN: usize = 1 << 18;
 
 /// The autocorrelation's buffers: the padded force, then its autocorrelation; the spectrum;
 /// the transforms' scratch; the normalised autocorrelation at the lags read.
@@ -168,14 +163,13 @@ fn autocorrelation_peak(record: &Record) -> Option<(f64, f64, usize)> {
         let mut planner = planner.borrow_mut();
         (planner.plan_fft_forward(len), planner.plan_fft_inverse(len))
     });
-    BUFFERS.with(|buffers| {
-        let mut buffers = buffers.borrow_mut();
+    with_kept(&BUFFERS, n, |buffers| {
         let Buffers {
             signal,
             spectrum,
             scratch,
             rho,
-        } = &mut *buffers;
+        } = buffers;
         signal.clear();
         signal.extend(f.iter().map(|v| v - mean));
         signal.resize(len, 0.0);
@@ -196,11 +190,7 @@ fn autocorrelation_peak(record: &Record) -> Option<(f64, f64, usize)> {
                     .process_with_scratch(spectrum, signal, scratch)
                     .is_ok()
             };
-        let found = transformed.then(|| peak(record, signal, rho)).flatten();
-        if len > KEPT_LEN {
-            *buffers = Buffers::default();
-        }
-        found
+        transformed.then(|| peak(record, signal, rho)).flatten()
     })
 }
 
